@@ -1,0 +1,27 @@
+// Scalar helpers usable on host and device (std::min/max are not device functions).
+#pragma once
+
+#include <cmath>
+
+#include "solver/core/hd.hpp"
+
+namespace talus {
+
+template <class T>
+TALUS_HD inline T min_of(T a, T b) { return b < a ? b : a; }
+template <class T>
+TALUS_HD inline T max_of(T a, T b) { return a < b ? b : a; }
+template <class T>
+TALUS_HD inline T abs_of(T a) { return a < T(0) ? -a : a; }
+template <class T>
+TALUS_HD inline void swap_of(T& a, T& b) { T t = a; a = b; b = t; }
+
+// Machine epsilon of the real type, usable in device code.
+template <class Real>
+struct Eps;
+template <>
+struct Eps<double> { static constexpr double value = 2.220446049250313e-16; };
+template <>
+struct Eps<float> { static constexpr float value = 1.1920929e-07f; };
+
+}  // namespace talus

@@ -1,0 +1,38 @@
+// Non-owning view of a convex polyhedron template in its body frame, readable on host and device.
+// The arrays live in host memory, device global memory or constant memory; the view does not care.
+#pragma once
+
+#include "solver/core/quat.hpp"
+
+namespace talus {
+
+template <class Real>
+struct ConvexView {
+  const Vec3<Real>* vertices = nullptr;  // body frame, centroid at the origin
+  const Vec3<Real>* face_normals = nullptr;  // unit, outward; one per merged face (§2.1)
+  const Real* face_offsets = nullptr;        // face plane: dot(face_normal, x) = face_offset (> 0)
+  const int* edges = nullptr;                // 2 vertex indices per edge
+  const int* triangles = nullptr;  // 3 vertex indices per triangle, counter-clockwise from outside
+  int n_vertices = 0;
+  int n_faces = 0;
+  int n_edges = 0;
+  int n_triangles = 0;
+  Real volume = 0;
+  Real bounding_radius = 0;  // max |vertex| about the centroid (Fig. 4)
+};
+
+// Support point of a posed convex body in world direction dir (Eq. 2), relative to `origin`.
+template <class Real>
+TALUS_HD inline Vec3<Real> support_point(const ConvexView<Real>& shape, const Mat3<Real>& rot,
+                                         const Vec3<Real>& center, const Vec3<Real>& dir) {
+  const Vec3<Real> d_body = rot.transpose_times(dir);
+  int best = 0;
+  Real best_dot = dot(shape.vertices[0], d_body);
+  for (int i = 1; i < shape.n_vertices; ++i) {
+    const Real s = dot(shape.vertices[i], d_body);
+    if (s > best_dot) { best_dot = s; best = i; }
+  }
+  return center + rot * shape.vertices[best];
+}
+
+}  // namespace talus

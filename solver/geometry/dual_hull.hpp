@@ -1,0 +1,283 @@
+// Incremental Quickhull of the dual points (paper §2.3, Algorithms III-V) in a fixed workspace.
+// The origin of dual space is strictly inside the hull (the polar transform was taken about an
+// interior point of the intersection), which gives every face a positive offset and lets each
+// dual face be unpolarised into one vertex of the intersection polytope (Algorithm VI).
+//
+// Data: triangles with vertex indices and the neighbour across each edge; a free list recycles
+// the slots of deleted faces so that at most 2V - 4 faces are ever alive (V = hull vertices).
+// Conflicts: each point outside the hull remembers one face it is outside of; after an expansion
+// only the orphaned points are reassigned, and only against the new faces.
+#pragma once
+
+#include "solver/core/math.hpp"
+#include "solver/core/vec3.hpp"
+
+namespace talus {
+
+template <class Real, int MaxPoints>
+struct DualHullWorkspace {
+  static constexpr int kMaxPoints = MaxPoints;
+  static constexpr int kMaxFaces = 2 * MaxPoints;
+
+  Vec3<Real> point[MaxPoints];
+  Real point_norm[MaxPoints];
+  int point_face[MaxPoints];  // face the point is outside of; -1: inside or on the hull
+  Real point_dist[MaxPoints];  // its distance above that face
+  int n_points = 0;
+
+  int face_vertex[kMaxFaces][3];    // counter-clockwise seen from outside
+  int face_neighbor[kMaxFaces][3];  // across edge (vertex[e], vertex[e + 1])
+  Vec3<Real> face_normal[kMaxFaces];  // unit, outward
+  Real face_offset[kMaxFaces];        // dot(normal, y) = offset on the face, > 0
+  Real face_scale[kMaxFaces];         // largest |vertex|: sets the round-off tolerance
+  int face_stamp[kMaxFaces];          // < 0: free slot; else the last expansion that visited it
+  int free_slots[kMaxFaces];
+  int n_free = 0;
+  int n_slots = 0;  // slots ever used
+
+  // Scratch for one expansion.
+  int stack[kMaxFaces];
+  int horizon_face[kMaxFaces];  // the face kept beyond the horizon edge
+  int horizon_edge[kMaxFaces];  // the edge index in that face
+  int new_face_from[MaxPoints];  // horizon edge starting at a vertex -> new face
+  int new_faces[kMaxFaces];
+  int orphans[MaxPoints];
+
+  bool overrun = false;
+  int skipped_points = 0;  // outside points dropped because the visible region was not a disk
+};
+
+namespace dual_hull_detail {
+
+// Distance tolerance of a point against a face: the plane test subtracts numbers of size
+// |y| and face_scale, each carrying relative round-off of a few eps.
+template <class Real, class W>
+TALUS_HD inline Real tolerance(const W& ws, int face, Real point_norm) {
+  return Real(32) * Eps<Real>::value * (point_norm + ws.face_scale[face]);
+}
+
+template <class Real, class W>
+TALUS_HD inline Real distance(const W& ws, int face, int p) {
+  return dot(ws.face_normal[face], ws.point[p]) - ws.face_offset[face];
+}
+
+template <class Real, class W>
+TALUS_HD inline int allocate_face(W& ws) {
+  if (ws.n_free > 0) return ws.free_slots[--ws.n_free];
+  if (ws.n_slots >= W::kMaxFaces) {
+    ws.overrun = true;
+    return -1;
+  }
+  return ws.n_slots++;
+}
+
+// Sets the face's vertices and plane. The winding (a, b, c) is trusted to be outward.
+template <class Real, class W>
+TALUS_HD inline void set_face(W& ws, int f, int a, int b, int c) {
+  ws.face_vertex[f][0] = a;
+  ws.face_vertex[f][1] = b;
+  ws.face_vertex[f][2] = c;
+  const Vec3<Real>& pa = ws.point[a];
+  const Vec3<Real>& pb = ws.point[b];
+  const Vec3<Real>& pc = ws.point[c];
+  Vec3<Real> n = cross(pb - pa, pc - pa);
+  const Real len = norm(n);
+  n = len > Real(0) ? n / len : Vec3<Real>(0, 0, 0);
+  ws.face_normal[f] = n;
+  // Eq. 7 takes one vertex's offset; the mean of the three halves the round-off.
+  ws.face_offset[f] = (dot(n, pa) + dot(n, pb) + dot(n, pc)) / Real(3);
+  ws.face_scale[f] = max_of(ws.point_norm[a], max_of(ws.point_norm[b], ws.point_norm[c]));
+  ws.face_stamp[f] = 0;
+}
+
+// Assigns point p to the new face (among faces[0..count)) it is farthest outside of, if any.
+template <class Real, class W>
+TALUS_HD inline void assign_point(W& ws, int p, const int* faces, int count) {
+  ws.point_face[p] = -1;
+  Real best = 0;
+  for (int i = 0; i < count; ++i) {
+    const int f = faces[i];
+    const Real d = distance<Real>(ws, f, p);
+    if (d > tolerance<Real>(ws, f, ws.point_norm[p]) && d > best) {
+      best = d;
+      ws.point_face[p] = f;
+    }
+  }
+  ws.point_dist[p] = best;
+}
+
+// Initial tetrahedron (Algorithm III, initSimplex) from extreme points. Returns false when the
+// points are numerically flat (cannot happen for a bounded intersection with interior).
+template <class Real, class W>
+TALUS_HD inline bool init_simplex(W& ws) {
+  const int n = ws.n_points;
+  int extreme[6] = {0, 0, 0, 0, 0, 0};
+  for (int p = 1; p < n; ++p)
+    for (int axis = 0; axis < 3; ++axis) {
+      if (ws.point[p][axis] < ws.point[extreme[2 * axis]][axis]) extreme[2 * axis] = p;
+      if (ws.point[p][axis] > ws.point[extreme[2 * axis + 1]][axis]) extreme[2 * axis + 1] = p;
+    }
+  int i0 = 0, i1 = 0;
+  Real best = -1;
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b) {
+      const Real d = norm2(ws.point[extreme[a]] - ws.point[extreme[b]]);
+      if (d > best) { best = d; i0 = extreme[a]; i1 = extreme[b]; }
+    }
+  Real scale = 0;
+  for (int p = 0; p < n; ++p) scale = max_of(scale, ws.point_norm[p]);
+  const Real tiny = Real(64) * Eps<Real>::value * scale;
+  const Vec3<Real> axis = ws.point[i1] - ws.point[i0];
+  if (norm(axis) <= tiny) return false;
+  int i2 = -1;
+  best = 0;
+  for (int p = 0; p < n; ++p) {
+    const Real d = norm(cross(axis, ws.point[p] - ws.point[i0]));
+    if (d > best) { best = d; i2 = p; }
+  }
+  if (i2 < 0 || best <= tiny * norm(axis)) return false;
+  const Vec3<Real> normal = cross(axis, ws.point[i2] - ws.point[i0]);
+  int i3 = -1;
+  best = 0;
+  Real side = 0;
+  for (int p = 0; p < n; ++p) {
+    const Real d = dot(normal, ws.point[p] - ws.point[i0]);
+    if (abs_of(d) > best) { best = abs_of(d); i3 = p; side = d; }
+  }
+  if (i3 < 0 || best <= tiny * norm(normal)) return false;
+  // Orient so that the fourth vertex lies below the first face.
+  if (side > 0) swap_of(i1, i2);
+  const int v[4] = {i0, i1, i2, i3};
+  // Faces (0,1,2), (0,3,1), (1,3,2), (2,3,0) are outward for the orientation above.
+  const int tri[4][3] = {{v[0], v[1], v[2]}, {v[0], v[3], v[1]}, {v[1], v[3], v[2]},
+                         {v[2], v[3], v[0]}};
+  for (int f = 0; f < 4; ++f) {
+    const int slot = allocate_face<Real>(ws);
+    if (slot < 0) return false;
+    set_face<Real>(ws, slot, tri[f][0], tri[f][1], tri[f][2]);
+  }
+  // Neighbours: the face sharing each directed edge reversed.
+  for (int f = 0; f < 4; ++f)
+    for (int e = 0; e < 3; ++e) {
+      const int a = ws.face_vertex[f][e], b = ws.face_vertex[f][(e + 1) % 3];
+      for (int g = 0; g < 4; ++g)
+        for (int k = 0; k < 3; ++k)
+          if (ws.face_vertex[g][k] == b && ws.face_vertex[g][(k + 1) % 3] == a)
+            ws.face_neighbor[f][e] = g;
+    }
+  const int faces[4] = {0, 1, 2, 3};
+  for (int p = 0; p < n; ++p) {
+    if (p == i0 || p == i1 || p == i2 || p == i3) {
+      ws.point_face[p] = -1;
+      continue;
+    }
+    assign_point<Real>(ws, p, faces, 4);
+  }
+  return true;
+}
+
+// One expansion (Algorithm V) from apex p: the visible region grown from p's face by
+// neighbour links (so it is connected), its horizon, new faces fanned from the apex.
+template <class Real, class W>
+TALUS_HD inline void expand_once(W& ws, int p, int stamp) {
+  const int start = ws.point_face[p];
+  ws.point_face[p] = -1;
+  int n_stack = 0, n_horizon = 0;
+  ws.stack[n_stack++] = start;
+  ws.face_stamp[start] = stamp;
+  // Depth-first walk over visible faces; `stack` doubles as the list of visible faces.
+  int cursor = 0;
+  while (cursor < n_stack) {
+    const int f = ws.stack[cursor++];
+    for (int e = 0; e < 3; ++e) {
+      const int g = ws.face_neighbor[f][e];
+      if (ws.face_stamp[g] == stamp) continue;
+      if (distance<Real>(ws, g, p) > tolerance<Real>(ws, g, ws.point_norm[p])) {
+        ws.face_stamp[g] = stamp;
+        ws.stack[n_stack++] = g;
+      } else {
+        int back = 0;
+        while (back < 3 && ws.face_neighbor[g][back] != f) ++back;
+        ws.horizon_face[n_horizon] = g;
+        ws.horizon_edge[n_horizon] = back;
+        ++n_horizon;
+      }
+    }
+  }
+  // The horizon must be one simple loop: every vertex starts at most one horizon edge. A
+  // visible region with a hole (possible only within round-off of coplanarity) is refused and
+  // the point dropped; it lies within the tolerance of the hull.
+  for (int h = 0; h < n_horizon; ++h)
+    ws.new_face_from[ws.face_vertex[ws.horizon_face[h]][(ws.horizon_edge[h] + 1) % 3]] = -1;
+  for (int h = 0; h < n_horizon; ++h) {
+    const int v = ws.face_vertex[ws.horizon_face[h]][(ws.horizon_edge[h] + 1) % 3];
+    if (ws.new_face_from[v] != -1) {
+      ++ws.skipped_points;
+      return;  // visible faces keep their stamp, which is harmless: stamps only grow
+    }
+    ws.new_face_from[v] = -2;
+  }
+  // Free the visible faces and collect the orphaned points (those assigned to them) before the
+  // slots are reused by the new faces.
+  for (int i = 0; i < n_stack; ++i) {
+    ws.face_stamp[ws.stack[i]] = -1;
+    ws.free_slots[ws.n_free++] = ws.stack[i];
+  }
+  int n_orphans = 0;
+  for (int q = 0; q < ws.n_points; ++q) {
+    const int f = ws.point_face[q];
+    if (f >= 0 && ws.face_stamp[f] < 0) ws.orphans[n_orphans++] = q;
+  }
+  // New faces: the horizon edge (a, b) as wound in the visible face, then the apex.
+  int* new_faces = ws.new_faces;
+  for (int h = 0; h < n_horizon; ++h) {
+    const int g = ws.horizon_face[h], k = ws.horizon_edge[h];
+    // In the kept face g the shared edge runs (vertex[k], vertex[k+1]); reversed for us.
+    const int a = ws.face_vertex[g][(k + 1) % 3], b = ws.face_vertex[g][k];
+    const int f = allocate_face<Real>(ws);
+    if (f < 0) return;
+    set_face<Real>(ws, f, a, b, p);
+    ws.face_stamp[f] = stamp;
+    ws.face_neighbor[f][0] = g;
+    ws.face_neighbor[g][k] = f;
+    ws.new_face_from[a] = f;
+    new_faces[h] = f;
+  }
+  // Link the fan: face (a, b, p) meets face (b, c, p) across (b, p).
+  for (int h = 0; h < n_horizon; ++h) {
+    const int f = new_faces[h];
+    const int next = ws.new_face_from[ws.face_vertex[f][1]];
+    ws.face_neighbor[f][1] = next;
+    ws.face_neighbor[next][2] = f;
+  }
+  for (int i = 0; i < n_orphans; ++i) assign_point<Real>(ws, ws.orphans[i], new_faces, n_horizon);
+}
+
+}  // namespace dual_hull_detail
+
+// Builds the hull of ws.point[0..n_points) (point_norm filled by the caller). Returns false on a
+// flat point set or a workspace overrun (ws.overrun).
+template <class Real, class W>
+TALUS_HD inline bool build_dual_hull(W& ws) {
+  using namespace dual_hull_detail;
+  ws.n_free = 0;
+  ws.n_slots = 0;
+  ws.overrun = false;
+  ws.skipped_points = 0;
+  if (ws.n_points < 4) return false;
+  if (!init_simplex<Real>(ws)) return false;
+  // Algorithm III: expand from the farthest outside point until none is left. Each expansion
+  // retires one point, so at most n_points expansions happen.
+  for (int stamp = 1; stamp <= ws.n_points; ++stamp) {
+    int apex = -1;
+    Real best = 0;
+    for (int p = 0; p < ws.n_points; ++p)
+      if (ws.point_face[p] >= 0 && ws.point_dist[p] > best) { best = ws.point_dist[p]; apex = p; }
+    if (apex < 0) return true;
+    expand_once<Real>(ws, apex, stamp);
+    if (ws.overrun) return false;
+  }
+  return true;
+}
+
+}  // namespace talus

@@ -1,0 +1,48 @@
+// Overlap of two convex polyhedra (paper §2.3): the intersection polytope by the polar (dual-space)
+// transform about an interior point and an incremental Quickhull in a fixed workspace
+// (Algorithms II-VI), its volume (Eq. 9), the vector area S of its boundary on particle A, and its
+// centroid.
+#pragma once
+
+#include "solver/geometry/convex.hpp"
+
+namespace talus {
+
+enum class OverlapStatus : int {
+  separate = 0,     // no common point
+  touching = 1,     // common points but no interior (volume 0 up to round-off)
+  overlapping = 2,  // a proper intersection polytope was built
+  degenerate = 3,   // the computation could not be completed (workspace too small, non-finite
+                    // input); the result is zero and finite
+};
+
+TALUS_HD inline const char* to_string(OverlapStatus s) {
+  switch (s) {
+    case OverlapStatus::separate: return "separate";
+    case OverlapStatus::touching: return "touching";
+    case OverlapStatus::overlapping: return "overlapping";
+    default: return "degenerate";
+  }
+}
+
+template <class Real>
+struct OverlapResult {
+  OverlapStatus status = OverlapStatus::separate;
+  Real volume = 0;  // m^3 (Eq. 9)
+  // Vector area of the part of the intersection boundary lying on A's surface, with A's outward
+  // normals. It points from A into B; dV/dx_A = -S and dV/dx_B = +S (Feng's energy-conserving
+  // normal), so the contact normal is n = S/|S| and the projected area is A_n = |S|.
+  Vec3<Real> vector_area;
+  Vec3<Real> centroid;  // world frame; meaningful when status == overlapping
+  Real depth_hint = 0;  // inradius of the intersection (Chebyshev-centre LP value), m
+  int hull_points = 0;  // dual points that entered the hull (planes that bound the intersection)
+  bool workspace_overrun = false;  // asserted false by the tests
+};
+
+struct OverlapOptions {
+  // Drop face planes that do not cut the other particle before the hull (DESIGN.md). Off only in
+  // the benchmark's naive variant.
+  bool cull_planes = true;
+};
+
+}  // namespace talus
