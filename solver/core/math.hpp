@@ -16,6 +16,13 @@ TALUS_HD inline T abs_of(T a) { return a < T(0) ? -a : a; }
 template <class T>
 TALUS_HD inline void swap_of(T& a, T& b) { T t = a; a = b; b = t; }
 
+// True for finite x; written without std::isfinite so that it reads the same on host and device
+// (x - x is NaN for an infinity or a NaN).
+template <class Real>
+TALUS_HD inline bool is_finite(Real x) {
+  return (x - x) == Real(0);
+}
+
 // Machine epsilon of the real type, usable in device code.
 template <class Real>
 struct Eps;

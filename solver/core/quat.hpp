@@ -34,6 +34,11 @@ struct Quat {
   }
 };
 
+template <class Real>
+TALUS_HD inline bool is_finite(const Quat<Real>& q) {
+  return is_finite(q.w) && is_finite(q.x) && is_finite(q.y) && is_finite(q.z);
+}
+
 // Rotate v by the unit quaternion q: q v q*, written out (Rodrigues form, 2 cross products).
 template <class Real>
 TALUS_HD inline Vec3<Real> rotate(const Quat<Real>& q, const Vec3<Real>& v) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "solver/core/hd.hpp"
+#include "solver/core/math.hpp"
 
 namespace talus {
 
@@ -52,6 +53,11 @@ TALUS_HD inline Real norm(const Vec3<Real>& a) { return std::sqrt(dot(a, a)); }
 template <class Real>
 TALUS_HD inline Real triple(const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
   return dot(a, cross(b, c));
+}
+
+template <class Real>
+TALUS_HD inline bool is_finite(const Vec3<Real>& v) {
+  return is_finite(v.x) && is_finite(v.y) && is_finite(v.z);
 }
 
 using Vec3d = Vec3<double>;

@@ -10,7 +10,7 @@
 // feasible; the active set W holds at most four linearly independent constraints. While c = e_t
 // has a component outside span(W) we move along its projection onto null(W) until a constraint
 // blocks; otherwise the multipliers of c = W^T lambda decide: all >= 0 is optimal, else the
-// constraint with a negative multiplier (lowest index first: Bland's rule, no cycling) leaves W.
+// constraint with the most negative multiplier leaves W.
 #pragma once
 
 #include "solver/core/math.hpp"
@@ -38,7 +38,9 @@ TALUS_HD inline bool solve_small(Real g[4][4], Real* r, int k) {
     int pivot = col;
     for (int row = col + 1; row < k; ++row)
       if (abs_of(g[row][col]) > abs_of(g[pivot][col])) pivot = row;
-    if (abs_of(g[pivot][col]) <= Real(64) * Eps<Real>::value) return false;
+    // Entries are O(1) (unit normals). A pivot can be as small as the square of the sine of the
+    // angle between nearly parallel planes, which the ratio test admits down to ~(1e2 eps)^2.
+    if (!(abs_of(g[pivot][col]) > Eps<Real>::value * Eps<Real>::value)) return false;
     if (pivot != col) {
       for (int j = 0; j < k; ++j) swap_of(g[col][j], g[pivot][j]);
       swap_of(r[col], r[pivot]);
@@ -58,8 +60,8 @@ TALUS_HD inline bool solve_small(Real g[4][4], Real* r, int k) {
 }
 
 // Row of constraint i in 4-D: (n_i, 1) for a plane, (0, 0, 0, 1) for the cap (index m).
-template <class Real>
-TALUS_HD inline void constraint_row(const Vec3<Real>* normals, int m, int i, Real* row) {
+template <class Real, class Calc>
+TALUS_HD inline void constraint_row(const Vec3<Real>* normals, int m, int i, Calc* row) {
   if (i == m) {
     row[0] = row[1] = row[2] = 0;
   } else {
@@ -73,29 +75,33 @@ TALUS_HD inline void constraint_row(const Vec3<Real>* normals, int m, int i, Rea
 // normals[i] unit, offsets[i] = h_i; m planes. `start` is any point (the iterate starts feasible
 // at (start, min_i slack)); t_cap bounds t (an upper bound of the inradius, e.g. the smaller
 // bounding radius) so the program is bounded even when the planes are not.
-template <class Real>
+// The arithmetic is done in Calc (double by default, also for float planes): the multipliers come
+// from normal equations, whose conditioning is the square of the planes' (nearly parallel faces,
+// 1/sin^2 of their angle), which float cannot carry; four unknowns cost little in double.
+template <class Real, class Calc = double>
 TALUS_HD inline ChebyshevResult<Real> chebyshev_center(const Vec3<Real>* normals,
                                                        const Real* offsets, int m,
                                                        const Vec3<Real>& start, Real t_cap,
                                                        int max_iterations) {
   using lp_detail::constraint_row;
   ChebyshevResult<Real> result;
-  Real z[4] = {start.x, start.y, start.z, t_cap};
+  Calc z[4] = {Calc(start.x), Calc(start.y), Calc(start.z), Calc(t_cap)};
   int first_active = m;  // the cap
   for (int i = 0; i < m; ++i) {
-    const Real slack = offsets[i] - dot(normals[i], start);
+    const Calc slack = Calc(offsets[i]) - dot(Vec3<Calc>(normals[i]), Vec3<Calc>(start));
     if (slack < z[3]) { z[3] = slack; first_active = i; }
   }
   int active[4] = {first_active, 0, 0, 0};
   int k = 1;
 
+  const int bland_after = max_iterations / 2;
   for (int it = 0; it < max_iterations; ++it) {
     result.iterations = it + 1;
-    Real rows[4][4];
+    Calc rows[4][4];
     for (int a = 0; a < k; ++a) constraint_row(normals, m, active[a], rows[a]);
     // Multipliers of the least-squares fit c ~ W^T lambda, c = e_t: (W W^T) lambda = W c.
-    Real gram[4][4];
-    Real lambda[4];
+    Calc gram[4][4];
+    Calc lambda[4];
     for (int a = 0; a < k; ++a) {
       for (int b = 0; b < k; ++b)
         gram[a][b] = rows[a][0] * rows[b][0] + rows[a][1] * rows[b][1] +
@@ -104,16 +110,21 @@ TALUS_HD inline ChebyshevResult<Real> chebyshev_center(const Vec3<Real>* normals
     }
     if (!lp_detail::solve_small(gram, lambda, k)) break;  // dependent rows: keep the iterate
     // Direction: projection of c onto null(W), d = c - W^T lambda.
-    Real d[4] = {0, 0, 0, 1};
+    Calc d[4] = {0, 0, 0, 1};
     for (int a = 0; a < k; ++a)
       for (int j = 0; j < 4; ++j) d[j] -= lambda[a] * rows[a][j];
-    const Real d_norm2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3];
-    if (d_norm2 <= Real(1e3) * Eps<Real>::value) {
-      // c lies in span(W): optimal unless a multiplier is negative (Bland: lowest index leaves).
+    const Calc d_norm2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3];
+    // Four independent active rows leave no direction (a nonzero d is round-off then).
+    if (k == 4 || d_norm2 <= Calc(1e6) * Eps<Calc>::value * Eps<Calc>::value) {  // |d| <= 1e3 eps
+      // c lies in span(W): optimal unless a multiplier is negative. The most negative leaves
+      // (Dantzig). Bland's lowest-index rule, which provably never cycles for vertex-to-vertex
+      // pivots, did cycle here between a vertex and an edge direction on nearly parallel planes
+      // (float, degenerate zero steps); after `bland_after` iterations it takes over anyway.
+      const bool bland = it >= bland_after;
       int leave = -1;
       for (int a = 0; a < k; ++a)
-        if (lambda[a] < -Real(1e2) * Eps<Real>::value &&
-            (leave < 0 || active[a] < active[leave]))
+        if (lambda[a] < -Calc(1e2) * Eps<Calc>::value &&
+            (leave < 0 || (bland ? active[a] < active[leave] : lambda[a] < lambda[leave])))
           leave = a;
       if (leave < 0) {
         result.converged = true;
@@ -124,31 +135,33 @@ TALUS_HD inline ChebyshevResult<Real> chebyshev_center(const Vec3<Real>* normals
       continue;
     }
     // Ratio test along d (Bland: ties go to the lowest index).
-    Real step = Real(-1);
+    Calc step = Calc(-1);
     int enter = -1;
     for (int i = 0; i <= m; ++i) {
       bool is_active = false;
       for (int a = 0; a < k; ++a) is_active |= (active[a] == i);
       if (is_active) continue;
-      Real row[4];
+      Calc row[4];
       constraint_row(normals, m, i, row);
-      const Real rate = row[0] * d[0] + row[1] * d[1] + row[2] * d[2] + row[3] * d[3];
-      if (rate <= Real(1e2) * Eps<Real>::value * std::sqrt(d_norm2)) continue;
-      Real slack = (i == m ? t_cap : offsets[i]) - (row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + z[3]);
+      const Calc rate = row[0] * d[0] + row[1] * d[1] + row[2] * d[2] + row[3] * d[3];
+      if (rate <= Calc(1e2) * Eps<Calc>::value * std::sqrt(d_norm2)) continue;
+      Calc slack = Calc(i == m ? t_cap : offsets[i]) -
+                   (row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + z[3]);
       if (slack < 0) slack = 0;  // round-off of an iterate sitting on the plane
-      const Real ratio = slack / rate;
+      const Calc ratio = slack / rate;
       if (enter < 0 || ratio < step) { step = ratio; enter = i; }
     }
     if (enter < 0) break;  // cannot happen with the cap; keep the feasible iterate
     for (int j = 0; j < 4; ++j) z[j] += step * d[j];
-    if (k == 4) break;  // numerically dependent set; cannot grow further
     active[k++] = enter;
   }
-  // Recompute the depth from the planes themselves so that it is exactly the min slack.
-  result.center = Vec3<Real>(z[0], z[1], z[2]);
-  Real depth = t_cap;
-  for (int i = 0; i < m; ++i) depth = min_of(depth, offsets[i] - dot(normals[i], result.center));
-  result.depth = depth;
+  // The depth at the centre as returned (rounded to Real): exactly the smallest slack.
+  result.center = Vec3<Real>(Vec3<Calc>(z[0], z[1], z[2]));
+  const Vec3<Calc> center(result.center);
+  Calc depth = Calc(t_cap);
+  for (int i = 0; i < m; ++i)
+    depth = min_of(depth, Calc(offsets[i]) - dot(Vec3<Calc>(normals[i]), center));
+  result.depth = Real(depth);
   return result;
 }
 

@@ -30,8 +30,9 @@ struct OverlapResult {
   OverlapStatus status = OverlapStatus::separate;
   Real volume = 0;  // m^3 (Eq. 9)
   // Vector area of the part of the intersection boundary lying on A's surface, with A's outward
-  // normals. It points from A into B; dV/dx_A = -S and dV/dx_B = +S (Feng's energy-conserving
-  // normal), so the contact normal is n = S/|S| and the projected area is A_n = |S|.
+  // normals. It points from A into B: moving A along S grows the overlap, so dV/dx_A = +S and
+  // dV/dx_B = -S (Feng's energy-conserving normal); the contact normal is n = S/|S| and the
+  // projected area A_n = |S|. The normal force on A is along -S.
   Vec3<Real> vector_area;
   Vec3<Real> centroid;  // world frame; meaningful when status == overlapping
   Real depth_hint = 0;  // inradius of the intersection (Chebyshev-centre LP value), m

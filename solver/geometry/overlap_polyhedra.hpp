@@ -9,10 +9,11 @@
 //  5. unpolarisation (Alg. VI, Eqs. 6-8): each dual face is a vertex p = x_o + n/w of the
 //     intersection; each dual vertex (a kept plane) is a face of it, whose polygon is the ring of
 //     the dual faces around that vertex. The volume is summed as cones from x_o over each face's
-//     fan (Eq. 9 with o = x_o: every cone is non-negative because x_o is interior), and the same
-//     fans give each face's area, hence the vector area S on A's surface and the centroid.
-// Coincident planes of A and B ("twins", e.g. the side faces of two aligned stacked cubes) enter
-// the hull once; the face they bound lies on both surfaces and counts half to each, which makes S
+//     fan about its vertex average (Eq. 9 with o = x_o, interior, so every cone is positive up to
+//     round-off), and the same fans give each face's area, hence the vector area S on A's
+//     surface and the centroid.
+// Coincident planes of A and B ("twins", e.g. the side faces of two aligned stacked cubes, or
+// planes whose dual points are closer than round-off can separate) enter the hull once; the face they bound lies on both surfaces and counts half to each, which makes S
 // the mean of the two one-sided gradients of V.
 #pragma once
 
@@ -41,6 +42,14 @@ TALUS_HD constexpr int overlap_capacity_for(int planes) {
   return planes <= 32 ? 32 : (planes <= 64 ? 64 : (planes <= 128 ? 128 : 256));
 }
 
+// Relative distance of two dual points below which they are one plane (twins): sqrt(eps).
+template <class Real>
+struct TwinTolerance;
+template <>
+struct TwinTolerance<double> { static constexpr double value = 1.4901161193847656e-08; };
+template <>
+struct TwinTolerance<float> { static constexpr float value = 3.4526698e-04f; };
+
 namespace overlap_detail {
 
 // Range of signed heights of the vertices of `other` above the plane (n, h) of the frame centred
@@ -61,6 +70,29 @@ TALUS_HD inline void height_range(const ConvexView<Real>& other, const Mat3<Real
   highest -= h_body;
 }
 
+// The vertex of the intersection dual to hull face f. Eq. 8 gives it as n_f / w_f, whose relative
+// error grows like |y|/w ~ L/t (the dual points of a shallow overlap are long, ~1/t, while
+// w ~ 1/L): in float that is 1e-3 of the depth for t = L/100. The same point is the meet of the
+// face's three primal planes, dot(n_i, p) = s_i (p relative to x_o), whose Cramer solution
+// p = (s_1 n_2 x n_3 + s_2 n_3 x n_1 + s_3 n_1 x n_2) / det(n_1, n_2, n_3) is conditioned by the
+// angles between the planes instead. It is used unless the three normals are nearly dependent,
+// where Eq. 8 is the better-conditioned form.
+template <class Real, class Workspace>
+TALUS_HD inline Vec3<Real> primal_vertex_of(const Workspace& ws, int f, Real w) {
+  const auto& hull = ws.hull;
+  const int i = hull.face_vertex[f][0], j = hull.face_vertex[f][1], k = hull.face_vertex[f][2];
+  const Vec3<Real>& n1 = ws.plane_normal[i];
+  const Vec3<Real>& n2 = ws.plane_normal[j];
+  const Vec3<Real>& n3 = ws.plane_normal[k];
+  const Vec3<Real> c23 = cross(n2, n3), c31 = cross(n3, n1), c12 = cross(n1, n2);
+  const Real det = dot(n1, c23);
+  if (abs_of(det) > Real(1e-3)) {
+    // slack s = 1 / |y| for each plane.
+    return (c23 / hull.point_norm[i] + c31 / hull.point_norm[j] + c12 / hull.point_norm[k]) / det;
+  }
+  return hull.face_normal[f] / w;
+}
+
 }  // namespace overlap_detail
 
 template <class Real, class Workspace>
@@ -78,8 +110,10 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
     if (!(distance == distance)) result.status = OverlapStatus::degenerate;  // NaN input
     return result;
   }
-  // Absolute round-off of a plane offset or a vertex height in this frame.
-  const Real round_off = Real(64) * eps * (max_of(a.bounding_radius, b.bounding_radius) + distance);
+  // Absolute round-off of a plane offset or a vertex height in this frame, whose points lie
+  // within `reach` of its origin.
+  const Real reach = max_of(a.bounding_radius, b.bounding_radius) + distance;
+  const Real round_off = Real(64) * eps * reach;
   const Mat3<Real> rot[2] = {rotation_matrix(pose_a.orientation),
                              rotation_matrix(pose_b.orientation)};
   const ConvexView<Real>* body[2] = {&a, &b};
@@ -114,32 +148,6 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       ++m;
     }
   }
-  // Twins: a plane of B coincident with a plane of A (same normal and offset within round-off)
-  // is merged into A's (see the header comment).
-  {
-    int kept = 0;
-    for (int i = 0; i < m; ++i) {
-      bool merged = false;
-      if (ws.plane_owner[i] == 1) {
-        for (int j = 0; j < kept && !merged; ++j) {
-          if (ws.plane_owner[j] != 0) continue;
-          if (dot(ws.plane_normal[i], ws.plane_normal[j]) >= Real(1) - Real(64) * eps &&
-              abs_of(ws.plane_offset[i] - ws.plane_offset[j]) <= round_off) {
-            ws.plane_twin[j] = 1;
-            merged = true;
-          }
-        }
-      }
-      if (merged) continue;
-      ws.plane_normal[kept] = ws.plane_normal[i];
-      ws.plane_offset[kept] = ws.plane_offset[i];
-      ws.plane_owner[kept] = ws.plane_owner[i];
-      ws.plane_twin[kept] = ws.plane_twin[i];
-      ++kept;
-    }
-    m = kept;
-  }
-
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
   const Vec3<Real> start = center[1] * (a.bounding_radius / radius_sum);
@@ -167,13 +175,39 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   }
 
   // Step 4. Polar transform about x_o (Eqs. 4-5): y = n / (h - n.x_o), |y| = 1 / distance.
+  // Twins: a plane of B whose dual point lies within kTwin (relative) of one of A's is merged
+  // into A's (see the header comment). Their separation is the relative difference of the two
+  // planes seen from x_o; below ~sqrt(eps) the direction between the two points is lost in
+  // round-off, so every hull face through both would be a sliver with a meaningless normal. The
+  // volume lost by merging is a wedge of relative size ~kTwin * (face area * width / V), far
+  // below the round-off budget of the test tolerances (1e-9 double, 1e-4 float).
   auto& hull = ws.hull;
-  hull.n_points = m;
+  const Real twin_tolerance = TwinTolerance<Real>::value;
+  int n_points = 0;
   for (int i = 0; i < m; ++i) {
     const Real slack = ws.plane_offset[i] - dot(ws.plane_normal[i], x_o);
-    hull.point[i] = ws.plane_normal[i] / slack;
-    hull.point_norm[i] = Real(1) / slack;
+    const Vec3<Real> y = ws.plane_normal[i] / slack;
+    const Real y_norm = Real(1) / slack;
+    bool merged = false;
+    if (ws.plane_owner[i] == 1) {
+      for (int j = 0; j < n_points && !merged; ++j) {
+        if (ws.plane_owner[j] != 0) continue;
+        if (norm(y - hull.point[j]) <= twin_tolerance * max_of(y_norm, hull.point_norm[j])) {
+          ws.plane_twin[j] = 1;
+          merged = true;
+        }
+      }
+    }
+    if (merged) continue;
+    ws.plane_normal[n_points] = ws.plane_normal[i];
+    ws.plane_owner[n_points] = ws.plane_owner[i];
+    ws.plane_twin[n_points] = 0;
+    hull.point[n_points] = y;
+    hull.point_norm[n_points] = y_norm;
+    ++n_points;
   }
+  hull.n_points = n_points;
+  m = n_points;
   if (!build_dual_hull<Real>(hull)) {
     result.workspace_overrun = hull.overrun;
     result.status = OverlapStatus::degenerate;
@@ -192,7 +226,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       result.status = OverlapStatus::degenerate;
       return result;
     }
-    ws.primal_vertex[f] = hull.face_normal[f] / w;
+    ws.primal_vertex[f] = overlap_detail::primal_vertex_of<Real>(ws, f, w);
     for (int k = 0; k < 3; ++k) {
       ws.ring_sum[hull.face_vertex[f][k]] += ws.primal_vertex[f];
       ++ws.ring_count[hull.face_vertex[f][k]];
@@ -210,7 +244,10 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       const int v = hull.face_vertex[f][e];
       const Vec3<Real>& p_g = ws.primal_vertex[hull.face_neighbor[f][e]];
       const Vec3<Real> c = ws.ring_sum[v] / Real(ws.ring_count[v]);
-      const Real area = norm(cross(p_f - c, p_g - c)) / Real(2);
+      // Signed along the face's outward normal (the ring runs clockwise seen from outside):
+      // a fan triangle flipped by round-off, where a primal vertex sits almost on the segment
+      // of its neighbours, then subtracts instead of adding. Taking |area| cost float 1e-3.
+      const Real area = dot(cross(p_g - c, p_f - c), ws.plane_normal[v]) / Real(2);
       const Real cone = area / (Real(3) * hull.point_norm[v]);  // area * distance / 3
       volume += cone;
       moment += (c + p_f + p_g) * (cone / Real(4));

@@ -1,0 +1,81 @@
+#include "solver/app/arguments.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include "solver/shape/mesh_io.hpp"
+
+namespace talus {
+
+namespace {
+
+std::string describe(const std::string& argument_name, const std::string& text) {
+  return argument_name + " '" + text + "'";
+}
+
+// Splits on commas, keeping empty fields so that "1,,2" and a trailing comma are caught.
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> fields(1);
+  for (const char c : text) {
+    if (c == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+}  // namespace
+
+Posed parse_pose(const std::string& argument_name, const std::string& text) {
+  const std::string expected = "expected 7 comma-separated numbers x,y,z,qw,qx,qy,qz";
+  const std::vector<std::string> fields = split_commas(text);
+  if (fields.size() != 7) {
+    throw UsageError(describe(argument_name, text) + ": " + expected + ", got " +
+                     std::to_string(fields.size()) + " field(s)");
+  }
+  static const char* const kFieldNames[7] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
+  double numbers[7];
+  for (int i = 0; i < 7; ++i) {
+    const std::string& field = fields[i];
+    char* end = nullptr;
+    errno = 0;
+    const double number = std::strtod(field.c_str(), &end);
+    const bool consumed = !field.empty() && end == field.c_str() + field.size();
+    if (!consumed || errno == ERANGE || !std::isfinite(number)) {
+      throw UsageError(describe(argument_name, text) + ": field " + kFieldNames[i] + " '" + field +
+                       "' is not a finite number; " + expected);
+    }
+    numbers[i] = number;
+  }
+  const Quatd q(numbers[3], numbers[4], numbers[5], numbers[6]);
+  const double q_norm = q.norm();
+  // A quaternion whose norm under- or overflows cannot be normalised reliably either.
+  if (!(q_norm > 1e-150) || !std::isfinite(q_norm)) {
+    throw UsageError(describe(argument_name, text) +
+                     ": the quaternion (qw,qx,qy,qz) is zero; expected a non-zero rotation "
+                     "quaternion, e.g. 1,0,0,0 for no rotation");
+  }
+  Posed pose;
+  pose.position = Vec3d(numbers[0], numbers[1], numbers[2]);
+  pose.orientation = q.normalized();
+  return pose;
+}
+
+ShapeTemplate load_shape_argument(const std::string& argument_name, const std::string& spec) {
+  try {
+    return make_shape(spec);
+  } catch (const std::exception& error) {
+    std::string reason = error.what();
+    for (char& c : reason) {
+      if (c == '\n' || c == '\r') c = ' ';  // the error stays on one line
+    }
+    // The loader's message already says what it expected.
+    throw UsageError(describe(argument_name, spec) + ": " + reason);
+  }
+}
+
+}  // namespace talus

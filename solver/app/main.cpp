@@ -1,0 +1,102 @@
+// The `talus` command line. Results go to stdout as one JSON document; errors go to stderr as one
+// line naming the offending argument, followed by the usage, with exit status 2.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "solver/app/arguments.hpp"
+#include "solver/app/commands.hpp"
+
+namespace {
+
+constexpr int kExitUsage = 2;
+constexpr int kExitFailure = 1;
+
+const char* const kUsage =
+    "usage:\n"
+    "  talus                                  run a built-in overlap example\n"
+    "  talus overlap A POSE_A B POSE_B        overlap of two posed polyhedra, as JSON\n"
+    "  talus shape A                          a shape template in its body frame, as JSON\n"
+    "  talus help | --help | -h               this text\n"
+    "\n"
+    "A, B     a built-in shape 'name:size' or an .obj/.stl file ('path' or 'path:scale')\n"
+    "         name: tetrahedron, cube, octahedron, dodecahedron, icosahedron, corn, mineral\n"
+    "               (size = circumscribed-sphere diameter, m); cuboid:a,b,c (sides, m);\n"
+    "               cylinder:D,L[,N] (diameter, length, N sides; m)\n"
+    "POSE     x,y,z,qw,qx,qy,qz: centroid position (m) and orientation quaternion\n"
+    "         (body -> world, normalised by talus), e.g. 0,0,0,1,0,0,0\n"
+    "\n"
+    "overlap prints: status, volume (m^3), normal (S/|S|, from A to B), area (|S|, m^2),\n"
+    "vector_area (S), point (overlap centroid), chebyshev_depth (inradius of the overlap),\n"
+    "depth, simple_normal, simple_point (BLAZE-DEM simple contact), gjk_intersecting.\n";
+
+// The example run by `talus` alone: two 10 mm dodecahedra, centres 7.07 mm apart (less than
+// twice the 3.97 mm inradius, so they overlap whatever their orientations), the second turned
+// 30 degrees about z.
+const std::vector<std::string> kExample = {"dodecahedron:0.01", "0,0,0,1,0,0,0",
+                                           "dodecahedron:0.01",
+                                           "0.007,0.001,0,0.9659258,0,0,0.2588190"};
+
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "talus: error: %s\n\n%s", message.c_str(), kUsage);
+  return kExitUsage;
+}
+
+int run(const std::vector<std::string>& args) {
+  if (args.empty()) {
+    std::fprintf(stderr,
+                 "talus: no command given; running the example 'talus overlap %s %s %s %s' (two "
+                 "10 mm dodecahedra, the second moved by (7, 1, 0) mm and turned 30 deg about z); "
+                 "'talus --help' lists the commands\n",
+                 kExample[0].c_str(), kExample[1].c_str(), kExample[2].c_str(),
+                 kExample[3].c_str());
+    const std::string json =
+        talus::overlap_json(kExample[0], kExample[1], kExample[2], kExample[3]);
+    std::fputs(json.c_str(), stdout);
+    return 0;
+  }
+  const std::string& command = args[0];
+  const std::size_t operands = args.size() - 1;
+  if (command == "help" || command == "--help" || command == "-h") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  std::string json;
+  if (command == "overlap") {
+    if (operands != 4) {
+      return usage_error("overlap expects 4 arguments A POSE_A B POSE_B, got " +
+                         std::to_string(operands));
+    }
+    json = talus::overlap_json(args[1], args[2], args[3], args[4]);
+  } else if (command == "shape") {
+    if (operands != 1) {
+      return usage_error("shape expects 1 argument A, got " + std::to_string(operands));
+    }
+    json = talus::shape_json(args[1]);
+  } else {
+    return usage_error("unknown command '" + command + "'; expected overlap, shape or help");
+  }
+  std::fputs(json.c_str(), stdout);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    const int status = run(args);
+    if (std::fflush(stdout) != 0) {
+      std::fprintf(stderr, "talus: error: could not write the output\n");
+      return kExitFailure;
+    }
+    return status;
+  } catch (const talus::UsageError& error) {
+    return usage_error(error.what());
+  } catch (const std::exception& error) {
+    // Not the user's arguments: an internal failure (e.g. out of memory).
+    std::fprintf(stderr, "talus: error: %s\n", error.what());
+    return kExitFailure;
+  }
+}

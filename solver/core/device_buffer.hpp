@@ -1,0 +1,55 @@
+// One explicit owning device array with explicit copies (STYLE.md: no mirrored arrays).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "solver/core/cuda_check.hpp"
+
+namespace talus {
+
+template <class T>
+class DeviceBuffer {
+ public:
+  DeviceBuffer() = default;
+  explicit DeviceBuffer(std::size_t count) { resize(count); }
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  DeviceBuffer(DeviceBuffer&& o) noexcept : data_(o.data_), size_(o.size_) {
+    o.data_ = nullptr;
+    o.size_ = 0;
+  }
+  ~DeviceBuffer() {
+    if (data_) cudaFree(data_);  // no throw from a destructor
+  }
+
+  void resize(std::size_t count) {
+    if (count == size_) return;
+    if (data_) TALUS_CUDA_CHECK(cudaFree(data_));
+    data_ = nullptr;
+    size_ = 0;
+    if (count > 0) TALUS_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&data_), count * sizeof(T)));
+    size_ = count;
+  }
+  void upload(const T* host, std::size_t count) {
+    resize(count);
+    if (count > 0)
+      TALUS_CUDA_CHECK(cudaMemcpy(data_, host, count * sizeof(T), cudaMemcpyHostToDevice));
+  }
+  void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
+  void download(std::vector<T>& host) const {
+    host.resize(size_);
+    if (size_ > 0)
+      TALUS_CUDA_CHECK(cudaMemcpy(host.data(), data_, size_ * sizeof(T), cudaMemcpyDeviceToHost));
+  }
+
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+  std::size_t size() const { return size_; }
+
+ private:
+  T* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+}  // namespace talus

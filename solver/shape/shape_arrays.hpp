@@ -1,0 +1,61 @@
+// Flat host arrays of one template in the real type the solver runs in, and the ConvexView over
+// them (the layout that is copied to the device).
+#pragma once
+
+#include <vector>
+
+#include "solver/geometry/convex.hpp"
+#include "solver/shape/shape.hpp"
+
+namespace talus {
+
+template <class Real>
+struct ShapeArrays {
+  std::vector<Vec3<Real>> vertices, face_normals;
+  std::vector<Real> face_offsets;
+  std::vector<int> edges, triangles;  // 2 and 3 vertex indices each, flattened
+  Real bounding_radius = 0, volume = 0;
+
+  explicit ShapeArrays(const ShapeTemplate& shape)
+      : bounding_radius(Real(shape.bounding_radius)), volume(Real(shape.volume)) {
+    for (const Vec3d& v : shape.vertices) {
+      vertices.push_back(Vec3<Real>(v));
+      // Rounded vertices must stay inside the bounding sphere the broad phase uses.
+      const Real r = norm(vertices.back());
+      if (r > bounding_radius) bounding_radius = r;
+    }
+    for (const Face& face : shape.faces) {
+      const Vec3<Real> normal(face.normal);
+      // The offset is taken again in Real arithmetic from the rounded vertices, so that each
+      // face's own vertices satisfy dot(normal, x) <= offset in that precision too.
+      Real offset = Real(face.offset);
+      for (int v : face.loop) {
+        const Real d = dot(normal, vertices[v]);
+        if (d > offset) offset = d;
+      }
+      face_normals.push_back(normal);
+      face_offsets.push_back(offset);
+    }
+    for (const auto& e : shape.edges) edges.insert(edges.end(), {e[0], e[1]});
+    for (const auto& t : shape.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  }
+
+  // Valid while this object lives and is not modified.
+  ConvexView<Real> view() const {
+    ConvexView<Real> view;
+    view.vertices = vertices.data();
+    view.face_normals = face_normals.data();
+    view.face_offsets = face_offsets.data();
+    view.edges = edges.data();
+    view.triangles = triangles.data();
+    view.n_vertices = int(vertices.size());
+    view.n_faces = int(face_normals.size());
+    view.n_edges = int(edges.size() / 2);
+    view.n_triangles = int(triangles.size() / 3);
+    view.volume = volume;
+    view.bounding_radius = bounding_radius;
+    return view;
+  }
+};
+
+}  // namespace talus

@@ -1,0 +1,314 @@
+// The `talus` command line, run as a separate process: its JSON against closed-form overlaps of
+// cubes, and its exit codes and messages for each class of bad argument.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/app/json_reader.hpp"
+
+namespace {
+
+using talus_test::Json;
+using talus_test::parse_or_fail;
+
+// ---- Running the binary
+
+struct ProcessResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Runs <build>/talus with `args` (no shell: arguments pass verbatim), stdout and stderr captured in
+// temporary files so that neither can fill a pipe and stall the child.
+ProcessResult run_talus(const std::vector<std::string>& args) {
+  char out_path[] = "/tmp/talus_cli_out_XXXXXX";
+  char err_path[] = "/tmp/talus_cli_err_XXXXXX";
+  const int out_fd = mkstemp(out_path);
+  const int err_fd = mkstemp(err_path);
+  ProcessResult run;
+  if (out_fd < 0 || err_fd < 0) {
+    ADD_FAILURE() << "cannot create temporary files";
+    return run;
+  }
+  const std::string binary = TALUS_BINARY_DIR "/talus";
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(binary.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out_fd, STDOUT_FILENO);
+    dup2(err_fd, STDERR_FILENO);
+    execv(binary.c_str(), argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  close(out_fd);
+  close(err_fd);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.out = read_file(out_path);
+  run.err = read_file(err_path);
+  unlink(out_path);
+  unlink(err_path);
+  return run;
+}
+
+// ---- Shapes and poses
+
+// Circumscribed diameter of the test cube (m) and its side d / sqrt(3).
+constexpr double kCubeDiameter = 0.01;
+const double kSide = kCubeDiameter / std::sqrt(3.0);
+const std::string kCube = "cube:0.01";
+
+// The overlap is a sum of a few dozen cone volumes and face areas, each exact to a few ulps, and
+// the printed numbers round-trip exactly (17 digits): 1e-12 relative is ~4 orders above round-off
+// and far below any real error (a wrong face or a missing cone is an O(1) error).
+constexpr double kRelTol = 1e-12;
+
+std::string number_text(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+std::string pose_text(double x, double y, double z, double qw = 1, double qx = 0, double qy = 0,
+                      double qz = 0) {
+  return number_text(x) + "," + number_text(y) + "," + number_text(z) + "," + number_text(qw) +
+         "," + number_text(qx) + "," + number_text(qy) + "," + number_text(qz);
+}
+
+const std::string kAtOrigin = "0,0,0,1,0,0,0";
+
+Json overlap(const std::string& pose_a, const std::string& pose_b) {
+  const ProcessResult run = run_talus({"overlap", kCube, pose_a, kCube, pose_b});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  return parse_or_fail(run.out);
+}
+
+void expect_vec(const Json& v, double x, double y, double z, double tol, const char* what) {
+  ASSERT_EQ(v.kind, Json::array) << what;
+  ASSERT_EQ(v.items.size(), 3u) << what;
+  EXPECT_NEAR(v.x(0), x, tol) << what;
+  EXPECT_NEAR(v.x(1), y, tol) << what;
+  EXPECT_NEAR(v.x(2), z, tol) << what;
+}
+
+// ---- Overlap of two cubes: closed forms
+
+// Offset along one axis: the overlap is the box s^2 (s - |d|); S is A's face towards B (the four
+// side faces are shared by both cubes, count half to each and cancel in pairs), so n = +-e_axis
+// and |S| = s^2; the centroid is at d/2.
+TEST(TalusOverlap, CubesOffsetAlongEachAxis) {
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double sign : {1.0, -1.0}) {
+      double d[3] = {0, 0, 0};
+      d[axis] = sign * 0.3 * kSide;
+      const Json r = overlap(kAtOrigin, pose_text(d[0], d[1], d[2]));
+      EXPECT_EQ(r["status"].text, "overlapping");
+      const double volume = kSide * kSide * (kSide - std::abs(d[axis]));
+      EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume) << "axis " << axis;
+      expect_vec(r["normal"], axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0,
+                 kRelTol, "normal");
+      EXPECT_NEAR(r["area"].value, kSide * kSide, kRelTol * kSide * kSide);
+      expect_vec(r["point"], d[0] / 2, d[1] / 2, d[2] / 2, kRelTol * kSide, "point");
+      EXPECT_TRUE(r["gjk_intersecting"].flag);
+      // The simple model's penetration depth along the axis is s - |d|.
+      EXPECT_NEAR(r["depth"].value, kSide - std::abs(d[axis]), kRelTol * kSide);
+      EXPECT_EQ(r["a"].text, kCube);
+      EXPECT_EQ(r["b"].text, kCube);
+    }
+  }
+}
+
+// Offset on all three axes: the box (s-|dx|)(s-|dy|)(s-|dz|); S is the sum of the three faces of A
+// that bound it, each along sign(d_i) with the area of the box's face across that axis.
+TEST(TalusOverlap, CubesOffsetOnThreeAxesGiveBoxVolumeAndVectorArea) {
+  const double d[3] = {0.2 * kSide, -0.35 * kSide, 0.5 * kSide};
+  const double e[3] = {kSide - 0.2 * kSide, kSide - 0.35 * kSide, kSide - 0.5 * kSide};
+  const Json r = overlap(kAtOrigin, pose_text(d[0], d[1], d[2]));
+  EXPECT_EQ(r["status"].text, "overlapping");
+  const double volume = e[0] * e[1] * e[2];
+  EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume);
+  const double s[3] = {e[1] * e[2], -e[0] * e[2], e[0] * e[1]};
+  const double area = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  expect_vec(r["vector_area"], s[0], s[1], s[2], kRelTol * area, "vector_area");
+  EXPECT_NEAR(r["area"].value, area, kRelTol * area);
+  expect_vec(r["normal"], s[0] / area, s[1] / area, s[2] / area, kRelTol, "normal");
+  expect_vec(r["point"], d[0] / 2, d[1] / 2, d[2] / 2, kRelTol * kSide, "point");
+}
+
+// B turned 45 degrees about z with a vertical edge pushed a depth p into A's +x face: the overlap
+// is a prism over the triangle of height p and base 2p (area p^2), of length s; S = 2ps e_x (the
+// z faces are shared and cancel); the centroid sits p/3 inside the face. The simple model's
+// depth is p along +x, its point midway into the penetration on the edge's line.
+TEST(TalusOverlap, RotatedCubeEdgeIntoFace) {
+  const double p = 0.2 * kSide;
+  const double half_diagonal = kSide / std::sqrt(2.0);
+  const double x = kSide / 2 + half_diagonal - p;
+  const double angle = M_PI / 4;
+  const Json r =
+      overlap(kAtOrigin, pose_text(x, 0, 0, std::cos(angle / 2), 0, 0, std::sin(angle / 2)));
+  EXPECT_EQ(r["status"].text, "overlapping");
+  EXPECT_NEAR(r["volume"].value, p * p * kSide, kRelTol * p * p * kSide);
+  expect_vec(r["normal"], 1, 0, 0, kRelTol, "normal");
+  EXPECT_NEAR(r["area"].value, 2 * p * kSide, kRelTol * p * kSide);
+  expect_vec(r["point"], kSide / 2 - p / 3, 0, 0, kRelTol * kSide, "point");
+  EXPECT_NEAR(r["depth"].value, p, kRelTol * kSide);
+  expect_vec(r["simple_normal"], 1, 0, 0, kRelTol, "simple_normal");
+  expect_vec(r["simple_point"], kSide / 2 - p / 2, 0, 0, kRelTol * kSide, "simple_point");
+}
+
+// The same box overlap far from the world origin: talus works relative to A, so only the
+// decimal positions' own rounding (~1e-16 m at 1 m, i.e. ~2e-14 of the side) enters.
+TEST(TalusOverlap, TranslationOfBothCubesChangesNothing) {
+  const double origin[3] = {1.25, -2.5, 0.75};
+  const double d = 0.3 * kSide;
+  const Json r = overlap(pose_text(origin[0], origin[1], origin[2]),
+                         pose_text(origin[0] + d, origin[1], origin[2]));
+  const double actual_d = (origin[0] + d) - origin[0];
+  const double volume = kSide * kSide * (kSide - actual_d);
+  EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume);
+  expect_vec(r["point"], origin[0] + actual_d / 2, origin[1], origin[2], 1e-12, "point");
+}
+
+TEST(TalusOverlap, SeparateCubesReportNothing) {
+  // Along x beyond contact, and a diagonal placement where the bounding spheres overlap
+  // (1.16 s < 2 * 0.866 s) so that only the polyhedra can say "separate".
+  const std::vector<std::string> poses = {pose_text(1.5 * kSide, 0, 0),
+                                          pose_text(1.05 * kSide, 0.5 * kSide, 0)};
+  for (const std::string& pose : poses) {
+    const Json r = overlap(kAtOrigin, pose);
+    EXPECT_EQ(r["status"].text, "separate") << pose;
+    EXPECT_EQ(r["volume"].value, 0);
+    expect_vec(r["normal"], 0, 0, 0, 0, "normal");
+    EXPECT_EQ(r["area"].value, 0);
+    EXPECT_FALSE(r["gjk_intersecting"].flag);
+    EXPECT_EQ(r["depth"].value, 0);
+    EXPECT_FALSE(r["simple_touching"].flag);
+  }
+}
+
+// Positions whose difference overflows make the simple model's normal non-finite; the output must
+// stay valid JSON (null in place of the number).
+TEST(TalusOverlap, NonFiniteIntermediatesStillGiveValidJson) {
+  const Json r = overlap(pose_text(-1e308, 0, 0), pose_text(1e308, 0, 0));
+  EXPECT_EQ(r["status"].text, "separate");
+}
+
+// ---- talus shape
+
+TEST(TalusShape, CubeTemplate) {
+  const ProcessResult run = run_talus({"shape", kCube});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json r = parse_or_fail(run.out);
+  const double volume = kSide * kSide * kSide;
+  EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume);
+  EXPECT_NEAR(r["bounding_radius"].value, kCubeDiameter / 2, kRelTol * kCubeDiameter);
+  // Per unit density a cube's moments are all s^5 / 6.
+  const double moment = std::pow(kSide, 5) / 6;
+  expect_vec(r["principal_moments"], moment, moment, moment, kRelTol * moment, "moments");
+  EXPECT_EQ(r["vertex_count"].value, 8);
+  EXPECT_EQ(r["face_count"].value, 6);
+  EXPECT_EQ(r["triangle_count"].value, 12);
+  EXPECT_EQ(r["edge_count"].value, 12);
+  ASSERT_EQ(r["vertices"].items.size(), 8u);
+  ASSERT_EQ(r["faces"].items.size(), 6u);
+  for (const Json& v : r["vertices"].items) {
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(std::abs(v.x(i)), kSide / 2, kRelTol * kSide);
+  }
+  for (const Json& face : r["faces"].items) {
+    EXPECT_NEAR(face["offset"].value, kSide / 2, kRelTol * kSide);
+    EXPECT_EQ(face["loop"].items.size(), 4u);
+  }
+}
+
+// ---- No arguments, help
+
+TEST(TalusExample, NoArgumentsRunsTheAdvertisedOverlap) {
+  const ProcessResult run = run_talus({});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json r = parse_or_fail(run.out);
+  EXPECT_EQ(r["status"].text, "overlapping");
+  EXPECT_GT(r["volume"].value, 0);
+  EXPECT_TRUE(r["gjk_intersecting"].flag);
+  // The header names the command it runs, and running that command gives the same document.
+  const std::string prefix = "talus overlap ";
+  const size_t start = run.err.find(prefix);
+  ASSERT_NE(start, std::string::npos) << run.err;
+  const size_t end = run.err.find('\'', start);
+  ASSERT_NE(end, std::string::npos);
+  std::istringstream words(run.err.substr(start + prefix.size(), end - start - prefix.size()));
+  std::vector<std::string> args = {"overlap"};
+  for (std::string w; words >> w;) args.push_back(w);
+  ASSERT_EQ(args.size(), 5u);
+  EXPECT_EQ(run_talus(args).out, run.out);
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << "one header line";
+}
+
+TEST(TalusHelp, HelpPrintsUsageAndSucceeds) {
+  for (const char* flag : {"--help", "help", "-h"}) {
+    const ProcessResult run = run_talus({flag});
+    EXPECT_EQ(run.exit_code, 0) << flag;
+    EXPECT_NE(run.out.find("usage:"), std::string::npos);
+    EXPECT_NE(run.out.find("talus overlap A POSE_A B POSE_B"), std::string::npos);
+    EXPECT_TRUE(run.err.empty());
+  }
+}
+
+// ---- Bad arguments: exit 2, nothing on stdout, one error line naming the argument, then usage
+
+struct BadCase {
+  std::vector<std::string> args;
+  std::string names;  // text the error line must contain
+};
+
+TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
+  const std::string& id = kAtOrigin;
+  const std::vector<BadCase> cases = {
+      {{"frob"}, "unknown command 'frob'"},
+      {{"overlap", kCube, id, kCube}, "overlap expects 4 arguments"},
+      {{"overlap", kCube, id, kCube, id, id}, "got 5"},
+      {{"shape"}, "shape expects 1 argument"},
+      {{"overlap", kCube, "1,2,3", kCube, id}, "POSE_A '1,2,3'"},
+      {{"overlap", kCube, id, kCube, "0,0,0,1,0,0,"}, "POSE_B"},
+      {{"overlap", kCube, id, kCube, "0,0,0,1,0,0,x"}, "field qz 'x'"},
+      {{"overlap", kCube, id, kCube, "0,0,0,1,0,0,nan"}, "field qz 'nan'"},
+      {{"overlap", kCube, id, kCube, "0.1,0,0,0,0,0,0"}, "POSE_B '0.1,0,0,0,0,0,0'"},
+      {{"overlap", "blob:1", id, kCube, id}, "A 'blob:1'"},
+      {{"overlap", kCube, id, "cube:-1", id}, "B 'cube:-1'"},
+      {{"shape", "cube:abc"}, "A 'cube:abc'"},
+      {{"shape", "/nonexistent/particle.obj"}, "A '/nonexistent/particle.obj'"},
+      {{"overlap", "cylinder:0.01,0.01,200", id, "cylinder:0.01,0.01,200", id}, "at most 256"},
+  };
+  for (const BadCase& c : cases) {
+    std::string joined;
+    for (const std::string& a : c.args) joined += a + " ";
+    const ProcessResult run = run_talus(c.args);
+    EXPECT_EQ(run.exit_code, 2) << joined;
+    EXPECT_TRUE(run.out.empty()) << joined << "\n" << run.out;
+    const std::string first_line = run.err.substr(0, run.err.find('\n'));
+    EXPECT_EQ(first_line.rfind("talus: error: ", 0), 0u) << joined << "\n" << run.err;
+    EXPECT_NE(first_line.find(c.names), std::string::npos) << joined << "\n" << run.err;
+    EXPECT_NE(run.err.find("usage:"), std::string::npos) << joined;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,71 @@
+// Shared helpers of the overlap tests: templates with their flat arrays, a heap workspace, the
+// production overlap in double or float, and comparisons against the long-double oracle.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solver/geometry/overlap_polyhedra.hpp"
+#include "solver/shape/builtins.hpp"
+#include "solver/shape/shape_arrays.hpp"
+#include "tests/support/oracle.hpp"
+
+namespace talus::testing {
+
+// A template with its double and float arrays, kept together so the views stay valid.
+struct TestShape {
+  ShapeTemplate shape;
+  ShapeArrays<double> arrays_d;
+  ShapeArrays<float> arrays_f;
+  explicit TestShape(ShapeTemplate s) : shape(std::move(s)), arrays_d(shape), arrays_f(shape) {}
+  explicit TestShape(const std::string& spec) : TestShape(make_builtin(spec)) {}
+  ConvexView<double> view() const { return arrays_d.view(); }
+  ConvexView<float> view_f() const { return arrays_f.view(); }
+};
+
+// The built-in specs the tests sweep; sizes differ so that pairs are not all of one scale.
+inline std::vector<std::string> builtin_specs() {
+  return {"tetrahedron:0.012", "cube:0.01",     "cuboid:0.004,0.006,0.009",
+          "octahedron:0.011",  "dodecahedron:0.01", "icosahedron:0.009",
+          "cylinder:0.008,0.0053", "corn:0.01",  "mineral:0.01"};
+}
+
+template <class Real>
+OverlapResult<Real> overlap(const ConvexView<Real>& a, const Pose<Real>& pa,
+                            const ConvexView<Real>& b, const Pose<Real>& pb,
+                            OverlapOptions options = OverlapOptions()) {
+  // 256 planes covers every pair the tests build; the heap keeps the stack small.
+  static thread_local auto ws = std::make_unique<OverlapWorkspace<Real, 256>>();
+  return overlap_polyhedra(a, pa, b, pb, *ws, options);
+}
+
+inline OverlapResult<double> overlap(const TestShape& a, const Posed& pa, const TestShape& b,
+                                     const Posed& pb, OverlapOptions options = OverlapOptions()) {
+  return overlap(a.view(), pa, b.view(), pb, options);
+}
+
+inline Pose<float> to_float(const Posed& p) {
+  return {Vec3f(p.position), Quat<float>(p.orientation)};
+}
+
+inline OverlapResult<float> overlap_f(const TestShape& a, const Posed& pa, const TestShape& b,
+                                      const Posed& pb) {
+  return overlap(a.view_f(), to_float(pa), b.view_f(), to_float(pb));
+}
+
+inline OracleResult oracle(const TestShape& a, const Posed& pa, const TestShape& b,
+                           const Posed& pb) {
+  return oracle_overlap(a.shape, pa, b.shape, pb);
+}
+
+// The pose that puts a template's input frame at `offset` (world = input + offset): used to place
+// shapes as they were written (axis-aligned cuboids) although templates live in the body frame.
+inline Posed input_frame_pose(const ShapeTemplate& s, const Vec3d& offset,
+                              const Quatd& extra = Quatd()) {
+  return {offset + rotate(extra, s.input_centroid), extra * s.body_to_input};
+}
+
+inline Vec3d to_d(const Vec3l& v) { return Vec3d(v); }
+
+}  // namespace talus::testing
