@@ -28,7 +28,8 @@ class DeviceBuffer {
     if (data_) TALUS_CUDA_CHECK(cudaFree(data_));
     data_ = nullptr;
     size_ = 0;
-    if (count > 0) TALUS_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&data_), count * sizeof(T)));
+    if (count > 0)
+      TALUS_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&data_), count * sizeof(T)));
     size_ = count;
   }
   void upload(const T* host, std::size_t count) {

@@ -8,13 +8,23 @@
 namespace talus {
 
 template <class T>
-TALUS_HD inline T min_of(T a, T b) { return b < a ? b : a; }
+TALUS_HD inline T min_of(T a, T b) {
+  return b < a ? b : a;
+}
 template <class T>
-TALUS_HD inline T max_of(T a, T b) { return a < b ? b : a; }
+TALUS_HD inline T max_of(T a, T b) {
+  return a < b ? b : a;
+}
 template <class T>
-TALUS_HD inline T abs_of(T a) { return a < T(0) ? -a : a; }
+TALUS_HD inline T abs_of(T a) {
+  return a < T(0) ? -a : a;
+}
 template <class T>
-TALUS_HD inline void swap_of(T& a, T& b) { T t = a; a = b; b = t; }
+TALUS_HD inline void swap_of(T& a, T& b) {
+  T t = a;
+  a = b;
+  b = t;
+}
 
 // True for finite x; written without std::isfinite so that it reads the same on host and device
 // (x - x is NaN for an infinity or a NaN).
@@ -27,8 +37,12 @@ TALUS_HD inline bool is_finite(Real x) {
 template <class Real>
 struct Eps;
 template <>
-struct Eps<double> { static constexpr double value = 2.220446049250313e-16; };
+struct Eps<double> {
+  static constexpr double value = 2.220446049250313e-16;
+};
 template <>
-struct Eps<float> { static constexpr float value = 1.1920929e-07f; };
+struct Eps<float> {
+  static constexpr float value = 1.1920929e-07f;
+};
 
 }  // namespace talus

@@ -14,7 +14,8 @@ struct Quat {
   TALUS_HD Quat() : w(1), x(0), y(0), z(0) {}
   TALUS_HD Quat(Real w_, Real x_, Real y_, Real z_) : w(w_), x(x_), y(y_), z(z_) {}
   template <class Other>
-  TALUS_HD explicit Quat(const Quat<Other>& o) : w(Real(o.w)), x(Real(o.x)), y(Real(o.y)), z(Real(o.z)) {}
+  TALUS_HD explicit Quat(const Quat<Other>& o)
+      : w(Real(o.w)), x(Real(o.x)), y(Real(o.y)), z(Real(o.z)) {}
 
   TALUS_HD Quat operator*(const Quat& q) const {
     return {w * q.w - x * q.x - y * q.y - z * q.z, w * q.x + x * q.w + y * q.z - z * q.y,
@@ -74,9 +75,15 @@ template <class Real>
 TALUS_HD inline Mat3<Real> rotation_matrix(const Quat<Real>& q) {
   const Real w = q.w, x = q.x, y = q.y, z = q.z;
   Mat3<Real> r;
-  r.m[0][0] = 1 - 2 * (y * y + z * z); r.m[0][1] = 2 * (x * y - w * z); r.m[0][2] = 2 * (x * z + w * y);
-  r.m[1][0] = 2 * (x * y + w * z); r.m[1][1] = 1 - 2 * (x * x + z * z); r.m[1][2] = 2 * (y * z - w * x);
-  r.m[2][0] = 2 * (x * z - w * y); r.m[2][1] = 2 * (y * z + w * x); r.m[2][2] = 1 - 2 * (x * x + y * y);
+  r.m[0][0] = 1 - 2 * (y * y + z * z);
+  r.m[0][1] = 2 * (x * y - w * z);
+  r.m[0][2] = 2 * (x * z + w * y);
+  r.m[1][0] = 2 * (x * y + w * z);
+  r.m[1][1] = 1 - 2 * (x * x + z * z);
+  r.m[1][2] = 2 * (y * z - w * x);
+  r.m[2][0] = 2 * (x * z - w * y);
+  r.m[2][1] = 2 * (y * z + w * x);
+  r.m[2][2] = 1 - 2 * (x * x + y * y);
   return r;
 }
 

@@ -25,13 +25,30 @@ struct Vec3 {
   TALUS_HD Vec3 operator-() const { return {-x, -y, -z}; }
   TALUS_HD Vec3 operator*(Real s) const { return {x * s, y * s, z * s}; }
   TALUS_HD Vec3 operator/(Real s) const { return {x / s, y / s, z / s}; }
-  TALUS_HD Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
-  TALUS_HD Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-  TALUS_HD Vec3& operator*=(Real s) { x *= s; y *= s; z *= s; return *this; }
+  TALUS_HD Vec3& operator+=(const Vec3& o) {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
+  TALUS_HD Vec3& operator-=(const Vec3& o) {
+    x -= o.x;
+    y -= o.y;
+    z -= o.z;
+    return *this;
+  }
+  TALUS_HD Vec3& operator*=(Real s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
 };
 
 template <class Real>
-TALUS_HD inline Vec3<Real> operator*(Real s, const Vec3<Real>& v) { return v * s; }
+TALUS_HD inline Vec3<Real> operator*(Real s, const Vec3<Real>& v) {
+  return v * s;
+}
 
 template <class Real>
 TALUS_HD inline Real dot(const Vec3<Real>& a, const Vec3<Real>& b) {
@@ -44,10 +61,14 @@ TALUS_HD inline Vec3<Real> cross(const Vec3<Real>& a, const Vec3<Real>& b) {
 }
 
 template <class Real>
-TALUS_HD inline Real norm2(const Vec3<Real>& a) { return dot(a, a); }
+TALUS_HD inline Real norm2(const Vec3<Real>& a) {
+  return dot(a, a);
+}
 
 template <class Real>
-TALUS_HD inline Real norm(const Vec3<Real>& a) { return std::sqrt(dot(a, a)); }
+TALUS_HD inline Real norm(const Vec3<Real>& a) {
+  return std::sqrt(dot(a, a));
+}
 
 // Signed volume times 6 of the tetrahedron (o, a, b, c).
 template <class Real>

@@ -65,7 +65,9 @@ TALUS_HD inline void constraint_row(const Vec3<Real>* normals, int m, int i, Cal
   if (i == m) {
     row[0] = row[1] = row[2] = 0;
   } else {
-    row[0] = normals[i].x; row[1] = normals[i].y; row[2] = normals[i].z;
+    row[0] = normals[i].x;
+    row[1] = normals[i].y;
+    row[2] = normals[i].z;
   }
   row[3] = 1;
 }
@@ -89,7 +91,10 @@ TALUS_HD inline ChebyshevResult<Real> chebyshev_center(const Vec3<Real>* normals
   int first_active = m;  // the cap
   for (int i = 0; i < m; ++i) {
     const Calc slack = Calc(offsets[i]) - dot(Vec3<Calc>(normals[i]), Vec3<Calc>(start));
-    if (slack < z[3]) { z[3] = slack; first_active = i; }
+    if (slack < z[3]) {
+      z[3] = slack;
+      first_active = i;
+    }
   }
   int active[4] = {first_active, 0, 0, 0};
   int k = 1;
@@ -104,8 +109,8 @@ TALUS_HD inline ChebyshevResult<Real> chebyshev_center(const Vec3<Real>* normals
     Calc lambda[4];
     for (int a = 0; a < k; ++a) {
       for (int b = 0; b < k; ++b)
-        gram[a][b] = rows[a][0] * rows[b][0] + rows[a][1] * rows[b][1] +
-                     rows[a][2] * rows[b][2] + rows[a][3] * rows[b][3];
+        gram[a][b] = rows[a][0] * rows[b][0] + rows[a][1] * rows[b][1] + rows[a][2] * rows[b][2] +
+                     rows[a][3] * rows[b][3];
       lambda[a] = rows[a][3];
     }
     if (!lp_detail::solve_small(gram, lambda, k)) break;  // dependent rows: keep the iterate
@@ -149,7 +154,10 @@ TALUS_HD inline ChebyshevResult<Real> chebyshev_center(const Vec3<Real>* normals
                    (row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + z[3]);
       if (slack < 0) slack = 0;  // round-off of an iterate sitting on the plane
       const Calc ratio = slack / rate;
-      if (enter < 0 || ratio < step) { step = ratio; enter = i; }
+      if (enter < 0 || ratio < step) {
+        step = ratio;
+        enter = i;
+      }
     }
     if (enter < 0) break;  // cannot happen with the cap; keep the feasible iterate
     for (int j = 0; j < 4; ++j) z[j] += step * d[j];

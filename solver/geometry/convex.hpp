@@ -8,11 +8,16 @@ namespace talus {
 
 template <class Real>
 struct ConvexView {
-  const Vec3<Real>* vertices = nullptr;  // body frame, centroid at the origin
+  const Vec3<Real>* vertices = nullptr;      // body frame, centroid at the origin
   const Vec3<Real>* face_normals = nullptr;  // unit, outward; one per merged face (§2.1)
   const Real* face_offsets = nullptr;        // face plane: dot(face_normal, x) = face_offset (> 0)
   const int* edges = nullptr;                // 2 vertex indices per edge
   const int* triangles = nullptr;  // 3 vertex indices per triangle, counter-clockwise from outside
+  // Each merged face's vertex loop (counter-clockwise from outside), in compressed rows: face f's
+  // vertices are face_loop_vertices[face_loop_offsets[f] .. face_loop_offsets[f + 1]). Optional:
+  // without them the overlap skips its face-polygon culling test.
+  const int* face_loop_offsets = nullptr;
+  const int* face_loop_vertices = nullptr;
   int n_vertices = 0;
   int n_faces = 0;
   int n_edges = 0;
@@ -30,7 +35,10 @@ TALUS_HD inline Vec3<Real> support_point(const ConvexView<Real>& shape, const Ma
   Real best_dot = dot(shape.vertices[0], d_body);
   for (int i = 1; i < shape.n_vertices; ++i) {
     const Real s = dot(shape.vertices[i], d_body);
-    if (s > best_dot) { best_dot = s; best = i; }
+    if (s > best_dot) {
+      best_dot = s;
+      best = i;
+    }
   }
   return center + rot * shape.vertices[best];
 }

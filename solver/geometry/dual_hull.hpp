@@ -21,12 +21,12 @@ struct DualHullWorkspace {
 
   Vec3<Real> point[MaxPoints];
   Real point_norm[MaxPoints];
-  int point_face[MaxPoints];  // face the point is outside of; -1: inside or on the hull
+  int point_face[MaxPoints];   // face the point is outside of; -1: inside or on the hull
   Real point_dist[MaxPoints];  // its distance above that face
   int n_points = 0;
 
-  int face_vertex[kMaxFaces][3];    // counter-clockwise seen from outside
-  int face_neighbor[kMaxFaces][3];  // across edge (vertex[e], vertex[e + 1])
+  int face_vertex[kMaxFaces][3];      // counter-clockwise seen from outside
+  int face_neighbor[kMaxFaces][3];    // across edge (vertex[e], vertex[e + 1])
   Vec3<Real> face_normal[kMaxFaces];  // unit, outward
   Real face_offset[kMaxFaces];        // dot(normal, y) = offset on the face, > 0
   Real face_scale[kMaxFaces];         // largest |vertex|: sets the round-off tolerance
@@ -37,8 +37,8 @@ struct DualHullWorkspace {
 
   // Scratch for one expansion.
   int stack[kMaxFaces];
-  int horizon_face[kMaxFaces];  // the face kept beyond the horizon edge
-  int horizon_edge[kMaxFaces];  // the edge index in that face
+  int horizon_face[kMaxFaces];   // the face kept beyond the horizon edge
+  int horizon_edge[kMaxFaces];   // the edge index in that face
   int new_face_from[MaxPoints];  // horizon edge starting at a vertex -> new face
   int new_faces[kMaxFaces];
   int orphans[MaxPoints];
@@ -122,7 +122,11 @@ TALUS_HD inline bool init_simplex(W& ws) {
   for (int a = 0; a < 6; ++a)
     for (int b = a + 1; b < 6; ++b) {
       const Real d = norm2(ws.point[extreme[a]] - ws.point[extreme[b]]);
-      if (d > best) { best = d; i0 = extreme[a]; i1 = extreme[b]; }
+      if (d > best) {
+        best = d;
+        i0 = extreme[a];
+        i1 = extreme[b];
+      }
     }
   Real scale = 0;
   for (int p = 0; p < n; ++p) scale = max_of(scale, ws.point_norm[p]);
@@ -133,7 +137,10 @@ TALUS_HD inline bool init_simplex(W& ws) {
   best = 0;
   for (int p = 0; p < n; ++p) {
     const Real d = norm(cross(axis, ws.point[p] - ws.point[i0]));
-    if (d > best) { best = d; i2 = p; }
+    if (d > best) {
+      best = d;
+      i2 = p;
+    }
   }
   if (i2 < 0 || best <= tiny * norm(axis)) return false;
   const Vec3<Real> normal = cross(axis, ws.point[i2] - ws.point[i0]);
@@ -142,15 +149,19 @@ TALUS_HD inline bool init_simplex(W& ws) {
   Real side = 0;
   for (int p = 0; p < n; ++p) {
     const Real d = dot(normal, ws.point[p] - ws.point[i0]);
-    if (abs_of(d) > best) { best = abs_of(d); i3 = p; side = d; }
+    if (abs_of(d) > best) {
+      best = abs_of(d);
+      i3 = p;
+      side = d;
+    }
   }
   if (i3 < 0 || best <= tiny * norm(normal)) return false;
   // Orient so that the fourth vertex lies below the first face.
   if (side > 0) swap_of(i1, i2);
   const int v[4] = {i0, i1, i2, i3};
   // Faces (0,1,2), (0,3,1), (1,3,2), (2,3,0) are outward for the orientation above.
-  const int tri[4][3] = {{v[0], v[1], v[2]}, {v[0], v[3], v[1]}, {v[1], v[3], v[2]},
-                         {v[2], v[3], v[0]}};
+  const int tri[4][3] = {
+      {v[0], v[1], v[2]}, {v[0], v[3], v[1]}, {v[1], v[3], v[2]}, {v[2], v[3], v[0]}};
   for (int f = 0; f < 4; ++f) {
     const int slot = allocate_face<Real>(ws);
     if (slot < 0) return false;
@@ -272,7 +283,10 @@ TALUS_HD inline bool build_dual_hull(W& ws) {
     int apex = -1;
     Real best = 0;
     for (int p = 0; p < ws.n_points; ++p)
-      if (ws.point_face[p] >= 0 && ws.point_dist[p] > best) { best = ws.point_dist[p]; apex = p; }
+      if (ws.point_face[p] >= 0 && ws.point_dist[p] > best) {
+        best = ws.point_dist[p];
+        apex = p;
+      }
     if (apex < 0) return true;
     expand_once<Real>(ws, apex, stamp);
     if (ws.overrun) return false;

@@ -57,22 +57,29 @@ TALUS_HD inline bool triangle_case(Vec3<Real>* s, int& n, Vec3<Real>& dir) {
   const Vec3<Real> abc = cross(ab, ac);
   if (dot(cross(abc, ac), ao) > 0) {
     if (dot(ac, ao) > 0) {
-      s[0] = c; s[1] = a; n = 2;
+      s[0] = c;
+      s[1] = a;
+      n = 2;
       dir = cross(cross(ac, ao), ac);
       return norm2(dir) == Real(0);
     }
-    s[0] = b; s[1] = a; n = 2;
+    s[0] = b;
+    s[1] = a;
+    n = 2;
     return line_case(s, n, dir);
   }
   if (dot(cross(ab, abc), ao) > 0) {
-    s[0] = b; s[1] = a; n = 2;
+    s[0] = b;
+    s[1] = a;
+    n = 2;
     return line_case(s, n, dir);
   }
   const Real side = dot(abc, ao);
   if (side > 0) {
     dir = abc;  // keep the winding c, b, a: the origin is above
   } else if (side < 0) {
-    s[0] = b; s[1] = c;  // flip the winding so the origin is above
+    s[0] = b;
+    s[1] = c;  // flip the winding so the origin is above
     dir = -abc;
   } else {
     return true;  // origin inside the triangle
@@ -86,15 +93,24 @@ TALUS_HD inline bool tetrahedron_case(Vec3<Real>* s, int& n, Vec3<Real>& dir) {
   const Vec3<Real> a = s[3], b = s[2], c = s[1], d = s[0];
   const Vec3<Real> ao = -a;
   if (dot(cross(b - a, c - a), ao) > 0) {
-    s[0] = c; s[1] = b; s[2] = a; n = 3;
+    s[0] = c;
+    s[1] = b;
+    s[2] = a;
+    n = 3;
     return triangle_case(s, n, dir);
   }
   if (dot(cross(c - a, d - a), ao) > 0) {
-    s[0] = d; s[1] = c; s[2] = a; n = 3;
+    s[0] = d;
+    s[1] = c;
+    s[2] = a;
+    n = 3;
     return triangle_case(s, n, dir);
   }
   if (dot(cross(d - a, b - a), ao) > 0) {
-    s[0] = b; s[1] = d; s[2] = a; n = 3;
+    s[0] = b;
+    s[1] = d;
+    s[2] = a;
+    n = 3;
     return triangle_case(s, n, dir);
   }
   return true;
@@ -130,7 +146,10 @@ TALUS_HD inline GjkResult<Real> gjk_intersect(const ConvexView<Real>& a, const P
   int n = 0;
   simplex[n++] = md.support(dir);  // line 3
   dir = -simplex[0];               // line 4
-  if (norm2(dir) == Real(0)) { result.intersecting = true; return result; }
+  if (norm2(dir) == Real(0)) {
+    result.intersecting = true;
+    return result;
+  }
   for (int it = 0; it < max_iterations; ++it) {
     result.iterations = it + 1;
     const Vec3<Real> s = md.support(dir);  // line 6

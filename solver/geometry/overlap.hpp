@@ -18,10 +18,14 @@ enum class OverlapStatus : int {
 
 TALUS_HD inline const char* to_string(OverlapStatus s) {
   switch (s) {
-    case OverlapStatus::separate: return "separate";
-    case OverlapStatus::touching: return "touching";
-    case OverlapStatus::overlapping: return "overlapping";
-    default: return "degenerate";
+    case OverlapStatus::separate:
+      return "separate";
+    case OverlapStatus::touching:
+      return "touching";
+    case OverlapStatus::overlapping:
+      return "overlapping";
+    default:
+      return "degenerate";
   }
 }
 

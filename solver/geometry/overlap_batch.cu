@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "solver/core/device_buffer.hpp"
+#include "solver/geometry/device_shape.cuh"
 #include "solver/geometry/overlap_polyhedra.hpp"
 
 namespace talus {
@@ -13,8 +14,9 @@ bool cuda_device_available(std::string* reason) {
   const cudaError_t status = cudaGetDeviceCount(&count);
   if (status != cudaSuccess || count == 0) {
     if (reason)
-      *reason = status != cudaSuccess ? std::string("no usable CUDA device: ") + cudaGetErrorString(status)
-                                      : std::string("no CUDA device present");
+      *reason = status != cudaSuccess
+                    ? std::string("no usable CUDA device: ") + cudaGetErrorString(status)
+                    : std::string("no CUDA device present");
     cudaGetLastError();  // clear the sticky error of a failed query
     return false;
   }
@@ -37,29 +39,6 @@ __global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
   const Pose<Real> pose_b{position_b[i], orientation_b[i]};
   out[i] = overlap_polyhedra(a, pose_a, b, pose_b, workspace, options);
 }
-
-// Device copy of one template's arrays and the view that points into them.
-template <class Real>
-struct DeviceShape {
-  DeviceBuffer<Vec3<Real>> vertices, face_normals;
-  DeviceBuffer<Real> face_offsets;
-  DeviceBuffer<int> edges, triangles;
-  ConvexView<Real> view;
-
-  explicit DeviceShape(const ConvexView<Real>& host) {
-    vertices.upload(host.vertices, host.n_vertices);
-    face_normals.upload(host.face_normals, host.n_faces);
-    face_offsets.upload(host.face_offsets, host.n_faces);
-    if (host.edges) edges.upload(host.edges, 2 * host.n_edges);
-    if (host.triangles) triangles.upload(host.triangles, 3 * host.n_triangles);
-    view = host;
-    view.vertices = vertices.data();
-    view.face_normals = face_normals.data();
-    view.face_offsets = face_offsets.data();
-    view.edges = host.edges ? edges.data() : nullptr;
-    view.triangles = host.triangles ? triangles.data() : nullptr;
-  }
-};
 
 }  // namespace
 
@@ -84,9 +63,9 @@ struct OverlapBatchGpu<Real>::Impl {
     const int count = static_cast<int>(results.size());
     const int block = 128;
     const int grid = (count + block - 1) / block;
-    overlap_kernel<Real, Capacity><<<grid, block>>>(
-        a.view, b.view, position_a.data(), orientation_a.data(), position_b.data(),
-        orientation_b.data(), count, options, results.data());
+    overlap_kernel<Real, Capacity>
+        <<<grid, block>>>(a.view, b.view, position_a.data(), orientation_a.data(),
+                          position_b.data(), orientation_b.data(), count, options, results.data());
     TALUS_CUDA_LAUNCH_CHECK();
   }
 };
@@ -126,10 +105,18 @@ double OverlapBatchGpu<Real>::run(OverlapOptions options) {
   TALUS_CUDA_CHECK(cudaEventCreate(&stop));
   TALUS_CUDA_CHECK(cudaEventRecord(start));
   switch (impl_->capacity) {
-    case 32: impl_->template launch<32>(options); break;
-    case 64: impl_->template launch<64>(options); break;
-    case 128: impl_->template launch<128>(options); break;
-    default: impl_->template launch<256>(options); break;
+    case 32:
+      impl_->template launch<32>(options);
+      break;
+    case 64:
+      impl_->template launch<64>(options);
+      break;
+    case 128:
+      impl_->template launch<128>(options);
+      break;
+    default:
+      impl_->template launch<256>(options);
+      break;
   }
   TALUS_CUDA_CHECK(cudaEventRecord(stop));
   TALUS_CUDA_CHECK(cudaEventSynchronize(stop));
@@ -155,10 +142,14 @@ int OverlapBatchGpu<Real>::workspace_capacity() const {
 template <class Real>
 std::size_t OverlapBatchGpu<Real>::workspace_bytes() const {
   switch (impl_->capacity) {
-    case 32: return sizeof(OverlapWorkspace<Real, 32>);
-    case 64: return sizeof(OverlapWorkspace<Real, 64>);
-    case 128: return sizeof(OverlapWorkspace<Real, 128>);
-    default: return sizeof(OverlapWorkspace<Real, 256>);
+    case 32:
+      return sizeof(OverlapWorkspace<Real, 32>);
+    case 64:
+      return sizeof(OverlapWorkspace<Real, 64>);
+    case 128:
+      return sizeof(OverlapWorkspace<Real, 128>);
+    default:
+      return sizeof(OverlapWorkspace<Real, 256>);
   }
 }
 

@@ -33,8 +33,8 @@ class OverlapBatchGpu {
   // The results of the last run, in pair order.
   std::vector<OverlapResult<Real>> results() const;
 
-  int workspace_capacity() const;           // planes per pair the workspace holds
-  std::size_t workspace_bytes() const;      // per pair (per thread, in local memory)
+  int workspace_capacity() const;       // planes per pair the workspace holds
+  std::size_t workspace_bytes() const;  // per pair (per thread, in local memory)
   std::size_t pair_count() const;
 
  private:

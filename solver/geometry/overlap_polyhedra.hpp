@@ -1,8 +1,9 @@
 // The overlap of two posed convex polyhedra (paper §2.3) in five steps:
 //  1. bounding spheres (Fig. 4) and the face planes in a frame centred on A (small numbers);
 //  2. plane culling: a face plane whose half-space holds every vertex of the other body strictly
-//     inside cannot bound the intersection (DESIGN.md) and is dropped; a plane with every vertex
-//     of the other body outside is a separating plane;
+//     inside cannot bound the intersection and is dropped, and so is one whose face polygon lies
+//     outside the other body (face_outside); a plane with every vertex of the other body outside
+//     is a separating plane (docs/geometry.md gives the argument);
 //  3. the reference point x_o: the Chebyshev centre of the kept planes (chebyshev_lp.hpp), which
 //     also decides separate / touching;
 //  4. the polar transform about x_o (Algorithm II, Eqs. 4-5) and the dual hull (Algs. III-V);
@@ -13,8 +14,9 @@
 //     round-off), and the same fans give each face's area, hence the vector area S on A's
 //     surface and the centroid.
 // Coincident planes of A and B ("twins", e.g. the side faces of two aligned stacked cubes, or
-// planes whose dual points are closer than round-off can separate) enter the hull once; the face they bound lies on both surfaces and counts half to each, which makes S
-// the mean of the two one-sided gradients of V.
+// planes whose dual points are closer than round-off can separate) enter the hull once; the face
+// they bound lies on both surfaces and counts half to each, which makes S the mean of the two
+// one-sided gradients of V.
 #pragma once
 
 #include "solver/geometry/chebyshev_lp.hpp"
@@ -46,9 +48,13 @@ TALUS_HD constexpr int overlap_capacity_for(int planes) {
 template <class Real>
 struct TwinTolerance;
 template <>
-struct TwinTolerance<double> { static constexpr double value = 1.4901161193847656e-08; };
+struct TwinTolerance<double> {
+  static constexpr double value = 1.4901161193847656e-08;
+};
 template <>
-struct TwinTolerance<float> { static constexpr float value = 3.4526698e-04f; };
+struct TwinTolerance<float> {
+  static constexpr float value = 3.4526698e-04f;
+};
 
 namespace overlap_detail {
 
@@ -93,6 +99,27 @@ TALUS_HD inline Vec3<Real> primal_vertex_of(const Workspace& ws, int f, Real w) 
   return hull.face_normal[f] / w;
 }
 
+// True when face f of `self` (its polygon, not its plane) lies strictly outside `other`: some
+// plane of `other` has every vertex of the face above it by more than `margin`. The other body's
+// planes are given in self's body frame (other_normals, other_offsets). Such a face cannot
+// bound the intersection: were its plane needed, removing it would let the intersection grow past
+// the plane, and the segment from an interior point to the new part would cross the plane inside
+// both bodies, i.e. on the face and inside `other`.
+template <class Real>
+TALUS_HD inline bool face_outside(const ConvexView<Real>& self, int f,
+                                  const Vec3<Real>* other_normals, const Real* other_offsets,
+                                  int other_faces, Real margin) {
+  const int begin = self.face_loop_offsets[f], end = self.face_loop_offsets[f + 1];
+  for (int g = 0; g < other_faces; ++g) {
+    bool all_above = true;
+    for (int k = begin; k < end && all_above; ++k)
+      all_above = dot(other_normals[g], self.vertices[self.face_loop_vertices[k]]) >
+                  other_offsets[g] + margin;
+    if (all_above) return true;
+  }
+  return false;
+}
+
 }  // namespace overlap_detail
 
 template <class Real, class Workspace>
@@ -118,11 +145,23 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
                              rotation_matrix(pose_b.orientation)};
   const ConvexView<Real>* body[2] = {&a, &b};
 
-  // Step 2. Planes of both bodies, culled against the other body's vertices.
+  // Step 2. Planes of both bodies, culled against the other body's vertices and, where the
+  // templates carry their face loops, by the face-polygon test (face_outside). The hull's point
+  // arrays are free until step 4 and hold the other body's planes in self's body frame.
   int m = 0;
+  auto& hull = ws.hull;
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
     const int other = 1 - owner;
+    const bool face_test = options.cull_planes && self.face_loop_offsets != nullptr &&
+                           body[other]->n_faces <= Workspace::kMaxPlanes;
+    if (face_test)
+      for (int g = 0; g < body[other]->n_faces; ++g) {
+        const Vec3<Real> n_world = rot[other] * body[other]->face_normals[g];
+        hull.point[g] = rot[owner].transpose_times(n_world);
+        hull.point_norm[g] =
+            body[other]->face_offsets[g] + dot(n_world, center[other] - center[owner]);
+      }
     for (int f = 0; f < self.n_faces; ++f) {
       const Vec3<Real> n = rot[owner] * self.face_normals[f];
       const Real h = self.face_offsets[f] + dot(n, center[owner]);
@@ -135,6 +174,9 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
           return result;
         }
         if (highest < -round_off) continue;  // strictly inside: this plane bounds nothing
+        if (face_test && overlap_detail::face_outside(self, f, hull.point, hull.point_norm,
+                                                      body[other]->n_faces, round_off))
+          continue;
       }
       if (m >= Workspace::kMaxPlanes) {
         result.workspace_overrun = true;
@@ -181,7 +223,6 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   // round-off, so every hull face through both would be a sliver with a meaningless normal. The
   // volume lost by merging is a wedge of relative size ~kTwin * (face area * width / V), far
   // below the round-off budget of the test tolerances (1e-9 double, 1e-4 float).
-  auto& hull = ws.hull;
   const Real twin_tolerance = TwinTolerance<Real>::value;
   int n_points = 0;
   for (int i = 0; i < m; ++i) {
@@ -251,7 +292,8 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       const Real cone = area / (Real(3) * hull.point_norm[v]);  // area * distance / 3
       volume += cone;
       moment += (c + p_f + p_g) * (cone / Real(4));
-      const Real share = ws.plane_twin[v] ? Real(0.5) : (ws.plane_owner[v] == 0 ? Real(1) : Real(0));
+      const Real share =
+          ws.plane_twin[v] ? Real(0.5) : (ws.plane_owner[v] == 0 ? Real(1) : Real(0));
       vector_area += ws.plane_normal[v] * (area * share);
     }
   }

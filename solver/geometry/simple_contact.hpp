@@ -138,7 +138,8 @@ TALUS_HD inline SimpleContact<Real> sphere_sphere_contact(const Vec3<Real>& cent
                                                           Real radius_b) {
   SimpleContact<Real> r =
       simple_detail::apart(center_a, center_b, abs_of(radius_a) + abs_of(radius_b));
-  if (!is_finite(center_a) || !is_finite(center_b) || !is_finite(radius_a) || !is_finite(radius_b)) return r;
+  if (!is_finite(center_a) || !is_finite(center_b) || !is_finite(radius_a) || !is_finite(radius_b))
+    return r;
   const Real depth = radius_a + radius_b - norm(center_b - center_a);
   r.point = ((center_a + r.normal * radius_a) + (center_b - r.normal * radius_b)) * Real(0.5);
   r.touching = depth >= Real(0);
@@ -188,8 +189,8 @@ TALUS_HD inline SimpleContact<Real> sphere_polyhedron_contact(const Vec3<Real>& 
                                                               const Pose<Real>& pose) {
   const Real scale = abs_of(radius) + shape.bounding_radius;
   SimpleContact<Real> r = simple_detail::apart(center, pose.position, scale);
-  if (!is_finite(center) || !is_finite(radius) || !is_finite(pose.orientation) || shape.n_faces <= 0 ||
-      shape.n_triangles <= 0 || norm(pose.position - center) > scale) {
+  if (!is_finite(center) || !is_finite(radius) || !is_finite(pose.orientation) ||
+      shape.n_faces <= 0 || shape.n_triangles <= 0 || norm(pose.position - center) > scale) {
     return r;
   }
   const Mat3<Real> rot = rotation_matrix(pose.orientation);
@@ -276,9 +277,9 @@ TALUS_HD inline SimpleContact<Real> polyhedron_polyhedron_contact(const ConvexVi
                                                                   const Pose<Real>& pose_b) {
   const Real scale = shape_a.bounding_radius + shape_b.bounding_radius;
   SimpleContact<Real> r = simple_detail::apart(pose_a.position, pose_b.position, scale);
-  if (!is_finite(pose_a.position) || !is_finite(pose_b.position) || !is_finite(pose_a.orientation) ||
-      !is_finite(pose_b.orientation) || shape_a.n_vertices <= 0 || shape_b.n_vertices <= 0 ||
-      norm(pose_b.position - pose_a.position) > scale) {
+  if (!is_finite(pose_a.position) || !is_finite(pose_b.position) ||
+      !is_finite(pose_a.orientation) || !is_finite(pose_b.orientation) || shape_a.n_vertices <= 0 ||
+      shape_b.n_vertices <= 0 || norm(pose_b.position - pose_a.position) > scale) {
     return r;
   }
   simple_detail::SatSearch<Real> sat;

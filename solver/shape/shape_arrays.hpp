@@ -13,7 +13,8 @@ template <class Real>
 struct ShapeArrays {
   std::vector<Vec3<Real>> vertices, face_normals;
   std::vector<Real> face_offsets;
-  std::vector<int> edges, triangles;  // 2 and 3 vertex indices each, flattened
+  std::vector<int> edges, triangles;                       // 2 and 3 vertex indices each, flattened
+  std::vector<int> face_loop_offsets, face_loop_vertices;  // compressed rows, see ConvexView
   Real bounding_radius = 0, volume = 0;
 
   explicit ShapeArrays(const ShapeTemplate& shape)
@@ -36,6 +37,11 @@ struct ShapeArrays {
       face_normals.push_back(normal);
       face_offsets.push_back(offset);
     }
+    face_loop_offsets.push_back(0);
+    for (const Face& face : shape.faces) {
+      face_loop_vertices.insert(face_loop_vertices.end(), face.loop.begin(), face.loop.end());
+      face_loop_offsets.push_back(int(face_loop_vertices.size()));
+    }
     for (const auto& e : shape.edges) edges.insert(edges.end(), {e[0], e[1]});
     for (const auto& t : shape.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
   }
@@ -48,6 +54,8 @@ struct ShapeArrays {
     view.face_offsets = face_offsets.data();
     view.edges = edges.data();
     view.triangles = triangles.data();
+    view.face_loop_offsets = face_loop_offsets.data();
+    view.face_loop_vertices = face_loop_vertices.data();
     view.n_vertices = int(vertices.size());
     view.n_faces = int(face_normals.size());
     view.n_edges = int(edges.size() / 2);

@@ -26,9 +26,9 @@ struct TestShape {
 
 // The built-in specs the tests sweep; sizes differ so that pairs are not all of one scale.
 inline std::vector<std::string> builtin_specs() {
-  return {"tetrahedron:0.012", "cube:0.01",     "cuboid:0.004,0.006,0.009",
-          "octahedron:0.011",  "dodecahedron:0.01", "icosahedron:0.009",
-          "cylinder:0.008,0.0053", "corn:0.01",  "mineral:0.01"};
+  return {"tetrahedron:0.012",     "cube:0.01",         "cuboid:0.004,0.006,0.009",
+          "octahedron:0.011",      "dodecahedron:0.01", "icosahedron:0.009",
+          "cylinder:0.008,0.0053", "corn:0.01",         "mineral:0.01"};
 }
 
 template <class Real>
@@ -66,6 +66,8 @@ inline Posed input_frame_pose(const ShapeTemplate& s, const Vec3d& offset,
   return {offset + rotate(extra, s.input_centroid), extra * s.body_to_input};
 }
 
-inline Vec3d to_d(const Vec3l& v) { return Vec3d(v); }
+inline Vec3d to_d(const Vec3l& v) {
+  return Vec3d(v);
+}
 
 }  // namespace talus::testing

@@ -96,8 +96,8 @@ TEST(OverlapProperties, SymmetryAntisymmetryInvarianceAndBound) {
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const TestShape a(specs[i]), b(specs[(i + 4) % specs.size()]);
     for (int k = 0; k < 300; ++k) {
-      const auto pair = random_overlapping_pair(rng, a.shape.bounding_radius,
-                                                b.shape.bounding_radius, 0.0, 0.8);
+      const auto pair =
+          random_overlapping_pair(rng, a.shape.bounding_radius, b.shape.bounding_radius, 0.0, 0.8);
       const auto ab = overlap(a, pair.a, b, pair.b);
       const auto ba = overlap(b, pair.b, a, pair.a);
       const double scale_v = std::min(a.shape.volume, b.shape.volume);

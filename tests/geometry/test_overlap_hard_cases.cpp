@@ -19,8 +19,8 @@ void expect_sane(const OverlapResult<double>& r) {
 }
 
 // The oracle's answer for the same double inputs; `rel` is the relative tolerance of the case.
-void expect_matches_oracle(const TestShape& a, const Posed& pa, const TestShape& b,
-                           const Posed& pb, double rel) {
+void expect_matches_oracle(const TestShape& a, const Posed& pa, const TestShape& b, const Posed& pb,
+                           double rel) {
   const auto got = overlap(a, pa, b, pb);
   const auto ref = oracle(a, pa, b, pb);
   expect_sane(got);
@@ -37,15 +37,17 @@ std::string spec(const std::string& name, double size) {
   return text;
 }
 
-TestShape cube() { return TestShape(spec("cube", kSide * std::sqrt(3.0))); }
+TestShape cube() {
+  return TestShape(spec("cube", kSide * std::sqrt(3.0)));
+}
 
 // A cube sliding on a cube, faces parallel, side faces coplanar (twins): the overlap is a box and
 // the normal is the face normal up to the +x side face the slide exposes.
 TEST(OverlapHardCases, FaceOnFaceCubeSlidingOnCube) {
   const TestShape c = cube();
   const double h = 1e-5, s = 0.003;  // overlap depth and slide, m
-  const auto r = overlap(c, input_frame_pose(c.shape, {}), c,
-                         input_frame_pose(c.shape, {s, 0, kSide - h}));
+  const auto r =
+      overlap(c, input_frame_pose(c.shape, {}), c, input_frame_pose(c.shape, {s, 0, kSide - h}));
   expect_sane(r);
   ASSERT_EQ(r.status, OverlapStatus::overlapping);
   // Round-off of kSide - h against h: 1e-16 * 0.01 / 1e-5 = 1e-13 relative; 1e-10 is safe.
@@ -134,7 +136,7 @@ TEST(OverlapHardCases, OverlapOfOneTrillionthOfTheVolume) {
 TEST(OverlapHardCases, EightyFacetCylinderAgainstItselfRotatedByANanoradian) {
   const TestShape cyl("cylinder:0.008,0.0053");
   ASSERT_EQ(cylinder_mesh(0.008, 0.0053).triangles.size(), 80u);  // the paper's mesh (§3.1)
-  ASSERT_EQ(cyl.shape.faces.size(), 22u);                          // 20 sides and 2 caps
+  ASSERT_EQ(cyl.shape.faces.size(), 22u);                         // 20 sides and 2 caps
   for (const Vec3d axis : {Vec3d(0, 0, 1), Vec3d(1, 0, 0), Vec3d(0.6, 0.8, 0)}) {
     const Posed pa{{0.01, 0.02, 0.03}, Quatd()};
     const Posed pb{pa.position, Quatd::from_axis_angle(axis, 1e-9)};

@@ -48,8 +48,8 @@ void check_float_against_oracle(const TestShape& a, const TestShape& b, const Po
 }
 
 // Compares one pair against the oracle (fatal assertions on a mismatch).
-void compare(const TestShape& a, const TestShape& b, const Posed& pa, const Posed& pb,
-             Stats& stats, bool check_float) {
+void compare(const TestShape& a, const TestShape& b, const Posed& pa, const Posed& pb, Stats& stats,
+             bool check_float) {
   const OracleResult ref = oracle(a, pa, b, pb);
   const auto got = overlap(a, pa, b, pb);
   const double scale_v = std::min(a.shape.volume, b.shape.volume);
@@ -93,8 +93,8 @@ TEST_P(BuiltinPairAgainstOracle, TenThousandRandomPoses) {
   Stats stats;
   for (int k = 0; k < 10000; ++k) {
     const bool shallow = k % 2 == 0;
-    const auto pair = random_overlapping_pair(rng, a.shape.bounding_radius,
-                                              b.shape.bounding_radius, 0.0, shallow ? 0.1 : 0.7);
+    const auto pair = random_overlapping_pair(rng, a.shape.bounding_radius, b.shape.bounding_radius,
+                                              0.0, shallow ? 0.1 : 0.7);
     compare(a, b, pair.a, pair.b, stats, k % 4 == 1);
     if (HasFatalFailure()) {
       ADD_FAILURE() << specs[i] << " vs " << specs[j] << " pose " << k;
@@ -116,8 +116,8 @@ std::vector<std::pair<int, int>> all_builtin_pairs() {
   return pairs;
 }
 
-INSTANTIATE_TEST_SUITE_P(AllPairs, BuiltinPairAgainstOracle, ::testing::ValuesIn(all_builtin_pairs()),
-                         [](const auto& info) {
+INSTANTIATE_TEST_SUITE_P(AllPairs, BuiltinPairAgainstOracle,
+                         ::testing::ValuesIn(all_builtin_pairs()), [](const auto& info) {
                            auto name = [](int k) {
                              const std::string s = builtin_specs()[k];
                              return s.substr(0, s.find(':'));
@@ -133,8 +133,8 @@ TEST(OverlapOracle, RandomConvexHullsOf8To40Points) {
     const TestShape a(make_template("hull_a", random_convex_cloud(rng, na, 0.01)));
     const TestShape b(make_template("hull_b", random_convex_cloud(rng, nb, 0.007)));
     for (int k = 0; k < 25; ++k) {
-      const auto pair = random_overlapping_pair(rng, a.shape.bounding_radius,
-                                                b.shape.bounding_radius, 0.0, 0.6);
+      const auto pair =
+          random_overlapping_pair(rng, a.shape.bounding_radius, b.shape.bounding_radius, 0.0, 0.6);
       compare(a, b, pair.a, pair.b, stats, true);
       if (HasFatalFailure()) {
         ADD_FAILURE() << "hull pair " << h << " pose " << k << " (" << na << ", " << nb << ")";
@@ -156,8 +156,8 @@ TEST(OverlapOracle, VectorAreaIsTheGradientOfTheVolume) {
   for (std::size_t s = 0; s < specs.size(); ++s) {
     const TestShape a(specs[s]), b(specs[(s + 2) % specs.size()]);
     for (int k = 0; k < 200; ++k) {
-      const auto pair = random_overlapping_pair(rng, a.shape.bounding_radius,
-                                                b.shape.bounding_radius, 0.1, 0.5);
+      const auto pair =
+          random_overlapping_pair(rng, a.shape.bounding_radius, b.shape.bounding_radius, 0.1, 0.5);
       const auto base = overlap(a, pair.a, b, pair.b);
       if (base.volume < 1e-3 * std::min(a.shape.volume, b.shape.volume)) continue;
       const double h = 1e-6 * a.shape.bounding_radius;

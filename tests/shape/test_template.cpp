@@ -222,7 +222,7 @@ TEST(Corn, IsAFlattenedWedgeWithEveryPointOnItsHull) {
 // and would have been merged had it been meant flat.
 TEST(Templates, NeighbouringFacesOfEveryBuiltinBendByAtLeastFiveDegrees) {
   for (const std::string& name : builtin_names()) {
-    const std::string spec = name == "cuboid" ? "cuboid:1,2,3"
+    const std::string spec = name == "cuboid"     ? "cuboid:1,2,3"
                              : name == "cylinder" ? "cylinder:0.008,0.0053"
                                                   : name + ":0.01";
     EXPECT_GE(smallest_edge_bend_degrees(make_builtin(spec)), 5.0) << spec;
