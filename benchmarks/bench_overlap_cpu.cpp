@@ -1,8 +1,8 @@
 // Overlap pairs per second on one CPU core (the host backend runs the same headers as the GPU):
-// the exact overlap (dual-space hull, paper §2.3) in double and float, with plane culling and
-// naive (every face plane in the hull), on shallow and random poses; and, on the same shallow
-// dodecahedron poses, GJK alone (§2.2) and the simple contact (BLAZE-DEM), so that a report can
-// say what accuracy costs in time.
+// the exact overlap (dual-space hull, paper §2.3) in double and float, with both culling filters
+// ("faces"), the plane filter only ("planes") and naive (every face plane in the hull), on shallow
+// and random poses; and, on the same shallow dodecahedron poses, GJK alone (§2.2) and the simple
+// contact (BLAZE-DEM), so that a report can say what accuracy costs in time.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -95,12 +95,12 @@ void overlap_with(benchmark::State& state, const Case<Real>& c, OverlapOptions o
 // and kept across the calls Google Benchmark makes while sizing the iteration count.
 template <class Real>
 void overlap_benchmark(benchmark::State& state, const std::string& spec_a,
-                       const std::string& spec_b, const std::string& kind, bool cull_planes) {
+                       const std::string& spec_b, const std::string& kind,
+                       const std::string& variant) {
   static std::map<std::string, std::unique_ptr<Case<Real>>> cases;
   auto& c = cases[spec_a + spec_b + kind];
   if (!c) c = std::make_unique<Case<Real>>(spec_a, spec_b, kind);
-  OverlapOptions options;
-  options.cull_planes = cull_planes;
+  const OverlapOptions options = overlap_options_named(variant.c_str());
   switch (overlap_capacity_for(c->arrays_a.view().n_faces + c->arrays_b.view().n_faces)) {
     case 32:
       overlap_with<Real, 32>(state, *c, options);
@@ -152,15 +152,14 @@ void register_all() {
                           {"cylinder80/shallow", kCylinder, "shallow"},
                           {"dodecahedron/random", kDodecahedron, "random"}};
   for (const SetSpec& s : sets) {
-    for (bool cull : {true, false}) {
-      const std::string variant = cull ? "culled" : "naive";
+    for (const std::string variant : {"faces", "planes", "naive"}) {
       const std::string spec = s.spec, kind = s.kind;
       benchmark::RegisterBenchmark(
           ("overlap/" + std::string(s.name) + "/double/" + variant).c_str(),
-          [=](benchmark::State& st) { overlap_benchmark<double>(st, spec, spec, kind, cull); });
+          [=](benchmark::State& st) { overlap_benchmark<double>(st, spec, spec, kind, variant); });
       benchmark::RegisterBenchmark(
           ("overlap/" + std::string(s.name) + "/float/" + variant).c_str(),
-          [=](benchmark::State& st) { overlap_benchmark<float>(st, spec, spec, kind, cull); });
+          [=](benchmark::State& st) { overlap_benchmark<float>(st, spec, spec, kind, variant); });
     }
   }
   benchmark::RegisterBenchmark("gjk/dodecahedron/shallow/double", gjk_benchmark);

@@ -46,7 +46,7 @@ struct CachedBatch {
   ShapeTemplate shape;
   std::unique_ptr<ShapeArrays<Real>> arrays;
   std::unique_ptr<OverlapBatchGpu<Real>> batch;
-  std::map<bool, BatchSummary> summary;  // by cull_planes
+  std::map<std::string, BatchSummary> summary;  // by variant
 };
 
 template <class Real>
@@ -72,7 +72,8 @@ CachedBatch<Real>& batch_for(const std::string& spec) {
 }
 
 template <class Real>
-void overlap_batch_benchmark(benchmark::State& state, const std::string& spec, bool cull_planes) {
+void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
+                             const std::string& variant) {
   std::string reason;
   if (!cuda_device_available(&reason)) {
     state.SkipWithError(reason.c_str());
@@ -80,8 +81,7 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec, b
   }
   CachedBatch<Real>& cached = batch_for<Real>(spec);
   OverlapBatchGpu<Real>& batch = *cached.batch;
-  OverlapOptions options;
-  options.cull_planes = cull_planes;
+  const OverlapOptions options = overlap_options_named(variant.c_str());
   batch.run(options);  // warm-up: module load, first touch of the buffers
 
   double seconds = 0;
@@ -101,7 +101,7 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec, b
   state.counters["capacity"] = batch.workspace_capacity();
 
   // Checks that the batch is what its name says.
-  auto found = cached.summary.find(cull_planes);
+  auto found = cached.summary.find(variant);
   if (found == cached.summary.end()) {
     BatchSummary s;
     for (const OverlapResult<Real>& r : batch.results()) {
@@ -112,7 +112,7 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec, b
     s.hull_points /= pairs;
     s.overlapping /= pairs;
     s.volume_fraction /= pairs * cached.shape.volume;
-    found = cached.summary.emplace(cull_planes, s).first;
+    found = cached.summary.emplace(variant, s).first;
   }
   state.counters["hull_points"] = found->second.hull_points;
   state.counters["overlapping"] = found->second.overlapping;
@@ -124,26 +124,28 @@ void register_all() {
     const char* name;
     const char* spec;
     bool is_float;
-    bool cull_planes;
+    const char* culling;  // overlap_options_named
   };
   const Variant variants[] = {
-      {"dodecahedron/shallow/double/culled", kDodecahedron, false, true},
-      {"dodecahedron/shallow/double/naive", kDodecahedron, false, false},
-      {"dodecahedron/shallow/float/culled", kDodecahedron, true, true},
-      {"dodecahedron/shallow/float/naive", kDodecahedron, true, false},
-      {"cylinder80/shallow/double/culled", kCylinder, false, true},
+      {"dodecahedron/shallow/double/faces", kDodecahedron, false, "faces"},
+      {"dodecahedron/shallow/double/planes", kDodecahedron, false, "planes"},
+      {"dodecahedron/shallow/double/naive", kDodecahedron, false, "naive"},
+      {"dodecahedron/shallow/float/faces", kDodecahedron, true, "faces"},
+      {"dodecahedron/shallow/float/naive", kDodecahedron, true, "naive"},
+      {"cylinder80/shallow/double/faces", kCylinder, false, "faces"},
+      {"cylinder80/shallow/double/naive", kCylinder, false, "naive"},
   };
   for (const Variant& v : variants) {
-    const std::string spec = v.spec;
-    const bool cull = v.cull_planes;
+    const std::string spec = v.spec, culling = v.culling;
     benchmark::internal::Benchmark* b =
         v.is_float
             ? benchmark::RegisterBenchmark(
                   ("gpu_overlap/" + std::string(v.name)).c_str(),
-                  [=](benchmark::State& st) { overlap_batch_benchmark<float>(st, spec, cull); })
-            : benchmark::RegisterBenchmark(
-                  ("gpu_overlap/" + std::string(v.name)).c_str(),
-                  [=](benchmark::State& st) { overlap_batch_benchmark<double>(st, spec, cull); });
+                  [=](benchmark::State& st) { overlap_batch_benchmark<float>(st, spec, culling); })
+            : benchmark::RegisterBenchmark(("gpu_overlap/" + std::string(v.name)).c_str(),
+                                           [=](benchmark::State& st) {
+                                             overlap_batch_benchmark<double>(st, spec, culling);
+                                           });
     b->UseManualTime()->Unit(benchmark::kMillisecond);
   }
 }

@@ -44,10 +44,25 @@ struct OverlapResult {
   bool workspace_overrun = false;  // asserted false by the tests
 };
 
+// Which planes enter the dual hull. Both filters are exact (docs/geometry.md); they are switches
+// so that the benchmarks can show what each one gains against the naive hull of every plane.
 struct OverlapOptions {
-  // Drop face planes that do not cut the other particle before the hull (DESIGN.md). Off only in
-  // the benchmark's naive variant.
+  // Drop a face plane whose half-space holds the other body strictly inside (bounding sphere,
+  // then vertices); also gives the separating-plane exit.
   bool cull_planes = true;
+  // Also drop a plane whose face polygon lies outside the other body (needs the templates' face
+  // loops; only with cull_planes).
+  bool cull_faces = true;
 };
+
+// The benchmarks' named variants: "naive" (every plane), "planes" (cull_planes only) and
+// "faces" (both, the default).
+inline OverlapOptions overlap_options_named(const char* name) {
+  OverlapOptions options;
+  const bool naive = name[0] == 'n', planes = name[0] == 'p';
+  options.cull_planes = !naive;
+  options.cull_faces = !naive && !planes;
+  return options;
+}
 
 }  // namespace talus

@@ -153,7 +153,8 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
     const int other = 1 - owner;
-    const bool face_test = options.cull_planes && self.face_loop_offsets != nullptr &&
+    const bool face_test = options.cull_planes && options.cull_faces &&
+                           self.face_loop_offsets != nullptr &&
                            body[other]->n_faces <= Workspace::kMaxPlanes;
     if (face_test)
       for (int g = 0; g < body[other]->n_faces; ++g) {
@@ -166,6 +167,9 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       const Vec3<Real> n = rot[owner] * self.face_normals[f];
       const Real h = self.face_offsets[f] + dot(n, center[owner]);
       if (options.cull_planes) {
+        // The other body's bounding sphere decides most planes without visiting its vertices.
+        const Real sphere_height = dot(n, center[other]) - h;
+        if (sphere_height + body[other]->bounding_radius < -round_off) continue;
         Real lowest, highest;
         overlap_detail::height_range(*body[other], rot[other], center[other], n, h, lowest,
                                      highest);

@@ -124,3 +124,35 @@ TEST(OverlapProperties, SymmetryAntisymmetryInvarianceAndBound) {
 
 }  // namespace
 }  // namespace talus::testing
+
+namespace talus::testing {
+namespace {
+
+// The plane filters only drop planes that cannot bound the intersection: the naive hull of every
+// plane, the plane filter and both filters build the same polytope, so the numbers agree to
+// round-off (the hulls differ in their interior points only: 1e-12 relative).
+TEST(OverlapProperties, CullingVariantsGiveTheSamePolytope) {
+  std::mt19937_64 rng(31);
+  const auto specs = builtin_specs();
+  int overlapping = 0;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const TestShape a(specs[i]), b(specs[(i + 5) % specs.size()]);
+    for (int k = 0; k < 400; ++k) {
+      const auto pair =
+          random_overlapping_pair(rng, a.shape.bounding_radius, b.shape.bounding_radius, 0.0, 0.6);
+      const auto faces = overlap(a, pair.a, b, pair.b, overlap_options_named("faces"));
+      const double scale_v = std::min(a.shape.volume, b.shape.volume);
+      const double scale_s = std::pow(scale_v, 2.0 / 3.0);
+      overlapping += faces.status == OverlapStatus::overlapping;
+      for (const char* variant : {"planes", "naive"}) {
+        const auto other = overlap(a, pair.a, b, pair.b, overlap_options_named(variant));
+        ASSERT_NEAR(other.volume, faces.volume, kExact * scale_v) << variant << " " << k;
+        ASSERT_LT(norm(other.vector_area - faces.vector_area), 1e-10 * scale_s) << variant;
+      }
+    }
+  }
+  EXPECT_GT(overlapping, 1000);
+}
+
+}  // namespace
+}  // namespace talus::testing
