@@ -100,7 +100,7 @@ void overlap_benchmark(benchmark::State& state, const std::string& spec_a,
   static std::map<std::string, std::unique_ptr<Case<Real>>> cases;
   auto& c = cases[spec_a + spec_b + kind];
   if (!c) c = std::make_unique<Case<Real>>(spec_a, spec_b, kind);
-  const OverlapOptions options = overlap_options_named(variant.c_str());
+  const OverlapOptions options = overlap_options_named(variant);
   switch (overlap_capacity_for(c->arrays_a.view().n_faces + c->arrays_b.view().n_faces)) {
     case 32:
       overlap_with<Real, 32>(state, *c, options);

@@ -81,7 +81,7 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
   }
   CachedBatch<Real>& cached = batch_for<Real>(spec);
   OverlapBatchGpu<Real>& batch = *cached.batch;
-  const OverlapOptions options = overlap_options_named(variant.c_str());
+  const OverlapOptions options = overlap_options_named(variant);
   batch.run(options);  // warm-up: module load, first touch of the buffers
 
   double seconds = 0;

@@ -4,6 +4,9 @@
 // centroid.
 #pragma once
 
+#include <stdexcept>
+#include <string>
+
 #include "solver/geometry/convex.hpp"
 
 namespace talus {
@@ -56,12 +59,17 @@ struct OverlapOptions {
 };
 
 // The benchmarks' named variants: "naive" (every plane), "planes" (cull_planes only) and
-// "faces" (both, the default).
-inline OverlapOptions overlap_options_named(const char* name) {
+// "faces" (both, the default). Host only.
+inline OverlapOptions overlap_options_named(const std::string& name) {
   OverlapOptions options;
-  const bool naive = name[0] == 'n', planes = name[0] == 'p';
-  options.cull_planes = !naive;
-  options.cull_faces = !naive && !planes;
+  if (name == "naive") {
+    options.cull_planes = options.cull_faces = false;
+  } else if (name == "planes") {
+    options.cull_faces = false;
+  } else if (name != "faces") {
+    throw std::invalid_argument("overlap variant '" + name +
+                                "': expected one of naive, planes, faces");
+  }
   return options;
 }
 

@@ -152,6 +152,7 @@ TEST(OverlapProperties, CullingVariantsGiveTheSamePolytope) {
     }
   }
   EXPECT_GT(overlapping, 1000);
+  EXPECT_THROW(overlap_options_named("fast"), std::invalid_argument);
 }
 
 }  // namespace
