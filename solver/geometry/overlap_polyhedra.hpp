@@ -10,7 +10,7 @@
 //  5. unpolarisation (Alg. VI, Eqs. 6-8): each dual face is a vertex p = x_o + n/w of the
 //     intersection; each dual vertex (a kept plane) is a face of it, whose polygon is the ring of
 //     the dual faces around that vertex. The volume is summed as cones from x_o over each face's
-//     fan about its vertex average (Eq. 9 with o = x_o, interior, so every cone is positive up to
+//     fan from one of its corners (Eq. 9 with o = x_o, interior, so every cone is positive up to
 //     round-off), and the same fans give each face's area, hence the vector area S on A's
 //     surface and the centroid.
 // Coincident planes of A and B ("twins", e.g. the side faces of two aligned stacked cubes, or
@@ -34,8 +34,7 @@ struct OverlapWorkspace {
   signed char plane_twin[MaxPlanes];   // 1 when a coincident plane of the other body was merged
   DualHullWorkspace<Real, MaxPlanes> hull;
   Vec3<Real> primal_vertex[2 * MaxPlanes];  // per dual face, relative to x_o
-  Vec3<Real> ring_sum[MaxPlanes];           // per dual vertex: sum of its ring of primal vertices
-  int ring_count[MaxPlanes];
+  short fan_apex[MaxPlanes];  // per dual vertex: a dual face around it (-1: not on the hull)
 };
 
 // The workspace for `planes` face planes in all (the sum over both templates), rounded up to the
@@ -259,11 +258,10 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
     return result;
   }
 
-  // Step 5. Unpolarise (Eqs. 6-8): dual face (n, w) -> primal vertex x_o + n / w.
-  for (int i = 0; i < m; ++i) {
-    ws.ring_sum[i] = Vec3<Real>();
-    ws.ring_count[i] = 0;
-  }
+  // Step 5. Unpolarise (Eqs. 6-8): dual face (n, w) -> primal vertex x_o + n / w. Each dual
+  // vertex (a face of the polytope) remembers one dual face around it; that face's primal vertex,
+  // a corner of the polygon, is the apex of the polygon's fan.
+  for (int i = 0; i < m; ++i) ws.fan_apex[i] = -1;
   for (int f = 0; f < hull.n_slots; ++f) {
     if (hull.face_stamp[f] < 0) continue;
     const Real w = hull.face_offset[f];
@@ -272,10 +270,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       return result;
     }
     ws.primal_vertex[f] = overlap_detail::primal_vertex_of<Real>(ws, f, w);
-    for (int k = 0; k < 3; ++k) {
-      ws.ring_sum[hull.face_vertex[f][k]] += ws.primal_vertex[f];
-      ++ws.ring_count[hull.face_vertex[f][k]];
-    }
+    for (int k = 0; k < 3; ++k) ws.fan_apex[hull.face_vertex[f][k]] = f;
   }
   // Cones from x_o over the fan of each face (Eq. 9): the primal edge between the vertices of
   // dual faces f and g lies on the faces of both dual vertices of their shared edge; the directed
@@ -287,8 +282,11 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
     const Vec3<Real>& p_f = ws.primal_vertex[f];
     for (int e = 0; e < 3; ++e) {
       const int v = hull.face_vertex[f][e];
-      const Vec3<Real>& p_g = ws.primal_vertex[hull.face_neighbor[f][e]];
-      const Vec3<Real> c = ws.ring_sum[v] / Real(ws.ring_count[v]);
+      const int g = hull.face_neighbor[f][e];
+      const int apex = ws.fan_apex[v];
+      if (apex == f || apex == g) continue;  // a triangle of the fan with no area
+      const Vec3<Real>& p_g = ws.primal_vertex[g];
+      const Vec3<Real>& c = ws.primal_vertex[apex];
       // Signed along the face's outward normal (the ring runs clockwise seen from outside):
       // a fan triangle flipped by round-off, where a primal vertex sits almost on the segment
       // of its neighbours, then subtracts instead of adding. Taking |area| cost float 1e-3.
@@ -302,7 +300,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
     }
   }
   int on_hull = 0;
-  for (int i = 0; i < m; ++i) on_hull += ws.ring_count[i] > 0;
+  for (int i = 0; i < m; ++i) on_hull += ws.fan_apex[i] >= 0;
   result.hull_points = on_hull;
   result.volume = volume;
   result.vector_area = vector_area;
