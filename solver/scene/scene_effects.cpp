@@ -1,0 +1,137 @@
+// The `effects` and `outputs` sections.
+#include <algorithm>
+
+#include "solver/scene/scene_sections.hpp"
+
+namespace talus {
+namespace {
+
+const std::string kTangentialDamping =
+    "a non-negative number in N s/m (gamma of BLAZE-DEM Eq. 3, the friction force's cap per "
+    "unit tangential speed)";
+
+// Returns whether the linear model's tangential_damping was given.
+bool parse_contact(const SceneNode& node, Effects& effects) {
+  const std::vector<std::string> models = {"volume", "linear"};
+  const std::string what = "a contact model";
+  if (!node.is_map()) {
+    const std::string model = node.choice(models, what);
+    if (model == "linear")
+      node.fail(
+          "the linear model needs its parameters: write {model: linear, stiffness: K_N, "
+          "damping: eta, tangential_damping: gamma}");
+    effects.contact = ContactModel::volume;
+    return false;
+  }
+  node.keys({"model", "stiffness", "damping", "tangential_damping"},
+            "a contact model: volume, or {model: linear, stiffness, damping, tangential_damping}");
+  const SceneNode model = node.at("model", what + ", one of volume, linear");
+  if (model.choice(models, what) == "volume") {
+    effects.contact = ContactModel::volume;
+    for (const char* key : {"stiffness", "damping", "tangential_damping"})
+      if (auto extra = node.find(key))
+        extra->fail(
+            "the volume model takes its stiffness and damping from the materials "
+            "(paper Eqs. 13, 15, 19, 20); only the linear model has this key");
+    return false;
+  }
+  // BLAZE-DEM Eqs. 2-3.
+  effects.contact = ContactModel::linear;
+  effects.linear.stiffness =
+      node.at("stiffness", "a positive number in N/m (K_N of BLAZE-DEM Eq. 2)").positive("N/m");
+  effects.linear.damping =
+      node.at("damping", "a non-negative number in N s/m (eta of BLAZE-DEM Eq. 2)")
+          .non_negative("N s/m");
+  const std::optional<SceneNode> gamma = node.find("tangential_damping");
+  if (gamma)
+    effects.linear.tangential_damping =
+        gamma->number(kTangentialDamping, [](double v) { return v >= 0; });
+  return gamma.has_value();
+}
+
+}  // namespace
+
+void parse_effects(const SceneNode& node, Scene& scene) {
+  Effects& effects = scene.effects;
+  effects.walls = !scene.walls.empty();
+  for (const WallSpec& wall : scene.walls)
+    effects.moving_walls = effects.moving_walls || wall.motion.kind != WallMotion::Kind::none;
+  if (node.is_null()) return;  // `effects:` with nothing: none
+  if (node.is_map())
+    if (auto walls = node.find("walls"))
+      walls->fail("the walls effect follows from the walls list; leave it out of effects");
+  node.keys({"gravity", "contact", "friction", "rotation", "drag"},
+            "a map of effects (gravity, contact, friction, rotation, drag)", "effect");
+  if (auto gravity = node.find("gravity"))
+    effects.gravity = gravity->vec3("a gravitational acceleration [x, y, z] in m/s^2");
+  const std::optional<SceneNode> contact = node.find("contact");
+  const bool has_tangential_damping = contact && parse_contact(*contact, effects);
+  if (auto rotation = node.find("rotation")) effects.rotation = rotation->boolean();
+  if (auto drag = node.find("drag")) {
+    drag->keys({"alpha"}, "a quadratic drag: {alpha: a positive number in kg/m}");
+    effects.drag_alpha =
+        drag->at("alpha", "a positive number in kg/m (F = -alpha |v| v)").positive("kg/m");
+  }
+  if (auto friction = node.find("friction")) {
+    effects.friction = friction->boolean();
+    if (effects.friction && !effects.contact)
+      friction->fail(
+          "friction acts at contacts: the scene needs a contact model "
+          "(effects.contact)");
+    if (effects.friction && effects.contact == ContactModel::linear && !has_tangential_damping)
+      contact->fail("the linear model with friction needs tangential_damping: " +
+                    kTangentialDamping);
+  }
+}
+
+void parse_outputs(const SceneNode& node, Scene& scene) {
+  node.keys({"trajectories", "probes"}, "a map of outputs (trajectories, probes)");
+  const std::string kEvery = "a positive integer number of steps";
+  if (auto trajectories = node.find("trajectories")) {
+    trajectories->keys({"every", "directory", "format"},
+                       "trajectories: a map with keys every, directory, format");
+    TrajectoryOutput output;
+    output.every = trajectories->at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+    output.directory = "trajectories";
+    if (auto directory = trajectories->find("directory"))
+      output.directory = directory->text("a directory path");
+    if (auto format = trajectories->find("format"))
+      output.format = format->choice({"csv", "vtk"}, "a trajectory format") == "csv"
+                          ? TrajectoryFormat::csv
+                          : TrajectoryFormat::vtk;
+    scene.outputs.trajectories = output;
+  }
+  if (auto probes = node.find("probes")) {
+    probes->keys({"every", "file", "quantities"},
+                 "probes: a map with keys every, file, quantities");
+    ProbeOutput output;
+    output.every = probes->at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+    output.file = "probes.csv";
+    if (auto file = probes->find("file")) output.file = file->text("a file path");
+    const std::vector<Probe> all = {Probe::kinetic_energy, Probe::wall_forces, Probe::contact_count,
+                                    Probe::bed_height};
+    std::vector<std::string> names;
+    for (Probe p : all) names.push_back(to_string(p));
+    const SceneNode quantities = probes->at("quantities", "a list of probes");
+    const std::vector<SceneNode> items =
+        quantities.items("a list of probes, from " + join_options(names));
+    if (items.empty()) quantities.fail_expected("a list of probes (at least one)");
+    for (const SceneNode& item : items) {
+      const std::string name = item.choice(names, "a probe");
+      const Probe probe = all[std::find(names.begin(), names.end(), name) - names.begin()];
+      if (std::find(output.quantities.begin(), output.quantities.end(), probe) !=
+          output.quantities.end())
+        item.fail("probe '" + name + "' is listed twice");
+      if (probe == Probe::wall_forces && scene.walls.empty())
+        item.fail("wall_forces needs walls; the scene has none");
+      if (probe == Probe::contact_count && !scene.effects.contact)
+        item.fail("contact_count needs a contact model (effects.contact)");
+      if (probe == Probe::bed_height && !scene.effects.gravity)
+        item.fail("bed_height is measured against gravity; the scene has no effects.gravity");
+      output.quantities.push_back(probe);
+    }
+    scene.outputs.probes = output;
+  }
+}
+
+}  // namespace talus

@@ -1,0 +1,86 @@
+// The top level of a scene file: reading it, its scalar settings, and the sections in order.
+#include "solver/scene/scene_loader.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "solver/scene/scene_sections.hpp"
+
+namespace talus {
+namespace {
+
+const std::vector<std::string> kTopLevelKeys = {
+    "time",      "seed",      "backend", "precision", "materials", "material_pairs",
+    "templates", "particles", "walls",   "effects",   "outputs"};
+
+void parse_time(const SceneNode& node, Scene& scene) {
+  node.keys({"step", "end"}, "time: a map with keys step, end (in s)");
+  const SceneNode step = node.at("step", "a positive number in s (the time step)");
+  scene.time_step = step.positive("s");
+  scene.end_time = node.at("end", "a positive number in s (the end time)").positive("s");
+  if (scene.time_step > scene.end_time)
+    step.fail_expected("a time step in s no longer than the end time");
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
+                  const std::string& directory) {
+  YAML::Node document;
+  try {
+    document = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw SceneError(file_name, e.mark.line + 1, e.mark.column + 1, "",
+                     "YAML syntax error: " + e.msg);
+  }
+  const SceneSource source{file_name, directory};
+  const YAML::Mark start = document.IsNull() ? YAML::Mark() : document.Mark();
+  const SceneNode root(document, "", start, &source);
+  root.keys(kTopLevelKeys, "a scene: a map with keys " + join_options(kTopLevelKeys));
+
+  Scene scene;
+  scene.file = file_name;
+  scene.directory = directory;
+  parse_time(root.at("time", "a map with keys step, end (in s)"), scene);
+  if (auto seed = root.find("seed"))
+    scene.seed = std::uint64_t(seed->integer("a non-negative integer", 0, 0x7fffffffffffffffLL));
+  if (auto backend = root.find("backend")) {
+    const std::string name = backend->choice({"auto", "cpu", "cuda"}, "a backend");
+    scene.backend =
+        name == "auto" ? Backend::automatic : (name == "cpu" ? Backend::cpu : Backend::cuda);
+  }
+  if (auto precision = root.find("precision"))
+    scene.precision = precision->choice({"double", "float"}, "a precision") == "float"
+                          ? Precision::float32
+                          : Precision::float64;
+  parse_materials(root.at("materials", "a map from material names to their properties"), scene);
+  if (auto pairs = root.find("material_pairs")) parse_material_pairs(*pairs, scene);
+  parse_templates(root.at("templates", "a map from template names to shapes and materials"), scene);
+  const std::optional<SceneNode> walls = root.find("walls");
+  if (walls) parse_walls(*walls, scene);
+  const std::optional<SceneNode> effects = root.find("effects");
+  parse_effects(effects ? *effects : SceneNode(YAML::Node(), "effects", start, &source), scene);
+  if (!scene.walls.empty() && !scene.effects.contact)
+    walls->fail(
+        "walls act through contacts, and the scene has no contact model "
+        "(effects.contact)");
+  parse_particles(root.at("particles", "a list of particle entries"), scene);
+  scene.effects.feed = !scene.feeds.empty();
+  if (auto outputs = root.find("outputs")) parse_outputs(*outputs, scene);
+  return scene;
+}
+
+Scene load_scene(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    throw SceneError(path, 0, 0, "", "scene file not found");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path, 0, 0, "", "cannot open the scene file for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string directory = std::filesystem::path(path).parent_path().string();
+  return parse_scene(text.str(), path, directory.empty() ? "." : directory);
+}
+
+}  // namespace talus

@@ -1,0 +1,31 @@
+// The parsers of the scene file's sections (internal to solver/scene/), in the order
+// scene_loader.cpp calls them: each may rely on the sections before it.
+#pragma once
+
+#include <string>
+
+#include "solver/scene/scene.hpp"
+#include "solver/scene/scene_reader.hpp"
+
+namespace talus {
+
+void parse_materials(const SceneNode& node, Scene& scene);
+void parse_material_pairs(const SceneNode& node, Scene& scene);
+void parse_templates(const SceneNode& node, Scene& scene);
+void parse_walls(const SceneNode& node, Scene& scene);
+void parse_effects(const SceneNode& node, Scene& scene);
+void parse_particles(const SceneNode& node, Scene& scene);
+void parse_outputs(const SceneNode& node, Scene& scene);
+
+// A reference by name: the index, or "unknown material 'x'; defined: ..." at the node.
+int material_reference(const SceneNode& node, const Scene& scene);
+int template_reference(const SceneNode& node, const Scene& scene);
+
+// `path` as given when absolute, else relative to `directory`.
+std::string resolve_path(const std::string& path, const std::string& directory);
+// Ends in .obj or .stl (any case).
+bool is_mesh_path(const std::string& path);
+// A mesh file that exists, or "mesh file '<resolved>' not found ..." at the node.
+void check_mesh_file_exists(const SceneNode& node, const std::string& resolved_path);
+
+}  // namespace talus

@@ -1,0 +1,200 @@
+// Each class of scene error: the message names the file, the line and column, the key and what
+// was expected. The scenes are kValidScene (scene_test_util.hpp) with one edit each, so every
+// expected position below can be read off its text.
+#include "tests/scene/scene_test_util.hpp"
+
+namespace talus {
+namespace {
+
+TEST(SceneErrors, TheUneditedSceneLoads) {
+  const Scene scene = parse_scene(kValidScene, "errors.yaml", scene_data_dir());
+  EXPECT_EQ(scene.materials.at(0).density, 2500);
+  EXPECT_EQ(scene.particles.size(), 1u);
+}
+
+TEST(SceneErrors, WrongTypeNamesFileLineKeyAndExpectation) {
+  const SceneError e = error_with("density: 2500", "density: abc");
+  EXPECT_STREQ(e.what(),
+               "errors.yaml:5:14: materials.glass.density: expected a positive number in kg/m^3, "
+               "got 'abc'");
+  EXPECT_EQ(e.file(), "errors.yaml");
+  EXPECT_EQ(e.line(), 5);
+  EXPECT_EQ(e.column(), 14);  // the value, after "    density: "
+  EXPECT_EQ(e.key(), "materials.glass.density");
+  EXPECT_EQ(e.message(), "expected a positive number in kg/m^3, got 'abc'");
+
+  EXPECT_STREQ(error_with("position: [0, 0, 0.05]", "position: [0, zero, 0.05]").what(),
+               "errors.yaml:16:37: particles[0].explicit[0].position: expected a position "
+               "[x, y, z] in m, got [0, zero, 0.05]");
+  EXPECT_STREQ(error_with("  - explicit:\n      - {template: grain, position: [0, 0, 0.05]}",
+                          "  explicit: {template: grain}")
+                   .what(),
+               "errors.yaml:15:3: particles: expected a list of particle entries ({explicit: "
+               "[...]}, {lattice: ...}, {random: ...}, {feed: ...}), got a map");
+  EXPECT_STREQ(error_with("friction: true", "friction: maybe").what(),
+               "errors.yaml:20:13: effects.friction: expected true or false, got 'maybe'");
+  EXPECT_STREQ(error_with("seed: 3", "seed: [3]").what(),
+               "errors.yaml:2:7: seed: expected a non-negative integer, got [3]");
+  EXPECT_STREQ(error_with("seed: 3", "seed:").what(),  // a null value points at its key
+               "errors.yaml:2:1: seed: expected a non-negative integer, got nothing");
+}
+
+TEST(SceneErrors, MissingRequiredKeyPointsAtItsMap) {
+  // The glass map now starts at youngs_modulus, line 5.
+  EXPECT_STREQ(error_with("    density: 2500\n", "").what(),
+               "errors.yaml:5:5: materials.glass.density: missing required key; expected a "
+               "positive number in kg/m^3");
+  EXPECT_STREQ(error_with("templates:\n  grain:\n    shape: dodecahedron:0.01\n    material: "
+                          "glass\n",
+                          "")
+                   .what(),
+               "errors.yaml:1:1: templates: missing required key; expected a map from template "
+               "names to shapes and materials");
+  EXPECT_STREQ(error_with("{template: grain, position: [0, 0, 0.05]}", "{template: grain}").what(),
+               "errors.yaml:16:9: particles[0].explicit[0].position: missing required key; "
+               "expected a position [x, y, z] in m");
+}
+
+TEST(SceneErrors, UnknownKeyListsTheAllowedKeysAndTheLikelyOne) {
+  EXPECT_STREQ(error_with("    density: 2500", "    densty: 2500").what(),
+               "errors.yaml:5:5: materials.glass.densty: unknown key; expected one of density, "
+               "youngs_modulus, poisson_ratio, friction, restitution (did you mean 'density'?)");
+  EXPECT_STREQ(error_with("seed: 3", "sed: 3").what(),
+               "errors.yaml:2:1: sed: unknown key; expected one of time, seed, backend, precision, "
+               "materials, material_pairs, templates, particles, walls, effects, outputs (did you "
+               "mean 'seed'?)");
+  EXPECT_STREQ(error_with("seed: 3", "seed: 3\nseed: 4").what(),
+               "errors.yaml:3:1: seed: duplicate key; first given on line 2");
+}
+
+struct RangeCase {
+  std::string from, to, message;
+};
+
+TEST(SceneErrors, OutOfRangeValuesSayTheRange) {
+  const std::vector<RangeCase> cases = {
+      {"density: 2500", "density: -2500",
+       "errors.yaml:5:14: materials.glass.density: expected a positive number in kg/m^3, got "
+       "'-2500'"},
+      {"density: 2500", "density: .inf",
+       "errors.yaml:5:14: materials.glass.density: expected a positive number in kg/m^3, got "
+       "'.inf'"},
+      {"youngs_modulus: 6.0e7", "youngs_modulus: 0",
+       "errors.yaml:6:21: materials.glass.youngs_modulus: expected a positive number in Pa "
+       "(Young's modulus), got '0'"},
+      {"poisson_ratio: 0.23", "poisson_ratio: 0.5",
+       "errors.yaml:7:20: materials.glass.poisson_ratio: expected a number in [0, 0.5) (Poisson's "
+       "ratio), got '0.5'"},
+      {"poisson_ratio: 0.23", "poisson_ratio: -0.1",
+       "errors.yaml:7:20: materials.glass.poisson_ratio: expected a number in [0, 0.5) (Poisson's "
+       "ratio), got '-0.1'"},
+      {"friction: 0.4", "friction: -0.1",
+       "errors.yaml:8:15: materials.glass.friction: expected a non-negative number (Coulomb "
+       "friction coefficient), got '-0.1'"},
+      {"restitution: 0.8", "restitution: 0",
+       "errors.yaml:9:18: materials.glass.restitution: expected a number in (0, 1] (coefficient "
+       "of restitution), got '0'"},
+      {"restitution: 0.8", "restitution: 1.01",
+       "errors.yaml:9:18: materials.glass.restitution: expected a number in (0, 1] (coefficient "
+       "of restitution), got '1.01'"},
+      {"step: 1.0e-5", "step: 0",
+       "errors.yaml:1:14: time.step: expected a positive number in s, got '0'"},
+      {"end: 0.1", "end: -1",
+       "errors.yaml:1:27: time.end: expected a positive number in s, got '-1'"},
+      {"step: 1.0e-5", "step: 1.0",
+       "errors.yaml:1:14: time.step: expected a time step in s no longer than the end time, got "
+       "'1.0'"},
+  };
+  for (const RangeCase& c : cases) {
+    SCOPED_TRACE(c.to);
+    EXPECT_EQ(error_with(c.from, c.to).what(), c.message);
+  }
+}
+
+TEST(SceneErrors, UnknownMaterialOrTemplateListsTheDefinedOnes) {
+  EXPECT_STREQ(error_with("material: glass", "material: glas").what(),
+               "errors.yaml:13:15: templates.grain.material: unknown material 'glas'; defined: "
+               "glass (did you mean 'glass'?)");
+  EXPECT_STREQ(error_with("{template: grain,", "{template: sand,").what(),
+               "errors.yaml:16:20: particles[0].explicit[0].template: unknown template 'sand'; "
+               "defined: grain");
+}
+
+TEST(SceneErrors, UnknownShapeWrapsTheShapeMessage) {
+  const SceneError unknown = error_with("dodecahedron:0.01", "dodecahedrn:0.01");
+  EXPECT_EQ(unknown.key(), "templates.grain.shape");
+  EXPECT_EQ(unknown.line(), 12);
+  EXPECT_EQ(unknown.column(), 12);
+  EXPECT_EQ(unknown.message().rfind("shape spec 'dodecahedrn:0.01': unknown shape 'dodecahedrn'; "
+                                    "expected one of ",
+                                    0),
+            0u)
+      << unknown.what();
+  const SceneError size = error_with("dodecahedron:0.01", "dodecahedron:-0.01");
+  EXPECT_EQ(size.message().rfind("shape spec 'dodecahedron:-0.01': dodecahedron needs one "
+                                 "positive size D",
+                                 0),
+            0u)
+      << size.what();
+}
+
+TEST(SceneErrors, UnknownEffectOrContactModel) {
+  EXPECT_STREQ(error_with("  friction: true", "  friction: true\n  magnetism: 1").what(),
+               "errors.yaml:21:3: effects.magnetism: unknown effect; expected one of gravity, "
+               "contact, friction, rotation, drag");
+  EXPECT_STREQ(error_with("contact: volume", "contact: hertz").what(),
+               "errors.yaml:19:12: effects.contact: expected a contact model, one of volume, "
+               "linear, got 'hertz'");
+  EXPECT_STREQ(error_with("contact: volume", "contact: {model: hertz}").what(),
+               "errors.yaml:19:20: effects.contact.model: expected a contact model, one of "
+               "volume, linear, got 'hertz'");
+}
+
+TEST(SceneErrors, MissingFilesAreNamed) {
+  EXPECT_STREQ(error_with("shape: dodecahedron:0.01", "shape: grains/missing.stl").what(),
+               ("errors.yaml:12:12: templates.grain.shape: mesh file '" + scene_data_dir() +
+                "/grains/missing.stl' not found (relative paths start at the scene file's "
+                "directory)")
+                   .c_str());
+  EXPECT_STREQ(error_with("effects:",
+                          "walls:\n  - mesh: {file: tray.stl, material: glass}\n"
+                          "effects:")
+                   .what(),
+               ("errors.yaml:18:18: walls[0].mesh.file: mesh file '" + scene_data_dir() +
+                "/tray.stl' not found (relative paths start at the scene file's directory)")
+                   .c_str());
+  const std::string missing = scene_data_dir() + "/no_such_scene.yaml";
+  try {
+    load_scene(missing);
+    ADD_FAILURE() << "no error for a missing scene file";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.what(), missing + ": scene file not found");
+    EXPECT_EQ(e.line(), 0);
+  }
+}
+
+TEST(SceneErrors, YamlSyntaxErrorsGiveThePosition) {
+  // yaml-cpp reports an unclosed flow list where it finds the next key (line 19).
+  const SceneError unclosed = error_with("gravity: [0, 0, -9.81]", "gravity: [0, 0, -9.81");
+  EXPECT_EQ(unclosed.file(), "errors.yaml");
+  EXPECT_EQ(unclosed.line(), 19);
+  EXPECT_EQ(unclosed.key(), "");
+  EXPECT_EQ(unclosed.message().rfind("YAML syntax error: ", 0), 0u) << unclosed.what();
+  // A key indented under a scalar value.
+  const SceneError indented = error_with("seed: 3", "seed: 3\n  extra: 4");
+  EXPECT_EQ(indented.line(), 3);
+  EXPECT_EQ(indented.message().rfind("YAML syntax error: ", 0), 0u) << indented.what();
+}
+
+TEST(SceneErrors, EmptyOrNonMapDocument) {
+  EXPECT_EQ(scene_error("").message(),
+            "expected a scene: a map with keys time, seed, backend, precision, materials, "
+            "material_pairs, templates, particles, walls, effects, outputs, got nothing");
+  EXPECT_STREQ(scene_error("- 1\n- 2\n").what(),
+               "errors.yaml:1:1: expected a scene: a map with keys time, seed, backend, precision, "
+               "materials, material_pairs, templates, particles, walls, effects, outputs, got "
+               "[1, 2]");
+}
+
+}  // namespace
+}  // namespace talus
