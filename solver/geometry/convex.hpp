@@ -12,6 +12,10 @@ struct ConvexView {
   const Vec3<Real>* face_normals = nullptr;  // unit, outward; one per merged face (§2.1)
   const Real* face_offsets = nullptr;        // face plane: dot(face_normal, x) = face_offset (> 0)
   const int* edges = nullptr;                // 2 vertex indices per edge
+  // The 2 merged faces that meet at each edge, in the order of `edges`: edge_faces[2 e] is the
+  // face whose loop runs edges[2 e] -> edges[2 e + 1], edge_faces[2 e + 1] the other. Optional:
+  // without them the simple contact's SAT projects on every face normal and edge pair.
+  const int* edge_faces = nullptr;
   const int* triangles = nullptr;  // 3 vertex indices per triangle, counter-clockwise from outside
   // Each merged face's vertex loop (counter-clockwise from outside), in compressed rows: face f's
   // vertices are face_loop_vertices[face_loop_offsets[f] .. face_loop_offsets[f + 1]). Optional:

@@ -10,7 +10,7 @@ template <class Real>
 struct DeviceShape {
   DeviceBuffer<Vec3<Real>> vertices, face_normals;
   DeviceBuffer<Real> face_offsets;
-  DeviceBuffer<int> edges, triangles, loop_offsets, loop_vertices;
+  DeviceBuffer<int> edges, edge_faces, triangles, loop_offsets, loop_vertices;
   ConvexView<Real> view;
 
   explicit DeviceShape(const ConvexView<Real>& host) {
@@ -18,6 +18,7 @@ struct DeviceShape {
     face_normals.upload(host.face_normals, host.n_faces);
     face_offsets.upload(host.face_offsets, host.n_faces);
     if (host.edges) edges.upload(host.edges, 2 * host.n_edges);
+    if (host.edge_faces) edge_faces.upload(host.edge_faces, 2 * host.n_edges);
     if (host.triangles) triangles.upload(host.triangles, 3 * host.n_triangles);
     if (host.face_loop_offsets) {
       loop_offsets.upload(host.face_loop_offsets, host.n_faces + 1);
@@ -28,6 +29,7 @@ struct DeviceShape {
     view.face_normals = face_normals.data();
     view.face_offsets = face_offsets.data();
     view.edges = host.edges ? edges.data() : nullptr;
+    view.edge_faces = host.edge_faces ? edge_faces.data() : nullptr;
     view.triangles = host.triangles ? triangles.data() : nullptr;
     view.face_loop_offsets = host.face_loop_offsets ? loop_offsets.data() : nullptr;
     view.face_loop_vertices = host.face_loop_offsets ? loop_vertices.data() : nullptr;

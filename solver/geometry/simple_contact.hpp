@@ -8,6 +8,7 @@
 
 #include "solver/core/math.hpp"
 #include "solver/geometry/convex.hpp"
+#include "solver/geometry/separating_axes.hpp"
 
 namespace talus {
 
@@ -69,64 +70,6 @@ TALUS_HD inline void closest_points_of_segments(const Vec3<Real>& p1, const Vec3
   c1 = p1 + d1 * s;
   c2 = p2 + d2 * t;
 }
-
-// Interval [lo, hi] of a shape's body-frame vertices projected on a body-frame direction.
-template <class Real>
-TALUS_HD inline void project(const ConvexView<Real>& shape, const Vec3<Real>& dir, Real& lo,
-                             Real& hi) {
-  lo = hi = dot(shape.vertices[0], dir);
-  for (int i = 1; i < shape.n_vertices; ++i) {
-    const Real s = dot(shape.vertices[i], dir);
-    lo = min_of(lo, s);
-    hi = max_of(hi, s);
-  }
-}
-
-// The separating-axis search, all in A's body frame: B's body frame maps to it by
-// x_A = offset + rel * x_B.
-template <class Real>
-struct SatSearch {
-  const ConvexView<Real>* a;
-  const ConvexView<Real>* b;
-  Mat3<Real> rel;
-  Vec3<Real> offset;
-  Mat3<Real> rot_a;    // A's body frame -> world, for the tie-break key
-  Real tie_tolerance;  // depths closer than this are ties (round-off of the projections)
-  bool separated = false;
-  bool found = false;
-  Real depth = 0;
-  Vec3<Real> normal;  // A frame, from A to B
-  Real key = 0;
-
-  // Test the unit axis L (A frame). The overlap along L is min(maxA - minB, maxB - minA); the
-  // normal points from A to B: +L when B lies on A's +L side.
-  TALUS_HD void test(const Vec3<Real>& axis) {
-    Real lo_a, hi_a, lo_b, hi_b;
-    project(*a, axis, lo_a, hi_a);
-    project(*b, rel.transpose_times(axis), lo_b, hi_b);
-    const Real shift = dot(offset, axis);
-    lo_b += shift;
-    hi_b += shift;
-    const Real plus = hi_a - lo_b, minus = hi_b - lo_a;
-    if (plus < Real(0) || minus < Real(0)) {
-      separated = true;
-      return;
-    }
-    const Real candidate = min_of(plus, minus);
-    const Vec3<Real> n = plus <= minus ? axis : -axis;
-    // Ties between different axes are broken by a key that is the same for n and -n and for the
-    // swapped pair (B, A), so that normal(A, B) = -normal(B, A) holds in symmetric placements.
-    const Vec3<Real> generic{Real(0.5257311121), Real(0.7236067977), Real(0.4472135955)};
-    const Real candidate_key = abs_of(dot(rot_a * n, generic));
-    if (!found || candidate < depth - tie_tolerance ||
-        (candidate <= depth + tie_tolerance && candidate_key > key)) {
-      found = true;
-      depth = candidate;
-      normal = n;
-      key = candidate_key;
-    }
-  }
-};
 
 }  // namespace simple_detail
 
@@ -257,12 +200,17 @@ TALUS_HD inline SimpleContact<Real> polyhedron_sphere_contact(const ConvexView<R
 constexpr double kFeatureTolerance = 1e-4;
 
 // (c) Two posed convex polyhedra by the separating axis test. Candidate axes: the face normals of
-// both bodies and the cross products of every edge pair; for convex polyhedra the minimum overlap
-// over these axes is the exact penetration depth (minimum translation distance): the Minkowski
-// difference's faces have exactly these normals. Edge pairs with sin(angle) < sqrt(eps) are
-// skipped: exactly parallel pairs add no face to the Minkowski difference, and for nearly parallel
-// ones the sliver face they add is O(sin(angle) x edge length) away from its neighbours, which is
-// the error of skipping it, balanced against the round-off of normalising their cross product.
+// both bodies and the cross products of the edge pairs (all of them, or with edge_faces only those
+// that span a face of the Minkowski difference, see below); for convex polyhedra the minimum
+// overlap over these axes is the exact penetration depth (minimum translation distance): the
+// Minkowski difference's faces have exactly these normals. Each axis is projected on all vertices
+// of both bodies, rotated once into B's frame. With both shapes' edge_faces (ShapeArrays,
+// DeviceShape) the search also skips the axes whose overlap provably cannot change the result,
+// by cheap lower bounds (separating_axes.hpp); without, every axis is projected. Edge pairs with
+// sin(angle) < sqrt(eps) are skipped: exactly parallel pairs add no face to the Minkowski
+// difference, and for nearly parallel ones the sliver face they add is O(sin(angle) x edge length)
+// away from its neighbours, which is the error of skipping it, balanced against the round-off of
+// normalising their cross product.
 //
 // Contact point, taken on the mid-plane between the two support planes along the normal:
 //  - the mean of the supporting-feature vertices of each body that lie inside the other body
@@ -282,38 +230,27 @@ TALUS_HD inline SimpleContact<Real> polyhedron_polyhedron_contact(const ConvexVi
       shape_b.n_vertices <= 0 || norm(pose_b.position - pose_a.position) > scale) {
     return r;
   }
-  simple_detail::SatSearch<Real> sat;
+  sat_detail::SatSearch<Real> sat;
   sat.a = &shape_a;
   sat.b = &shape_b;
   sat.rot_a = rotation_matrix(pose_a.orientation);
   sat.rel = rotation_matrix(pose_a.orientation.conjugate() * pose_b.orientation);
   sat.offset = sat.rot_a.transpose_times(pose_b.position - pose_a.position);
+  sat.scale = scale;
   sat.tie_tolerance = Real(16) * Eps<Real>::value * scale;
 
-  for (int f = 0; f < shape_a.n_faces && !sat.separated; ++f) sat.test(shape_a.face_normals[f]);
-  for (int f = 0; f < shape_b.n_faces && !sat.separated; ++f) {
-    sat.test(sat.rel * shape_b.face_normals[f]);
-  }
-  const Real min_sin2 = Eps<Real>::value;  // sin^2 of the smallest angle between edges kept
-  for (int i = 0; i < shape_a.n_edges && !sat.separated; ++i) {
-    const Vec3<Real> edge_a =
-        shape_a.vertices[shape_a.edges[2 * i + 1]] - shape_a.vertices[shape_a.edges[2 * i]];
-    for (int j = 0; j < shape_b.n_edges && !sat.separated; ++j) {
-      const Vec3<Real> edge_b = sat.rel * (shape_b.vertices[shape_b.edges[2 * j + 1]] -
-                                           shape_b.vertices[shape_b.edges[2 * j]]);
-      const Vec3<Real> axis = cross(edge_a, edge_b);
-      const Real axis2 = norm2(axis);
-      if (!(axis2 > min_sin2 * norm2(edge_a) * norm2(edge_b))) continue;
-      sat.test(axis / std::sqrt(axis2));
-    }
+  if (shape_a.edge_faces != nullptr && shape_b.edge_faces != nullptr) {
+    sat_detail::test_pruned_axes(sat);
+  } else {
+    sat_detail::test_all_axes(sat);
   }
   if (sat.separated || !sat.found || !is_finite(sat.depth)) return r;
 
   // Supporting features along n (A frame) and the contact point.
   const Vec3<Real> n = sat.normal;
   Real lo_a, hi_a, lo_b, hi_b;
-  simple_detail::project(shape_a, n, lo_a, hi_a);
-  simple_detail::project(shape_b, sat.rel.transpose_times(n), lo_b, hi_b);
+  sat_detail::project(shape_a, n, lo_a, hi_a);
+  sat_detail::project(shape_b, sat.rel.transpose_times(n), lo_b, hi_b);
   lo_b += dot(sat.offset, n);
   const Real feature_tolerance = Real(kFeatureTolerance) * scale;
   Vec3<Real> sum_a, sum_b, sum_inside, edge_a[2], edge_b[2];

@@ -2,6 +2,8 @@
 // them (the layout that is copied to the device).
 #pragma once
 
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "solver/geometry/convex.hpp"
@@ -15,6 +17,7 @@ struct ShapeArrays {
   std::vector<Real> face_offsets;
   std::vector<int> edges, triangles;                       // 2 and 3 vertex indices each, flattened
   std::vector<int> face_loop_offsets, face_loop_vertices;  // compressed rows, see ConvexView
+  std::vector<int> edge_faces;  // 2 faces per edge, see ConvexView; empty if the loops disagree
   Real bounding_radius = 0, volume = 0;
 
   explicit ShapeArrays(const ShapeTemplate& shape)
@@ -43,7 +46,37 @@ struct ShapeArrays {
       face_loop_offsets.push_back(int(face_loop_vertices.size()));
     }
     for (const auto& e : shape.edges) edges.insert(edges.end(), {e[0], e[1]});
+    fill_edge_faces(shape);
     for (const auto& t : shape.triangles) triangles.insert(triangles.end(), {t[0], t[1], t[2]});
+  }
+
+  // Each edge's two faces from the face loops: the face running edges[2 e] -> edges[2 e + 1]
+  // first. Left empty (no pruning, see ConvexView) unless every edge has exactly one face on
+  // each side.
+  void fill_edge_faces(const ShapeTemplate& shape) {
+    std::map<std::pair<int, int>, int> edge_index;
+    for (std::size_t e = 0; e < shape.edges.size(); ++e)
+      edge_index[{shape.edges[e][0], shape.edges[e][1]}] = int(e);
+    std::vector<int> sides(2 * shape.edges.size(), -1);
+    for (std::size_t f = 0; f < shape.faces.size(); ++f) {
+      const std::vector<int>& loop = shape.faces[f].loop;
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        const int from = loop[k], to = loop[(k + 1) % loop.size()];
+        auto it = edge_index.find({from, to});
+        int side = 0;
+        if (it == edge_index.end()) {
+          it = edge_index.find({to, from});
+          side = 1;
+        }
+        if (it == edge_index.end()) return;  // a loop side that is no edge
+        int& slot = sides[2 * it->second + side];
+        if (slot >= 0) return;  // two faces on one side
+        slot = int(f);
+      }
+    }
+    for (int face : sides)
+      if (face < 0) return;
+    edge_faces = std::move(sides);
   }
 
   // Valid while this object lives and is not modified.
@@ -53,6 +86,7 @@ struct ShapeArrays {
     view.face_normals = face_normals.data();
     view.face_offsets = face_offsets.data();
     view.edges = edges.data();
+    view.edge_faces = edge_faces.empty() ? nullptr : edge_faces.data();
     view.triangles = triangles.data();
     view.face_loop_offsets = face_loop_offsets.data();
     view.face_loop_vertices = face_loop_vertices.data();
