@@ -24,15 +24,6 @@ std::uint64_t mix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-Vec3d random_direction(std::mt19937_64& rng) {
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  for (;;) {
-    const Vec3d v{gauss(rng), gauss(rng), gauss(rng)};
-    const double length = norm(v);
-    if (length > 1e-6) return v / length;
-  }
-}
-
 // Runs make_pair(i, rng, workspace) for i in [0, count) on all host cores; pair i always gets the
 // generator seeded from (seed, i), so the set does not depend on the number of threads.
 template <class MakePair>

@@ -30,21 +30,26 @@ struct ConvexView {
   Real bounding_radius = 0;  // max |vertex| about the centroid (Fig. 4)
 };
 
-// Support point of a posed convex body in world direction dir (Eq. 2), relative to `origin`.
+// Index of the vertex of largest projection on a body-frame direction (the support, Eq. 2).
 template <class Real>
-TALUS_HD inline Vec3<Real> support_point(const ConvexView<Real>& shape, const Mat3<Real>& rot,
-                                         const Vec3<Real>& center, const Vec3<Real>& dir) {
-  const Vec3<Real> d_body = rot.transpose_times(dir);
+TALUS_HD inline int support_vertex(const ConvexView<Real>& shape, const Vec3<Real>& dir_body) {
   int best = 0;
-  Real best_dot = dot(shape.vertices[0], d_body);
+  Real best_dot = dot(shape.vertices[0], dir_body);
   for (int i = 1; i < shape.n_vertices; ++i) {
-    const Real s = dot(shape.vertices[i], d_body);
+    const Real s = dot(shape.vertices[i], dir_body);
     if (s > best_dot) {
       best_dot = s;
       best = i;
     }
   }
-  return center + rot * shape.vertices[best];
+  return best;
+}
+
+// Support point of a posed convex body in world direction dir (Eq. 2), relative to `origin`.
+template <class Real>
+TALUS_HD inline Vec3<Real> support_point(const ConvexView<Real>& shape, const Mat3<Real>& rot,
+                                         const Vec3<Real>& center, const Vec3<Real>& dir) {
+  return center + rot * shape.vertices[support_vertex(shape, rot.transpose_times(dir))];
 }
 
 }  // namespace talus

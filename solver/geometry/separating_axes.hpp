@@ -139,16 +139,7 @@ TALUS_HD inline Real least_on_arc(const Vec3<Real>& a, const Vec3<Real>& b, cons
 // The vertex of largest projection on dir.
 template <class Real>
 TALUS_HD inline Vec3<Real> farthest_vertex(const ConvexView<Real>& shape, const Vec3<Real>& dir) {
-  int best = 0;
-  Real best_dot = dot(shape.vertices[0], dir);
-  for (int i = 1; i < shape.n_vertices; ++i) {
-    const Real s = dot(shape.vertices[i], dir);
-    if (s > best_dot) {
-      best_dot = s;
-      best = i;
-    }
-  }
-  return shape.vertices[best];
+  return shape.vertices[support_vertex(shape, dir)];
 }
 
 // Every candidate axis (shapes without edge_faces): the face normals of A, then of B, then

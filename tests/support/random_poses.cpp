@@ -12,7 +12,8 @@ double uniform(std::mt19937_64& rng, double low, double high) {
   return std::uniform_real_distribution<double>(low, high)(rng);
 }
 
-// Uniform on the unit sphere: a normalised isotropic Gaussian vector.
+}  // namespace
+
 Vec3d random_direction(std::mt19937_64& rng) {
   std::normal_distribution<double> gauss(0.0, 1.0);
   for (;;) {
@@ -21,8 +22,6 @@ Vec3d random_direction(std::mt19937_64& rng) {
     if (length > 1e-6) return v / length;
   }
 }
-
-}  // namespace
 
 Quatd random_rotation(std::mt19937_64& rng) {
   const double u1 = uniform(rng, 0, 1), u2 = uniform(rng, 0, 1), u3 = uniform(rng, 0, 1);

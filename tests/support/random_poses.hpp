@@ -9,6 +9,9 @@
 
 namespace talus {
 
+// Uniform on the unit sphere: a normalised isotropic Gaussian vector.
+Vec3d random_direction(std::mt19937_64& rng);
+
 // Uniform on SO(3) (Shoemake, "Uniform random rotations", Graphics Gems III, 1992).
 Quatd random_rotation(std::mt19937_64& rng);
 
