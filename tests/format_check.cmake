@@ -1,5 +1,5 @@
-# The `format` test: every C++/CUDA source under solver/, tests/ and benchmarks/ must be as
-# clang-format (with the root .clang-format) would write it. Run as
+# The `format` test: every C++/CUDA source under solver/, reference/, tests/ and benchmarks/ must
+# be as clang-format (with the root .clang-format) would write it. Run as
 #   cmake -DCLANG_FORMAT=<clang-format> -DSOURCE_DIR=<repo> [-DGIT=<git>] -P format_check.cmake
 # The files are the tracked ones (git ls-files) when git and a work tree are present, else a glob.
 # On failure it lists the files that differ and the command that fixes them.
@@ -9,7 +9,7 @@ if(NOT CLANG_FORMAT OR NOT SOURCE_DIR)
   message(FATAL_ERROR "format_check.cmake: pass -DCLANG_FORMAT=... and -DSOURCE_DIR=...")
 endif()
 
-set(folders solver tests benchmarks)
+set(folders solver reference tests benchmarks)
 set(pattern "\\.(hpp|cpp|cu|cuh)$")
 set(files "")
 set(listed_by_git FALSE)

@@ -1,0 +1,188 @@
+// The reference overlap (reference/geometry/exact_overlap.hpp) against closed forms and against
+// the production dual-space overlap (solver/geometry/overlap_polyhedra.hpp) on random poses.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "reference/geometry/exact_overlap.hpp"
+#include "tests/geometry/overlap_test_util.hpp"
+#include "tests/reference/reference_test_util.hpp"
+#include "tests/support/random_poses.hpp"
+
+namespace talus::reference {
+namespace {
+
+using namespace testing;  // at, box_vertices, to_eigen, kClosedRel
+
+TEST(ExactOverlap, AxisAlignedBoxes_VolumeCentroidVectorArea) {
+  // Sides 10, 12, 14 mm; B moved by (8, 1, 0.5) mm: the overlap is the box 2 x 11 x 13.5 mm
+  // spanning x in [3, 5], y in [-5, 6], z in [-6.5, 7] mm.
+  const ShapeTemplate a = box_vertices(0.010, 0.012, 0.014);
+  const RefOverlap r = exact_overlap(a, at(0, 0, 0), a, at(0.008, 0.001, 0.0005));
+  ASSERT_TRUE(r.overlapping);
+  EXPECT_FALSE(r.touching);
+  const double v = 0.002 * 0.011 * 0.0135;
+  EXPECT_NEAR(r.volume, v, kClosedRel * v);
+  const Eigen::Vector3d c(0.004, 0.0005, 0.00025);
+  EXPECT_LT((r.centroid - c).norm(), kClosedRel * 0.01);
+  // On A: its +x face (11 x 13.5), +y face (2 x 13.5), +z face (2 x 11), in mm^2.
+  const Eigen::Vector3d s(0.011 * 0.0135, 0.002 * 0.0135, 0.002 * 0.011);
+  EXPECT_LT((r.vector_area_a - s).norm(), kClosedRel * s.norm());
+  const double boundary = 2 * (0.002 * 0.011 + 0.002 * 0.0135 + 0.011 * 0.0135);
+  EXPECT_NEAR(r.boundary_area, boundary, kClosedRel * boundary);
+}
+
+TEST(ExactOverlap, SwappedBodies_VectorAreaReverses) {
+  // dV/dx_B = -S: the same overlap seen from B has the opposite vector area (its faces on B are
+  // x = 3, y = -5, z = -6.5 mm, with the same areas as A's faces above).
+  const ShapeTemplate a = box_vertices(0.010, 0.012, 0.014);
+  const RefOverlap ab = exact_overlap(a, at(0, 0, 0), a, at(0.008, 0.001, 0.0005));
+  const RefOverlap ba = exact_overlap(a, at(0.008, 0.001, 0.0005), a, at(0, 0, 0));
+  EXPECT_LT((ab.vector_area_a + ba.vector_area_a).norm(), kClosedRel * ab.vector_area_a.norm());
+  EXPECT_NEAR(ab.volume, ba.volume, kClosedRel * ab.volume);
+}
+
+TEST(ExactOverlap, SharedFace_CountsHalf) {
+  // A: 0.5 x 0.25 x 0.125 m. B: a 0.0625 m cube whose top is A's top (z = 0.0625) and which sticks
+  // out through A's +x face (x = 0.25). The overlap is x in [0.21875, 0.25], |y| <= 0.03125,
+  // z in [0, 0.0625]: its +x face lies on A only (weight 1), its top on both (weight 1/2).
+  const ShapeTemplate a = box_vertices(0.5, 0.25, 0.125);
+  const ShapeTemplate b = box_vertices(0.0625, 0.0625, 0.0625);
+  const RefOverlap r = exact_overlap(a, at(0, 0, 0), b, at(0.25, 0, 0.03125));
+  ASSERT_TRUE(r.overlapping);
+  const double v = 0.03125 * 0.0625 * 0.0625;
+  EXPECT_NEAR(r.volume, v, kClosedRel * v);
+  const Eigen::Vector3d s(0.0625 * 0.0625, 0, 0.5 * 0.03125 * 0.0625);
+  EXPECT_LT((r.vector_area_a - s).norm(), kClosedRel * s.norm());
+}
+
+TEST(ExactOverlap, CopyOfItself_TemplateVolumeZeroVectorArea) {
+  // Every facet lies on both surfaces and counts half: the halves of a closed surface sum to 0.
+  for (const std::string spec : {"dodecahedron:0.01", "mineral:0.01", "cylinder:0.008,0.0053"}) {
+    const ShapeTemplate s = make_builtin(spec);
+    const RefPose pose = at(0.3, -0.1, 0.02, Eigen::Quaterniond(0.9, 0.1, -0.3, 0.2).normalized());
+    const RefOverlap r = exact_overlap(s, pose, s, pose);
+    ASSERT_TRUE(r.overlapping) << spec;
+    EXPECT_NEAR(r.volume, s.volume, kClosedRel * s.volume) << spec;
+    EXPECT_LT((r.centroid - pose.position).norm(), kClosedRel * s.bounding_radius) << spec;
+    EXPECT_LT(r.vector_area_a.norm(), kClosedRel * r.boundary_area) << spec;
+    EXPECT_GT(r.boundary_area, 0.0) << spec;
+  }
+}
+
+TEST(ExactOverlap, Nested_SmallBodyVolumeZeroVectorArea) {
+  // A small icosahedron well inside a large cube: the overlap is the small body; none of its
+  // facets lies on the cube, and as A the small body's closed surface sums to zero.
+  const ShapeTemplate big = box_vertices(0.05, 0.05, 0.05);
+  const ShapeTemplate small = make_builtin("icosahedron:0.01");
+  const RefPose small_pose = at(0.003, -0.002, 0.004, Eigen::Quaterniond(0.6, 0.8, 0, 0));
+  for (bool small_is_a : {false, true}) {
+    const RefOverlap r = small_is_a ? exact_overlap(small, small_pose, big, at(0, 0, 0))
+                                    : exact_overlap(big, at(0, 0, 0), small, small_pose);
+    ASSERT_TRUE(r.overlapping);
+    EXPECT_NEAR(r.volume, small.volume, kClosedRel * small.volume);
+    EXPECT_LT((r.centroid - small_pose.position).norm(), kClosedRel * 0.01);
+    EXPECT_LT(r.vector_area_a.norm(), kClosedRel * r.boundary_area);
+  }
+}
+
+TEST(ExactOverlap, Touching_ZeroVolumeNotOverlapping) {
+  // Binary-exact sizes and offsets, so the contact is exactly a face, an edge or a corner.
+  const ShapeTemplate box = box_vertices(0.5, 0.25, 0.125);
+  const struct {
+    double x, y, z;
+  } offsets[] = {{0.5, 0.0, 0.0},      // face to face (partial: y shifted below)
+                 {0.5, 0.125, 0.0},    // face to face, half the face
+                 {0.5, 0.25, 0.0},     // edge to edge
+                 {0.5, 0.25, 0.125}};  // corner to corner
+  for (const auto& o : offsets) {
+    const RefOverlap r = exact_overlap(box, at(0, 0, 0), box, at(o.x, o.y, o.z));
+    EXPECT_TRUE(r.touching) << o.x << " " << o.y << " " << o.z;
+    EXPECT_FALSE(r.overlapping);
+    EXPECT_EQ(r.volume, 0.0);
+    EXPECT_EQ(r.vector_area_a.norm(), 0.0);
+  }
+  // One ulp-scale gap (2^-40 m) apart: separate.
+  const RefOverlap gap = exact_overlap(box, at(0, 0, 0), box, at(0.5 + std::ldexp(1.0, -40), 0, 0));
+  EXPECT_FALSE(gap.touching);
+  EXPECT_FALSE(gap.overlapping);
+  // The same gap the other way: a slab 2^-40 m thick, volume 0.25 * 0.125 * 2^-40 exactly.
+  const RefOverlap thin =
+      exact_overlap(box, at(0, 0, 0), box, at(0.5 - std::ldexp(1.0, -40), 0, 0));
+  ASSERT_TRUE(thin.overlapping);
+  const double v = 0.25 * 0.125 * std::ldexp(1.0, -40);
+  EXPECT_NEAR(thin.volume, v, 1e-6 * v);  // about a vertex 0.5 m away: 2^-40 / 2^-53 ulps lost
+}
+
+// Production against reference on random pose pairs of the built-ins. Both compute the same
+// polytope from the same double vertices; they differ by the round-off of the production's own
+// world transform, plane offsets and dual-space hull: a few hundred eps of the particle size R in
+// position (~1e-16 m here). A boundary displaced by delta changes V by at most A_P delta and S by
+// at most (perimeter of the facets) delta ~ A_P delta / (facet size). Relative to the overlap's
+// boundary area A_P (for S) and to A_P R (for V, which is >= 3 V for a convex body inside a
+// sphere of radius R), 1e-9 is far above that round-off (1e-13) and far below any error of a
+// misplaced facet, a missed vertex or a wrong weight (those are relative errors of order the
+// facet's share of the boundary).
+TEST(ExactOverlap, AgreesWithProduction_RandomPairsOfBuiltins) {
+  const std::vector<std::string> specs = talus::testing::builtin_specs();
+  std::vector<talus::testing::TestShape> shapes;
+  for (const auto& spec : specs) shapes.emplace_back(spec);
+  std::mt19937_64 rng(20240611);
+  // 9 x 9 ordered pairs x 16 draws = 1296, of which about half overlap (bounding spheres overlap,
+  // the polyhedra often do not). The reference costs about 3 ms per pair with the exact kernel
+  // (Release), so this takes about 5 s: sized for well under 60 s on 2 cores.
+  const int draws_per_pair = 16;
+  int compared = 0, separate_both = 0;
+  double worst_volume = 0, worst_vector_area = 0, worst_centroid = 0;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    for (size_t j = 0; j < shapes.size(); ++j) {
+      const auto& sa = shapes[i];
+      const auto& sb = shapes[j];
+      for (int draw = 0; draw < draws_per_pair; ++draw) {
+        const PosePair poses = random_overlapping_pair(rng, sa.shape.bounding_radius,
+                                                       sb.shape.bounding_radius, 0.0, 0.6);
+        const OverlapResult<double> prod = talus::testing::overlap(sa, poses.a, sb, poses.b);
+        const RefOverlap ref =
+            exact_overlap(sa.shape, to_ref_pose(poses.a), sb.shape, to_ref_pose(poses.b));
+        ASSERT_FALSE(prod.workspace_overrun);
+        const double radius = std::max(sa.shape.bounding_radius, sb.shape.bounding_radius);
+        const double volume_scale = ref.boundary_area * radius;
+        const bool prod_overlapping = prod.status == OverlapStatus::overlapping;
+        if (!ref.overlapping && !prod_overlapping) {
+          ++separate_both;
+          continue;
+        }
+        // A sliver below the tolerance may be classified either way by round-off.
+        if (ref.overlapping != prod_overlapping) {
+          EXPECT_LT(std::max(ref.volume, prod.volume), 1e-9 * volume_scale)
+              << specs[i] << " vs " << specs[j] << " draw " << draw;
+          continue;
+        }
+        ++compared;
+        const double dv = std::abs(prod.volume - ref.volume) / volume_scale;
+        const double ds =
+            (to_eigen(prod.vector_area) - ref.vector_area_a).norm() / ref.boundary_area;
+        const double dc = (to_eigen(prod.centroid) - ref.centroid).norm() / radius;
+        worst_volume = std::max(worst_volume, dv);
+        worst_vector_area = std::max(worst_vector_area, ds);
+        worst_centroid = std::max(worst_centroid, dc);
+        EXPECT_LT(dv, 1e-9) << specs[i] << " vs " << specs[j] << " draw " << draw;
+        EXPECT_LT(ds, 1e-9) << specs[i] << " vs " << specs[j] << " draw " << draw;
+        // The centroid is V-weighted: a sliver's centroid moves by (displacement x A_P / V), so
+        // it is compared only where V is not a sliver (V > 1e-3 A_P R).
+        if (ref.volume > 1e-3 * volume_scale) {
+          EXPECT_LT(dc, 1e-9) << specs[i] << " vs " << specs[j] << " draw " << draw;
+        }
+      }
+    }
+  }
+  std::printf(
+      "compared %d overlapping pairs (%d separate in both); worst relative errors: "
+      "volume %.2e, vector area %.2e, centroid %.2e\n",
+      compared, separate_both, worst_volume, worst_vector_area, worst_centroid);
+  EXPECT_GE(compared, 500);
+}
+
+}  // namespace
+}  // namespace talus::reference
