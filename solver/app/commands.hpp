@@ -2,7 +2,10 @@
 // string (nothing is printed until it is complete) and throws UsageError for bad arguments.
 #pragma once
 
+#include <stdexcept>
 #include <string>
+
+#include "solver/app/run_arguments.hpp"
 
 namespace talus {
 
@@ -13,5 +16,17 @@ std::string overlap_json(const std::string& spec_a, const std::string& pose_a,
 
 // `talus shape A`: the template built from a spec (paper §2.1) in its body frame.
 std::string shape_json(const std::string& spec);
+
+// A run that cannot go ahead as asked (a solver not built in, a setting it does not support).
+// main prints the message without the usage and exits with status 2, as for a bad scene file.
+class RunError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// `talus run [options] scene.yaml`: runs the scene, writing its outputs as it goes and progress
+// lines on stderr; returns the run's summary as JSON. Throws SceneError for a bad scene file,
+// RunError as above, std::runtime_error for a failure while running (e.g. an unwritable output).
+std::string run_json(const RunArguments& args);
 
 }  // namespace talus

@@ -7,6 +7,7 @@
 
 #include "solver/app/arguments.hpp"
 #include "solver/app/commands.hpp"
+#include "solver/scene/scene_loader.hpp"
 
 namespace {
 
@@ -18,6 +19,7 @@ const char* const kUsage =
     "  talus                                  run a built-in overlap example\n"
     "  talus overlap A POSE_A B POSE_B        overlap of two posed polyhedra, as JSON\n"
     "  talus shape A                          a shape template in its body frame, as JSON\n"
+    "  talus run [options] SCENE.yaml         run a scene (docs/scenes.md); summary as JSON\n"
     "  talus help | --help | -h               this text\n"
     "\n"
     "A, B     a built-in shape 'name:size' or an .obj/.stl file ('path' or 'path:scale')\n"
@@ -29,7 +31,15 @@ const char* const kUsage =
     "\n"
     "overlap prints: status, volume (m^3), normal (S/|S|, from A to B), area (|S|, m^2),\n"
     "vector_area (S), point (overlap centroid), chebyshev_depth (inradius of the overlap),\n"
-    "depth, simple_normal, simple_point (BLAZE-DEM simple contact), gjk_intersecting.\n";
+    "depth, simple_normal, simple_point (BLAZE-DEM simple contact), gjk_intersecting.\n"
+    "\n"
+    "run options:\n"
+    "  --solver production|reference   which solver steps the scene (default production;\n"
+    "                                  reference: the serial CGAL/Eigen oracle)\n"
+    "  --backend auto|cpu|cuda         overrides the scene's backend\n"
+    "  --precision double|float        overrides the scene's precision\n"
+    "  --output DIR                    relative output paths of the scene go inside DIR\n"
+    "  --quiet                         no progress lines on stderr\n";
 
 // The example run by `talus` alone: two 10 mm dodecahedra, centres 7.07 mm apart (less than
 // twice the 3.97 mm inradius, so they overlap whatever their orientations), the second turned
@@ -74,8 +84,11 @@ int run(const std::vector<std::string>& args) {
       return usage_error("shape expects 1 argument A, got " + std::to_string(operands));
     }
     json = talus::shape_json(args[1]);
+  } else if (command == "run") {
+    json = talus::run_json(
+        talus::parse_run_arguments(std::vector<std::string>(args.begin() + 1, args.end())));
   } else {
-    return usage_error("unknown command '" + command + "'; expected overlap, shape or help");
+    return usage_error("unknown command '" + command + "'; expected overlap, shape, run or help");
   }
   std::fputs(json.c_str(), stdout);
   return 0;
@@ -94,6 +107,12 @@ int main(int argc, char** argv) {
     return status;
   } catch (const talus::UsageError& error) {
     return usage_error(error.what());
+  } catch (const talus::SceneError& error) {
+    std::fprintf(stderr, "talus: error: %s\n", error.what());
+    return kExitUsage;
+  } catch (const talus::RunError& error) {
+    std::fprintf(stderr, "talus: error: %s\n", error.what());
+    return kExitUsage;
   } catch (const std::exception& error) {
     // Not the user's arguments: an internal failure (e.g. out of memory).
     std::fprintf(stderr, "talus: error: %s\n", error.what());

@@ -15,61 +15,15 @@
 #include <gtest/gtest.h>
 
 #include "tests/app/json_reader.hpp"
+#include "tests/app/run_talus.hpp"
 
 namespace {
 
 using talus_test::Json;
 using talus_test::parse_or_fail;
-
-// ---- Running the binary
-
-struct ProcessResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// Runs <build>/talus with `args` (no shell: arguments pass verbatim), stdout and stderr captured in
-// temporary files so that neither can fill a pipe and stall the child.
-ProcessResult run_talus(const std::vector<std::string>& args) {
-  char out_path[] = "/tmp/talus_cli_out_XXXXXX";
-  char err_path[] = "/tmp/talus_cli_err_XXXXXX";
-  const int out_fd = mkstemp(out_path);
-  const int err_fd = mkstemp(err_path);
-  ProcessResult run;
-  if (out_fd < 0 || err_fd < 0) {
-    ADD_FAILURE() << "cannot create temporary files";
-    return run;
-  }
-  const std::string binary = TALUS_BINARY_DIR "/talus";
-  std::vector<char*> argv;
-  argv.push_back(const_cast<char*>(binary.c_str()));
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    dup2(out_fd, STDOUT_FILENO);
-    dup2(err_fd, STDERR_FILENO);
-    execv(binary.c_str(), argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  close(out_fd);
-  close(err_fd);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  run.out = read_file(out_path);
-  run.err = read_file(err_path);
-  unlink(out_path);
-  unlink(err_path);
-  return run;
-}
+using talus_test::ProcessResult;
+using talus_test::read_file;
+using talus_test::run_talus;
 
 // ---- Shapes and poses
 
@@ -297,6 +251,13 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
       {{"shape", "cube:abc"}, "A 'cube:abc'"},
       {{"shape", "/nonexistent/particle.obj"}, "A '/nonexistent/particle.obj'"},
       {{"overlap", "cylinder:0.01,0.01,200", id, "cylinder:0.01,0.01,200", id}, "at most 256"},
+      {{"run"}, "run expects a scene file"},
+      {{"run", "a.yaml", "b.yaml"}, "'a.yaml' and 'b.yaml'"},
+      {{"run", "--fast", "a.yaml"}, "unknown option '--fast'"},
+      {{"run", "--solver", "exact", "a.yaml"}, "--solver 'exact': expected one of production"},
+      {{"run", "--backend=gpu", "a.yaml"}, "--backend 'gpu': expected one of auto, cpu, cuda"},
+      {{"run", "--precision", "half", "a.yaml"}, "--precision 'half'"},
+      {{"run", "a.yaml", "--output"}, "--output expects a value"},
   };
   for (const BadCase& c : cases) {
     std::string joined;
@@ -309,6 +270,24 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
     EXPECT_NE(first_line.find(c.names), std::string::npos) << joined << "\n" << run.err;
     EXPECT_NE(run.err.find("usage:"), std::string::npos) << joined;
   }
+}
+
+// A scene file that cannot be loaded: exit 2, the loader's message with file:line:column and key,
+// no usage text (the arguments were fine).
+TEST(TalusRun, BadSceneFileNamesFileLineAndKey) {
+  char path[] = "/tmp/talus_cli_scene_XXXXXX.yaml";
+  const int fd = mkstemps(path, 5);
+  ASSERT_GE(fd, 0);
+  const std::string text = "time: {step: 1.0e-4, end: 1}\nmaterials:\n  glass: {density: abc}\n";
+  ASSERT_EQ(write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+  close(fd);
+  const ProcessResult run = run_talus({"run", "--solver", "reference", path});
+  unlink(path);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_TRUE(run.out.empty()) << run.out;
+  EXPECT_NE(run.err.find(std::string(path) + ":3:"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("materials.glass.density"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("usage:"), std::string::npos) << run.err;
 }
 
 }  // namespace

@@ -1,0 +1,37 @@
+// Walls of the reference solver (paper §2.4): triangle meshes given in world coordinates at t = 0
+// and a rigid motion. A wall is infinitely large in mass and rigid: it is never moved by the
+// contacts, only by its prescribed motion.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace talus::reference {
+
+struct RefWallMotion {
+  enum class Kind { kNone, kRotation, kTranslation };
+  Kind kind = Kind::kNone;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();     // rotation: unit axis through `point`
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();     // rotation axis point; torque reference
+  double angular_speed = 0;                            // rad/s, right-handed about `axis`
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // translation, m/s
+
+  // Where the material point at x0 (t = 0) is at time t, and the velocity of the wall's material
+  // point that is at x at time t.
+  Eigen::Vector3d position(const Eigen::Vector3d& x0, double t) const;
+  Eigen::Vector3d velocity_at(const Eigen::Vector3d& x) const;
+};
+
+// One triangle (a, b, c): particles live on the side (b - a) x (c - a) points to.
+using RefTriangle = std::array<Eigen::Vector3d, 3>;
+
+struct RefWall {
+  std::string name;
+  std::vector<RefTriangle> triangles;  // world coordinates at t = 0
+  RefWallMotion motion;
+  int material = -1;  // index into the world's materials
+};
+
+}  // namespace talus::reference

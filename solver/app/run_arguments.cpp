@@ -1,0 +1,81 @@
+#include "solver/app/run_arguments.hpp"
+
+#include "solver/app/arguments.hpp"
+
+namespace talus {
+
+namespace {
+
+// One of `choices` (as written) or a UsageError naming the option and listing them.
+template <class Value, std::size_t N>
+Value choose(const std::string& option, const std::string& text,
+             const std::pair<const char*, Value> (&choices)[N]) {
+  std::string listed;
+  for (const auto& [name, value] : choices) {
+    if (text == name) return value;
+    listed += (listed.empty() ? "" : ", ") + std::string(name);
+  }
+  throw UsageError(option + " '" + text + "': expected one of " + listed);
+}
+
+}  // namespace
+
+const char* to_string(SolverKind solver) {
+  return solver == SolverKind::reference ? "reference" : "production";
+}
+
+RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
+  static const std::pair<const char*, SolverKind> kSolvers[] = {
+      {"production", SolverKind::production}, {"reference", SolverKind::reference}};
+  static const std::pair<const char*, Backend> kBackends[] = {
+      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
+  static const std::pair<const char*, Precision> kPrecisions[] = {{"double", Precision::float64},
+                                                                  {"float", Precision::float32}};
+
+  RunArguments parsed;
+  bool have_scene = false;
+  for (std::size_t i = 0; i < operands.size(); ++i) {
+    const std::string& word = operands[i];
+    if (word == "--quiet") {
+      parsed.quiet = true;
+      continue;
+    }
+    if (word.rfind("--", 0) != 0) {
+      if (have_scene) {
+        throw UsageError("run expects one scene file, got '" + parsed.scene_path + "' and '" +
+                         word + "'");
+      }
+      parsed.scene_path = word;
+      have_scene = true;
+      continue;
+    }
+    // --name value or --name=value
+    std::string name = word, value;
+    const std::size_t equals = word.find('=');
+    if (equals != std::string::npos) {
+      name = word.substr(0, equals);
+      value = word.substr(equals + 1);
+    } else if (name == "--solver" || name == "--backend" || name == "--precision" ||
+               name == "--output") {
+      if (i + 1 >= operands.size()) throw UsageError(name + " expects a value");
+      value = operands[++i];
+    }
+    if (name == "--solver") {
+      parsed.solver = choose(name, value, kSolvers);
+    } else if (name == "--backend") {
+      parsed.backend = choose(name, value, kBackends);
+    } else if (name == "--precision") {
+      parsed.precision = choose(name, value, kPrecisions);
+    } else if (name == "--output") {
+      if (value.empty()) throw UsageError("--output expects a directory");
+      parsed.output_root = value;
+    } else {
+      throw UsageError("unknown option '" + name +
+                       "' for run; expected --solver, --backend, --precision, --output, --quiet");
+    }
+  }
+  if (!have_scene) throw UsageError("run expects a scene file (YAML, see docs/scenes.md)");
+  return parsed;
+}
+
+}  // namespace talus

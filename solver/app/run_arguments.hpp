@@ -1,0 +1,32 @@
+// `talus run`'s options. Parsing is separate from running so that every bad option is a
+// UsageError naming the option and what was expected, before any scene is read.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "solver/scene/scene.hpp"
+
+namespace talus {
+
+enum class SolverKind { production, reference };
+
+struct RunArguments {
+  std::string scene_path;                      // the scene file (required)
+  SolverKind solver = SolverKind::production;  // --solver production|reference
+  std::optional<Backend> backend;              // --backend auto|cpu|cuda: overrides the scene's
+  std::optional<Precision> precision;          // --precision double|float: overrides the scene's
+  // --output DIR: relative output paths of the scene (trajectories, probes) are taken inside DIR
+  // instead of the working directory. Empty: the working directory.
+  std::string output_root;
+  bool quiet = false;  // --quiet: no progress lines on stderr
+};
+
+// The operands after `run`: options in any order (`--name value` or `--name=value`) and exactly
+// one scene path. Throws UsageError.
+RunArguments parse_run_arguments(const std::vector<std::string>& operands);
+
+const char* to_string(SolverKind solver);
+
+}  // namespace talus

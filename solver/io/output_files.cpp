@@ -1,0 +1,66 @@
+#include "solver/io/output_files.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+namespace talus {
+
+void create_output_directory(const std::string& directory) {
+  std::error_code error;
+  std::filesystem::create_directories(directory, error);
+  if (error)
+    throw std::runtime_error("cannot create output directory '" + directory +
+                             "': " + error.message());
+  if (!std::filesystem::is_directory(directory, error))
+    throw std::runtime_error("cannot create output directory '" + directory +
+                             "': a file of that name is in the way");
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  const std::string temporary = path + ".tmp";
+  auto fail = [&](int code) {
+    std::remove(temporary.c_str());
+    throw std::runtime_error("cannot write '" + path + "': " + std::strerror(code));
+  };
+  std::FILE* file = std::fopen(temporary.c_str(), "wb");
+  if (!file) fail(errno);
+  const std::size_t written = std::fwrite(text.data(), 1, text.size(), file);
+  int code = (written != text.size() || std::fflush(file) != 0) ? errno : 0;
+  if (std::fclose(file) != 0 && code == 0) code = errno;
+  if (written != text.size() && code == 0) code = EIO;
+  if (code != 0) fail(code);
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) fail(errno);
+}
+
+std::string exact_decimal(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', begin);
+    fields.push_back(line.substr(begin, comma - begin));
+    if (comma == std::string::npos) return fields;
+    begin = comma + 1;
+  }
+}
+
+bool parse_double(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text.c_str(), &end);
+  // ERANGE on underflow still gives the nearest value (a subnormal): accept it, as printed.
+  return end == text.c_str() + text.size();
+}
+
+}  // namespace talus

@@ -1,0 +1,29 @@
+// Writing output files so that an interrupted run never leaves a half-written file under its
+// final name: the text goes to a temporary file in the same directory, which is then renamed
+// (rename(2) replaces the target in one step within a file system).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace talus {
+
+// Creates `directory` and its parents when missing. Throws std::runtime_error "cannot create
+// output directory '<dir>': <reason>".
+void create_output_directory(const std::string& directory);
+
+// Writes `text` to `path` through "<path>.tmp" and a rename. Throws std::runtime_error
+// "cannot write '<path>': <reason>" (and removes the temporary file) on any failure.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+// printf("%.17g"): 17 significant digits, enough for every double to read back to the same bits
+// (and every float, converted to double, too).
+std::string exact_decimal(double value);
+
+// The fields of one CSV line (no quoting: our files hold names and numbers only).
+std::vector<std::string> split_csv_line(const std::string& line);
+
+// strtod of the whole of `text`; false when it is not one number.
+bool parse_double(const std::string& text, double& value);
+
+}  // namespace talus

@@ -1,0 +1,82 @@
+#include "solver/io/probes.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "solver/io/output_files.hpp"
+
+namespace talus {
+
+std::vector<std::string> probe_columns(const ProbeOutput& probes,
+                                       const std::vector<WallSpec>& walls) {
+  std::vector<std::string> columns;
+  for (const Probe probe : probes.quantities) {
+    if (probe != Probe::wall_forces) {
+      columns.push_back(to_string(probe));
+      continue;
+    }
+    for (const WallSpec& wall : walls)
+      for (const char* part : {"fx", "fy", "fz", "tx", "ty", "tz"})
+        columns.push_back("wall_" + wall.name + "_" + part);
+  }
+  return columns;
+}
+
+ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns)
+    : path_(path), columns_(std::move(columns)) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty()) create_output_directory(parent.string());
+  file_ = std::fopen(path.c_str(), "wb");
+  if (!file_)
+    throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
+  std::string header = "time,step";
+  for (const std::string& column : columns_) header += "," + column;
+  header += "\n";
+  if (std::fputs(header.c_str(), file_) < 0 || std::fflush(file_) != 0)
+    throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
+}
+
+ProbeWriter::~ProbeWriter() {
+  if (file_) std::fclose(file_);
+}
+
+void ProbeWriter::write_row(double time, long long step, const std::vector<double>& values) {
+  if (values.size() != columns_.size())
+    throw std::invalid_argument("probe file '" + path_ + "': a row needs " +
+                                std::to_string(columns_.size()) + " values, got " +
+                                std::to_string(values.size()));
+  std::string row = exact_decimal(time) + "," + std::to_string(step);
+  for (const double v : values) row += "," + exact_decimal(v);
+  row += "\n";
+  // One write and a flush per row: what reached the file is whole rows, up to the last one.
+  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
+    throw std::runtime_error("cannot write probe file '" + path_ + "': " + std::strerror(errno));
+}
+
+ProbeTable read_probe_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the file");
+  ProbeTable table;
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("time,step", 0) != 0)
+    throw std::runtime_error(path + ":1: expected a header starting with 'time,step'");
+  table.header = split_csv_line(line);
+  for (int line_number = 2; std::getline(in, line); ++line_number) {
+    const std::vector<std::string> fields = split_csv_line(line);
+    const std::string where = path + ":" + std::to_string(line_number) + ": ";
+    if (fields.size() != table.header.size())
+      throw std::runtime_error(where + "expected " + std::to_string(table.header.size()) +
+                               " values, got " + std::to_string(fields.size()));
+    std::vector<double> row(fields.size());
+    for (std::size_t k = 0; k < fields.size(); ++k)
+      if (!parse_double(fields[k], row[k]))
+        throw std::runtime_error(where + "expected a number, got '" + fields[k] + "'");
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+}  // namespace talus

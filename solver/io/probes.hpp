@@ -1,0 +1,49 @@
+// The probe file: CSV with the header time,step,<columns>, one row per probe step, appended and
+// flushed at once so that an interrupted run keeps every row it wrote. Columns, in the order the
+// scene lists its quantities: kinetic_energy; contact_count; bed_height; wall_forces expands to
+// wall_<name>_fx, _fy, _fz, _tx, _ty, _tz for every wall in scene order.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "solver/scene/scene.hpp"
+
+namespace talus {
+
+// The columns after time and step, for the scene's probe quantities and walls.
+std::vector<std::string> probe_columns(const ProbeOutput& probes,
+                                       const std::vector<WallSpec>& walls);
+
+class ProbeWriter {
+ public:
+  // Creates the file's directory when missing, creates (or empties) the file and writes the
+  // header. Throws std::runtime_error naming the path and the reason.
+  ProbeWriter(const std::string& path, std::vector<std::string> columns);
+  ~ProbeWriter();
+  ProbeWriter(const ProbeWriter&) = delete;
+  ProbeWriter& operator=(const ProbeWriter&) = delete;
+
+  // One row: time (s), step, then one value per column (%.17g). Throws std::invalid_argument
+  // when the count of values differs from the columns', std::runtime_error when writing fails.
+  void write_row(double time, long long step, const std::vector<double>& values);
+
+  const std::string& path() const { return path_; }
+  const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  std::string path_;
+  std::vector<std::string> columns_;
+  std::FILE* file_ = nullptr;
+};
+
+// A probe file read back: the header's names (time and step included) and the rows' numbers.
+struct ProbeTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+};
+// Throws std::runtime_error "<path>:<line>: ..." on a malformed file.
+ProbeTable read_probe_file(const std::string& path);
+
+}  // namespace talus

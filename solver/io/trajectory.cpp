@@ -1,0 +1,153 @@
+#include "solver/io/trajectory.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+#include "solver/io/output_files.hpp"
+
+namespace talus {
+namespace {
+
+constexpr int kTrajectoryColumns = 15;
+
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if ((unsigned char)c < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", (unsigned char)c);
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+bool parse_integer(const std::string& text, long long& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  value = std::strtoll(text.c_str(), &end, 10);
+  return end == text.c_str() + text.size();
+}
+
+const std::regex& frame_name_pattern() {
+  static const std::regex pattern("trajectory_([0-9]+)\\.csv");
+  return pattern;
+}
+
+}  // namespace
+
+std::string trajectory_file_name(long long step) {
+  char name[48];
+  std::snprintf(name, sizeof name, "trajectory_%09lld.csv", step);
+  return name;
+}
+
+void write_trajectory_frame(const std::string& directory, long long step,
+                            const std::vector<TrajectoryRow>& rows) {
+  std::string text = std::string(kTrajectoryHeader) + "\n";
+  text.reserve(rows.size() * 15 * 24);
+  for (const TrajectoryRow& r : rows) {
+    text += std::to_string(r.id) + "," + std::to_string(r.template_index);
+    const double values[] = {r.position.x,        r.position.y,         r.position.z,
+                             r.orientation.w,     r.orientation.x,      r.orientation.y,
+                             r.orientation.z,     r.velocity.x,         r.velocity.y,
+                             r.velocity.z,        r.angular_velocity.x, r.angular_velocity.y,
+                             r.angular_velocity.z};
+    for (const double v : values) text += "," + exact_decimal(v);
+    text += "\n";
+  }
+  write_file_atomically(directory + "/" + trajectory_file_name(step), text);
+}
+
+TrajectoryFrame read_trajectory_frame(const std::string& path) {
+  const std::string name = std::filesystem::path(path).filename().string();
+  std::smatch match;
+  if (!std::regex_match(name, match, frame_name_pattern()))
+    throw std::runtime_error(path + ": expected a file named trajectory_<step>.csv");
+  TrajectoryFrame frame;
+  frame.step = std::stoll(match[1].str());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the file");
+  std::string line;
+  if (!std::getline(in, line) || line != kTrajectoryHeader)
+    throw std::runtime_error(path + ":1: expected the header '" + kTrajectoryHeader + "'");
+  for (int line_number = 2; std::getline(in, line); ++line_number) {
+    auto fail = [&](const std::string& what) {
+      throw std::runtime_error(path + ":" + std::to_string(line_number) + ": expected " + what);
+    };
+    const std::vector<std::string> fields = split_csv_line(line);
+    if (fields.size() != kTrajectoryColumns)
+      fail(std::to_string(kTrajectoryColumns) + " comma-separated values, got " +
+           std::to_string(fields.size()));
+    TrajectoryRow row;
+    long long template_index = 0;
+    if (!parse_integer(fields[0], row.id)) fail("an integer id, got '" + fields[0] + "'");
+    if (!parse_integer(fields[1], template_index) || template_index < 0)
+      fail("a template id (non-negative integer), got '" + fields[1] + "'");
+    row.template_index = int(template_index);
+    double v[kTrajectoryColumns - 2];
+    for (int k = 0; k < kTrajectoryColumns - 2; ++k)
+      if (!parse_double(fields[k + 2], v[k])) fail("a number, got '" + fields[k + 2] + "'");
+    row.position = {v[0], v[1], v[2]};
+    row.orientation = {v[3], v[4], v[5], v[6]};
+    row.velocity = {v[7], v[8], v[9]};
+    row.angular_velocity = {v[10], v[11], v[12]};
+    frame.rows.push_back(row);
+  }
+  return frame;
+}
+
+std::vector<TrajectoryFrame> read_trajectory(const std::string& directory) {
+  std::error_code error;
+  std::filesystem::directory_iterator it(directory, error);
+  if (error)
+    throw std::runtime_error("cannot read trajectory directory '" + directory +
+                             "': " + error.message());
+  std::vector<std::string> paths;
+  for (const auto& entry : it) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && std::regex_match(name, frame_name_pattern()))
+      paths.push_back(entry.path().string());
+  }
+  std::vector<TrajectoryFrame> frames;
+  for (const std::string& path : paths) frames.push_back(read_trajectory_frame(path));
+  std::sort(frames.begin(), frames.end(),
+            [](const TrajectoryFrame& a, const TrajectoryFrame& b) { return a.step < b.step; });
+  return frames;
+}
+
+RunInfo run_info(const Scene& scene, const std::string& solver) {
+  RunInfo info;
+  info.scene_file = scene.file;
+  info.solver = solver;
+  info.precision = to_string(scene.precision);
+  info.time_step = scene.time_step;
+  for (const ParticleTemplate& t : scene.templates) info.templates.push_back(t.name);
+  return info;
+}
+
+void write_run_info(const std::string& directory, const RunInfo& info) {
+  std::ostringstream json;
+  json << "{\n  \"scene\": " << json_string(info.scene_file)
+       << ",\n  \"solver\": " << json_string(info.solver)
+       << ",\n  \"precision\": " << json_string(info.precision)
+       << ",\n  \"time_step\": " << exact_decimal(info.time_step) << ",\n  \"templates\": [";
+  for (std::size_t i = 0; i < info.templates.size(); ++i)
+    json << (i ? ",\n" : "\n") << "    {\"id\": " << i
+         << ", \"name\": " << json_string(info.templates[i]) << "}";
+  json << (info.templates.empty() ? "]\n}\n" : "\n  ]\n}\n");
+  write_file_atomically(directory + "/run.json", json.str());
+}
+
+}  // namespace talus

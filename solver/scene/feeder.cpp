@@ -1,0 +1,83 @@
+#include "solver/scene/feeder.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace talus {
+namespace {
+
+constexpr const char* kStateTag = "talus-feeder-v1";
+
+}  // namespace
+
+Feeder::Feeder(const FeedRequest& request, double bounding_radius)
+    : request_(request), radius_(bounding_radius), total_(0), random_(request.seed) {
+  total_ = due(request.stop);
+}
+
+Feeder::Feeder(const Scene& scene, int feed_index)
+    : Feeder(scene.feeds.at(feed_index),
+             scene.templates.at(scene.feeds.at(feed_index).template_index).bounding_radius) {}
+
+long long Feeder::due(double time) const {
+  if (!(time > request_.start)) return 0;
+  const double until = std::min(time, request_.stop);
+  return (long long)std::floor(request_.rate * (until - request_.start));
+}
+
+bool Feeder::finished() const {
+  return inserted_ >= total_;
+}
+
+std::vector<ParticleState> Feeder::insert(double time, const std::vector<Vec3d>& positions,
+                                          const std::vector<double>& bounding_radii,
+                                          const std::vector<TriangleMesh>& walls) {
+  std::vector<ParticleState> added;
+  const long long wanted = due(time) - inserted_;
+  if (wanted <= 0) return added;
+  if (positions.size() != bounding_radii.size())
+    throw std::invalid_argument(request_.source.where() + ": feed given " +
+                                std::to_string(positions.size()) + " positions but " +
+                                std::to_string(bounding_radii.size()) + " bounding radii");
+  const CentreSampler sampler(request_.region, radius_);
+  PlacementGrid grid(sampler.low(), sampler.high(), radius_, std::size_t(wanted) + 64);
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    grid.add_sphere(positions[i], bounding_radii[i]);
+  for (const TriangleMesh& wall : walls) grid.add_mesh(wall);
+  for (long long n = 0; n < wanted; ++n) {
+    ParticleState p;
+    if (!place_one(sampler, grid, random_, kFeedAttemptsPerParticle, request_.template_index,
+                   request_.random_orientation, request_.velocity, request_.source, p)) {
+      break;  // the region is full now; the rest stay due
+    }
+    added.push_back(p);
+  }
+  inserted_ += (long long)added.size();
+  return added;
+}
+
+std::string Feeder::save() const {
+  // The engine's text form is fixed by the standard ([rand.req.eng]): the same state reads back
+  // on any standard library.
+  std::ostringstream text;
+  text << kStateTag << ' ' << inserted_ << ' ' << random_.engine();
+  return text.str();
+}
+
+void Feeder::restore(const std::string& state) {
+  std::istringstream text(state);
+  std::string tag;
+  long long inserted = -1;
+  std::mt19937_64 engine;
+  text >> tag >> inserted >> engine;
+  if (tag != kStateTag || text.fail() || inserted < 0 || inserted > total_ ||
+      !(text >> std::ws).eof())
+    throw std::runtime_error(request_.source.where() + ": expected a saved feed state ('" +
+                             kStateTag + " <inserted> <generator>'), got '" + state.substr(0, 60) +
+                             (state.size() > 60 ? "...'" : "'"));
+  inserted_ = inserted;
+  random_.engine() = engine;
+}
+
+}  // namespace talus

@@ -1,0 +1,56 @@
+// Particles inserted during a run by a `feed` entry (FeedRequest): at `rate` per second from
+// `start` to `stop`, at random places in the region where their bounding spheres overlap no
+// particle and no wall triangle.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "solver/scene/placement.hpp"
+#include "solver/scene/scene.hpp"
+
+namespace talus {
+
+// How many random positions a feed tries for one particle in one step before it leaves the
+// particle for a later step.
+constexpr int kFeedAttemptsPerParticle = 1000;
+
+class Feeder {
+ public:
+  // The request and its template's bounding radius (m).
+  Feeder(const FeedRequest& request, double bounding_radius);
+  // For scene.feeds[feed_index].
+  Feeder(const Scene& scene, int feed_index);
+
+  // How many particles should have been inserted by time t (s): floor(rate (min(t, stop) -
+  // start)), 0 before start. Computed from t, never accumulated, so it does not drift.
+  long long due(double time) const;
+
+  // The particles to insert at the step at time t: due(t) - inserted(), each placed with its
+  // bounding sphere inside the region, off the given particles (centres and bounding radii,
+  // world) and off the walls' triangles (world coordinates at t), and off each other. A particle
+  // without a free place after kFeedAttemptsPerParticle tries stays due for the next call, and
+  // so do the ones after it. Deterministic: the same feeder state and inputs give the same bits.
+  std::vector<ParticleState> insert(double time, const std::vector<Vec3d>& positions,
+                                    const std::vector<double>& bounding_radii,
+                                    const std::vector<TriangleMesh>& walls);
+
+  long long inserted() const { return inserted_; }
+  bool finished() const;  // every particle of the feed has been inserted
+
+  // The state that changes during a run (the count inserted and the generator), as one line of
+  // text; restore() on a feeder made from the same request continues exactly as this one would.
+  // Throws std::runtime_error naming the request when the text is not a saved state.
+  std::string save() const;
+  void restore(const std::string& state);
+
+ private:
+  FeedRequest request_;
+  double radius_;
+  long long total_;  // due(stop)
+  long long inserted_ = 0;
+  PlacementRandom random_;
+};
+
+}  // namespace talus
