@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +22,48 @@ double damping_coefficient(double restitution, double stiffness, double mass) {
   return -2 * log_e * std::sqrt(stiffness * mass) / std::sqrt(log_e * log_e + M_PI * M_PI);
 }
 
+double clamped_volume_oscillator_restitution(double beta) {
+  // q'' = -max(0, q^(1/3) + beta q') by RK4 from q = 0, q' = 1, until the force vanishes while
+  // the overlap shrinks (the bodies then fly apart at constant speed) or q returns to 0. Near
+  // that end the force tends to 0 continuously, so stopping at the first step past it costs
+  // O(h * force) in the speed, far below the tolerance.
+  const auto accel = [beta](double q, double v) {
+    return -std::max(0.0, std::cbrt(std::max(q, 0.0)) + beta * v);
+  };
+  const double h = 2e-4;
+  double q = 0, v = 1;
+  for (long k = 0; k < 100000000; ++k) {
+    const double k1v = accel(q, v), k1q = v;
+    const double k2v = accel(q + 0.5 * h * k1q, v + 0.5 * h * k1v), k2q = v + 0.5 * h * k1v;
+    const double k3v = accel(q + 0.5 * h * k2q, v + 0.5 * h * k2v), k3q = v + 0.5 * h * k2v;
+    const double k4v = accel(q + h * k3q, v + h * k3v), k4q = v + h * k3v;
+    q += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
+    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    if (v < 0 && (q <= 0 || accel(q, v) == 0)) return -v;
+  }
+  throw std::runtime_error("reference contact: the calibration oscillator did not end");
+}
+
+double calibrated_damping_ratio(double restitution) {
+  if (!(restitution > 0 && restitution <= 1)) {
+    throw std::invalid_argument("reference contact: restitution must be in (0, 1], got " +
+                                std::to_string(restitution));
+  }
+  if (restitution == 1) return 0;
+  static std::mutex mutex;
+  static std::map<double, double> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (const auto it = cache.find(restitution); it != cache.end()) return it->second;
+  // The rebound speed falls monotonically from 1 (beta = 0) towards 0 as beta grows.
+  double lo = 0, hi = 1;
+  while (clamped_volume_oscillator_restitution(hi) > restitution) lo = hi, hi *= 2;
+  while (hi - lo > 1e-10 * hi) {
+    const double mid = 0.5 * (lo + hi);
+    (clamped_volume_oscillator_restitution(mid) > restitution ? lo : hi) = mid;
+  }
+  return cache[restitution] = 0.5 * (lo + hi);
+}
+
 namespace {
 
 // Eq. 16 with Eq. 14, on A, and the no-tension rule: the magnitude along -n is at least 0.
@@ -32,19 +77,25 @@ Eigen::Vector3d normal_force(const Eigen::Vector3d& n, double elastic, double da
 
 ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawParameters& law,
                                   const Eigen::Vector3d& relative_velocity, double dt,
-                                  TangentialHistory& history) {
+                                  ContactHistory& history) {
   const Eigen::Vector3d& n = contact.normal;
   const double v_n = relative_velocity.dot(n);
-  // The stiffness in Eq. 15 (DampingStiffness): k_n, or the secant stiffness |F_n^e| / d.
-  double scale = 1;
-  if (law.damping == DampingStiffness::kLinearised) {
-    scale = contact.mean_depth > 0 && contact.normal_stiffness > 0
-                ? contact.elastic / (contact.mean_depth * contact.normal_stiffness)
-                : 0.0;
+  history.approach_speed = std::max(history.approach_speed, std::max(v_n, 0.0));
+  double c_n = 0;
+  const double m = law.effective_mass;
+  if (law.damping == NormalDamping::kPaper) {
+    c_n = damping_coefficient(law.restitution, contact.normal_stiffness, m);  // Eq. 15
+  } else if (law.restitution < 1 && contact.area > 0) {
+    // eta = beta m v0 / dV*, dV* = (m v0^2 / K)^(3/4): beta m^(1/4) K^(3/4) / sqrt(v0).
+    const double modulus = contact.normal_stiffness / contact.area;  // K
+    const double v0 = history.approach_speed;
+    const double beta = calibrated_damping_ratio(law.restitution);
+    c_n = v0 > 0 ? beta * std::pow(m, 0.25) * std::pow(modulus, 0.75) / std::sqrt(v0) *
+                       contact.area
+                 : std::numeric_limits<double>::infinity();
   }
-  double c_n = damping_coefficient(law.restitution, scale * contact.normal_stiffness,
-                                   law.effective_mass);  // Eq. 15
-  if (law.time_step > 0) c_n = std::min(c_n, law.effective_mass / law.time_step);
+  if (law.time_step > 0) c_n = std::min(c_n, m / law.time_step);
+  if (!std::isfinite(c_n)) c_n = 0;  // v0 = 0 without a step limit: no approach to damp
   ContactForce out;
   out.normal_force = normal_force(n, contact.elastic, c_n, v_n);
   if (!law.with_friction) {
@@ -60,8 +111,7 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
   const Eigen::Vector3d v_t = relative_velocity - v_n * n;
   s += dt * v_t;
   const double k_t = contact.tangential_stiffness;
-  const double c_t =
-      damping_coefficient(law.restitution, scale * k_t, law.effective_mass);  // Eq. 20
+  const double c_t = damping_coefficient(law.restitution, k_t, law.effective_mass);  // Eq. 20
   Eigen::Vector3d f_t = -k_t * s - c_t * v_t;                                 // Eqs. 17, 18, 20
   const double cap = law.friction * out.normal_force.norm();
   const double f_t_norm = f_t.norm();

@@ -186,8 +186,19 @@ void RefWorld::apply(int body, const Eigen::Vector3d& point, const Eigen::Vector
   b.torque += (point - b.position).cross(force);  // Eqs. 21-22
 }
 
+LinearLawParameters RefWorld::linear_law(const PairProperties& props) const {
+  const RefEffects& fx = setup_.effects;
+  LinearLawParameters law;
+  law.stiffness = fx.linear.stiffness;
+  law.damping = fx.linear.damping;
+  law.tangential_damping = fx.linear.tangential_damping;
+  law.friction = props.friction;
+  law.with_friction = fx.friction;
+  return law;
+}
+
 void RefWorld::pair_contact(int i, int j, double spring_dt,
-                            std::map<std::pair<long long, long long>, TangentialHistory>& next) {
+                            std::map<std::pair<long long, long long>, ContactHistory>& next) {
   const RefBody& a = bodies_[i];
   const RefBody& b = bodies_[j];
   const RefEffects& fx = setup_.effects;
@@ -238,7 +249,7 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     nc.normal_stiffness = stiffness * g.area;                // Eq. 13
     nc.tangential_stiffness = shear * g.area;                // Eq. 19
     nc.elastic = nc.normal_stiffness * std::cbrt(g.volume);  // Eq. 12
-    nc.mean_depth = g.volume / g.area;
+    nc.area = g.area;
     VolumeLawParameters law;
     law.damping = fx.damping;
     law.time_step = setup_.time_step;
@@ -247,14 +258,14 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     law.friction = props.friction;
     law.with_friction = fx.friction;
     const auto key = std::minmax(pa.id, pb.id);
-    TangentialHistory history;
+    ContactHistory history;
     if (auto it = pair_histories_.find(key); it != pair_histories_.end()) history = it->second;
     // The spring is stored for the lower id as A: flip it for the other order.
     const double sign = pa.id == key.first ? 1.0 : -1.0;
     history.spring *= sign;
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
     history.spring *= sign;
-    if (fx.friction) next[key] = history;
+    next[key] = history;  // the spring (with friction) and v0 (kCalibrated)
     // Feng's potential: F = -K dV^(1/3) S = -grad (3/4) K dV^(4/3), K = E_a/R_a + E_b/R_b.
     c.elastic_energy = 0.75 * stiffness * std::pow(g.volume, 4.0 / 3.0);
     c.volume = g.volume, c.area = g.area;
@@ -262,13 +273,7 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     NormalContact nc;
     nc.normal = g.normal, nc.point = g.point;
     nc.elastic = fx.linear.stiffness * g.depth;
-    LinearLawParameters law;
-    law.stiffness = fx.linear.stiffness;
-    law.damping = fx.linear.damping;
-    law.tangential_damping = fx.linear.tangential_damping;
-    law.friction = props.friction;
-    law.with_friction = fx.friction;
-    f = linear_contact_force(nc, law, v_r);
+    f = linear_contact_force(nc, linear_law(props), v_r);
     c.elastic_energy = 0.5 * fx.linear.stiffness * g.depth * g.depth;
     c.depth = g.depth;
   }
@@ -283,7 +288,7 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
 
 void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& triangles,
                                double spring_dt,
-                               std::map<std::pair<long long, int>, TangentialHistory>& next) {
+                               std::map<std::pair<long long, int>, ContactHistory>& next) {
   const RefBody& p = bodies_[i];
   const RefWall& wall = setup_.walls[w];
   const ShapeTemplate& shape = setup_.templates[p.shape];
@@ -336,7 +341,7 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   nc.elastic = magnitude;
   nc.normal_stiffness = k_n;
   nc.tangential_stiffness = k_t;
-  nc.mean_depth = area > 0 ? volume / area : 0.0;
+  nc.area = area;
   const PairProperties props = pair_properties(p.material, wall.material);
   const Eigen::Vector3d v_r = point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point);
   ContactForce f;
@@ -349,18 +354,12 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
     law.friction = props.friction;
     law.with_friction = fx.friction;
     const std::pair<long long, int> key(p.id, w);
-    TangentialHistory history;
+    ContactHistory history;
     if (auto it = wall_histories_.find(key); it != wall_histories_.end()) history = it->second;
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
-    if (fx.friction) next[key] = history;
+    next[key] = history;
   } else {
-    LinearLawParameters law;
-    law.stiffness = fx.linear.stiffness;
-    law.damping = fx.linear.damping;
-    law.tangential_damping = fx.linear.tangential_damping;
-    law.friction = props.friction;
-    law.with_friction = fx.friction;
-    f = linear_contact_force(nc, law, v_r);
+    f = linear_contact_force(nc, linear_law(props), v_r);
   }
   const Eigen::Vector3d force = f.total();
   apply(i, nc.point, force);
@@ -395,7 +394,7 @@ void RefWorld::evaluate_forces(double spring_dt) {
     return;
   }
   // Brute-force broad phase: every pair whose bounding spheres meet.
-  std::map<std::pair<long long, long long>, TangentialHistory> next_pairs;
+  std::map<std::pair<long long, long long>, ContactHistory> next_pairs;
   const int n = static_cast<int>(bodies_.size());
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
@@ -404,7 +403,7 @@ void RefWorld::evaluate_forces(double spring_dt) {
       pair_contact(i, j, spring_dt, next_pairs);
     }
   }
-  std::map<std::pair<long long, int>, TangentialHistory> next_walls;
+  std::map<std::pair<long long, int>, ContactHistory> next_walls;
   for (int w = 0; w < static_cast<int>(setup_.walls.size()); ++w) {
     const std::vector<RefTriangle> triangles = wall_triangles(w);
     for (int i = 0; i < n; ++i) wall_contact_of(i, w, triangles, spring_dt, next_walls);
@@ -456,7 +455,7 @@ Eigen::Vector3d RefWorld::angular_momentum() const {
   return l;
 }
 
-const TangentialHistory* RefWorld::pair_history(long long id_a, long long id_b) const {
+const ContactHistory* RefWorld::pair_history(long long id_a, long long id_b) const {
   const auto it = pair_histories_.find(std::minmax(id_a, id_b));
   return it == pair_histories_.end() ? nullptr : &it->second;
 }

@@ -60,7 +60,7 @@ struct RefEffects {
   bool friction = false;
   bool rotation = true;
   std::optional<double> drag_alpha;                          // kg/m
-  DampingStiffness damping = DampingStiffness::kLinearised;  // volume model, force_law.hpp
+  NormalDamping damping = NormalDamping::kCalibrated;  // volume model, force_law.hpp
 };
 
 struct RefWorldSetup {
@@ -138,7 +138,7 @@ class RefWorld {
   double contact_elastic_energy() const;     // J, sum over the last evaluation's contacts
   Eigen::Vector3d momentum() const;          // kg m/s
   Eigen::Vector3d angular_momentum() const;  // about the origin, kg m^2/s
-  const TangentialHistory* pair_history(long long id_a, long long id_b) const;
+  const ContactHistory* pair_history(long long id_a, long long id_b) const;
   size_t history_count() const { return pair_histories_.size() + wall_histories_.size(); }
 
   // The force evaluation alone (used by step; public for tests and benchmarks): clears the
@@ -148,20 +148,22 @@ class RefWorld {
 
  private:
   void pair_contact(int i, int j, double spring_dt,
-                    std::map<std::pair<long long, long long>, TangentialHistory>& next);
+                    std::map<std::pair<long long, long long>, ContactHistory>& next);
   void wall_contact_of(int i, int w, const std::vector<RefTriangle>& triangles, double spring_dt,
-                       std::map<std::pair<long long, int>, TangentialHistory>& next);
+                       std::map<std::pair<long long, int>, ContactHistory>& next);
   void add_body_unchecked(const RefBodySpec& spec);  // checks the body alone
   void apply(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force);
   Eigen::Vector3d point_velocity(int body, const Eigen::Vector3d& point) const;
   PairProperties pair_properties(int material_a, int material_b) const;
+  // The linear model's parameters (BLAZE-DEM Eqs. 2-3) for a pair or a wall contact.
+  LinearLawParameters linear_law(const PairProperties& props) const;
 
   RefWorldSetup setup_;
   std::vector<RefBody> bodies_;
   std::vector<RefContact> contacts_;
   std::vector<Eigen::Vector3d> wall_force_, wall_torque_;
-  std::map<std::pair<long long, long long>, TangentialHistory> pair_histories_;
-  std::map<std::pair<long long, int>, TangentialHistory> wall_histories_;
+  std::map<std::pair<long long, long long>, ContactHistory> pair_histories_;
+  std::map<std::pair<long long, int>, ContactHistory> wall_histories_;
   std::set<long long> ids_;
   double time_ = 0;
   long long steps_ = 0;

@@ -70,8 +70,8 @@ TEST(ReferenceContactLaw, DampingOpposesTheNormalApproach) {
     nc.elastic = 1.0;
     nc.normal_stiffness = k;
     VolumeLawParameters law;
-    law.effective_mass = m, law.restitution = eps, law.damping = DampingStiffness::kPaper;
-    TangentialHistory h;
+    law.effective_mass = m, law.restitution = eps, law.damping = NormalDamping::kPaper;
+    ContactHistory h;
     const Eigen::Vector3d approach = 0.3 * nc.normal, recede = -0.3 * nc.normal;
     const ContactForce in = volume_contact_force(nc, law, approach, 0, h);
     const ContactForce out = volume_contact_force(nc, law, recede, 0, h);
@@ -90,7 +90,7 @@ TEST(ReferenceContactLaw, TangentialSpringTurnsOntoTheNewPlaneAndIsCappedByCoulo
   nc.elastic = 10.0, nc.normal_stiffness = 1e4, nc.tangential_stiffness = 5e3;
   VolumeLawParameters law;
   law.effective_mass = 1e-3, law.restitution = 1.0, law.friction = 0.5, law.with_friction = true;
-  TangentialHistory h;
+  ContactHistory h;
   h.spring = Eigen::Vector3d(1e-4, 0, 0);  // in the plane of n = z
   // The normal turns by 0.3 rad about y: the spring keeps its length, lies in the new plane, and
   // (v = 0, dt = 0, under the cap) gives F_t = -k_t s (Eq. 18).
