@@ -73,7 +73,7 @@ CachedBatch<Real>& batch_for(const std::string& spec) {
 
 template <class Real>
 void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
-                             const std::string& variant) {
+                             const std::string& variant, OverlapBatchKernel kernel) {
   std::string reason;
   if (!cuda_device_available(&reason)) {
     state.SkipWithError(reason.c_str());
@@ -82,11 +82,11 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
   CachedBatch<Real>& cached = batch_for<Real>(spec);
   OverlapBatchGpu<Real>& batch = *cached.batch;
   const OverlapOptions options = overlap_options_named(variant);
-  batch.run(options);  // warm-up: module load, first touch of the buffers
+  batch.run(options, kernel);  // warm-up: module load, first touch of the buffers
 
   double seconds = 0;
   for (auto _ : state) {
-    const double kernel_seconds = batch.run(options) * 1e-3;
+    const double kernel_seconds = batch.run(options, kernel) * 1e-3;
     state.SetIterationTime(kernel_seconds);
     seconds += kernel_seconds;
   }
@@ -99,6 +99,11 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
   state.counters["pairs"] = pairs;
   state.counters["workspace_bytes"] = double(batch.workspace_bytes());
   state.counters["capacity"] = batch.workspace_capacity();
+  // The small workspace is tried only with the face test (see overlap_batch.cu).
+  if (kernel == OverlapBatchKernel::small_workspace && options.cull_faces) {
+    state.counters["small_capacity"] = batch.small_workspace_capacity();
+    state.counters["small_workspace_bytes"] = double(batch.small_workspace_bytes());
+  }
 
   // Checks that the batch is what its name says.
   auto found = cached.summary.find(variant);
@@ -125,27 +130,43 @@ void register_all() {
     const char* spec;
     bool is_float;
     const char* culling;  // overlap_options_named
+    OverlapBatchKernel kernel;
   };
+  const OverlapBatchKernel best = OverlapBatchKernel::small_workspace;
   const Variant variants[] = {
-      {"dodecahedron/shallow/double/faces", kDodecahedron, false, "faces"},
-      {"dodecahedron/shallow/double/planes", kDodecahedron, false, "planes"},
-      {"dodecahedron/shallow/double/naive", kDodecahedron, false, "naive"},
-      {"dodecahedron/shallow/float/faces", kDodecahedron, true, "faces"},
-      {"dodecahedron/shallow/float/naive", kDodecahedron, true, "naive"},
-      {"cylinder80/shallow/double/faces", kCylinder, false, "faces"},
-      {"cylinder80/shallow/double/naive", kCylinder, false, "naive"},
+      {"dodecahedron/shallow/double/faces", kDodecahedron, false, "faces", best},
+      {"dodecahedron/shallow/double/planes", kDodecahedron, false, "planes", best},
+      {"dodecahedron/shallow/double/naive", kDodecahedron, false, "naive", best},
+      // What each step of the kernel gains (the default kernel is the last one).
+      {"dodecahedron/shallow/double/faces/global_templates", kDodecahedron, false, "faces",
+       OverlapBatchKernel::global_templates},
+      {"dodecahedron/shallow/double/faces/shared_templates", kDodecahedron, false, "faces",
+       OverlapBatchKernel::shared_templates},
+      {"dodecahedron/shallow/float/faces", kDodecahedron, true, "faces", best},
+      {"dodecahedron/shallow/float/planes", kDodecahedron, true, "planes", best},
+      {"dodecahedron/shallow/float/naive", kDodecahedron, true, "naive", best},
+      {"cylinder80/shallow/double/faces", kCylinder, false, "faces", best},
+      {"cylinder80/shallow/double/planes", kCylinder, false, "planes", best},
+      {"cylinder80/shallow/double/naive", kCylinder, false, "naive", best},
+      {"cylinder80/shallow/double/faces/global_templates", kCylinder, false, "faces",
+       OverlapBatchKernel::global_templates},
+      {"cylinder80/shallow/float/faces", kCylinder, true, "faces", best},
+      {"cylinder80/shallow/float/planes", kCylinder, true, "planes", best},
+      {"cylinder80/shallow/float/naive", kCylinder, true, "naive", best},
   };
   for (const Variant& v : variants) {
     const std::string spec = v.spec, culling = v.culling;
+    const OverlapBatchKernel kernel = v.kernel;
+    const std::string name = "gpu_overlap/" + std::string(v.name);
     benchmark::internal::Benchmark* b =
-        v.is_float
-            ? benchmark::RegisterBenchmark(
-                  ("gpu_overlap/" + std::string(v.name)).c_str(),
-                  [=](benchmark::State& st) { overlap_batch_benchmark<float>(st, spec, culling); })
-            : benchmark::RegisterBenchmark(("gpu_overlap/" + std::string(v.name)).c_str(),
-                                           [=](benchmark::State& st) {
-                                             overlap_batch_benchmark<double>(st, spec, culling);
-                                           });
+        v.is_float ? benchmark::RegisterBenchmark(name.c_str(),
+                                                  [=](benchmark::State& st) {
+                                                    overlap_batch_benchmark<float>(st, spec,
+                                                                                   culling, kernel);
+                                                  })
+                   : benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+                       overlap_batch_benchmark<double>(st, spec, culling, kernel);
+                     });
     b->UseManualTime()->Unit(benchmark::kMillisecond);
   }
 }

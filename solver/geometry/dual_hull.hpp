@@ -12,36 +12,50 @@
 #include "solver/core/math.hpp"
 #include "solver/core/vec3.hpp"
 
+#include <type_traits>
+
 namespace talus {
+
+// The smallest signed integer that holds every face index of a workspace with `faces` slots and
+// the sentinels -1 and -2: indices take a byte up to 128 slots. The workspace lives in each GPU
+// thread's local memory, whose traffic bounds the batch kernel (benchmarks/README.md); narrow
+// indices keep the words a pair touches few.
+template <int Faces>
+using HullIndexFor = std::conditional_t<(Faces <= 128), signed char, short>;
 
 template <class Real, int MaxPoints>
 struct DualHullWorkspace {
   static constexpr int kMaxPoints = MaxPoints;
   static constexpr int kMaxFaces = 2 * MaxPoints;
+  static_assert(kMaxFaces <= 32767, "face indices are shorts");
+  using Index = HullIndexFor<kMaxFaces>;  // a point or face index
 
   Vec3<Real> point[MaxPoints];
   Real point_norm[MaxPoints];
-  int point_face[MaxPoints];   // face the point is outside of; -1: inside or on the hull
-  Real point_dist[MaxPoints];  // its distance above that face
+  Index point_face[MaxPoints];  // face the point is outside of; -1: inside or on the hull
+  Real point_dist[MaxPoints];   // its distance above that face
   int n_points = 0;
 
-  int face_vertex[kMaxFaces][3];      // counter-clockwise seen from outside
-  int face_neighbor[kMaxFaces][3];    // across edge (vertex[e], vertex[e + 1])
-  Vec3<Real> face_normal[kMaxFaces];  // unit, outward
-  Real face_offset[kMaxFaces];        // dot(normal, y) = offset on the face, > 0
-  Real face_scale[kMaxFaces];         // largest |vertex|: sets the round-off tolerance
-  int face_stamp[kMaxFaces];          // < 0: free slot; else the last expansion that visited it
-  int free_slots[kMaxFaces];
+  Index face_vertex[kMaxFaces][3];    // counter-clockwise seen from outside
+  Index face_neighbor[kMaxFaces][3];  // across edge (vertex[e], vertex[e + 1])
+  // Unit, outward. Once the hull is built, overlap_polyhedra overwrites it with the face's
+  // primal vertex (unpolarisation), which saves an array of the same size.
+  Vec3<Real> face_normal[kMaxFaces];
+  Real face_offset[kMaxFaces];  // dot(normal, y) = offset on the face, > 0
+  Real face_scale[kMaxFaces];   // largest |vertex|: sets the round-off tolerance
+  // < 0: free slot; else the last expansion that visited it (at most kMaxPoints, an Index).
+  Index face_stamp[kMaxFaces];
+  Index free_slots[kMaxFaces];
   int n_free = 0;
   int n_slots = 0;  // slots ever used
 
   // Scratch for one expansion.
-  int stack[kMaxFaces];
-  int horizon_face[kMaxFaces];   // the face kept beyond the horizon edge
-  int horizon_edge[kMaxFaces];   // the edge index in that face
-  int new_face_from[MaxPoints];  // horizon edge starting at a vertex -> new face
-  int new_faces[kMaxFaces];
-  int orphans[MaxPoints];
+  Index stack[kMaxFaces];
+  Index horizon_face[kMaxFaces];   // the face kept beyond the horizon edge
+  Index horizon_edge[kMaxFaces];   // the edge index in that face
+  Index new_face_from[MaxPoints];  // horizon edge starting at a vertex -> new face
+  Index new_faces[kMaxFaces];
+  Index orphans[MaxPoints];
 
   bool overrun = false;
   int skipped_points = 0;  // outside points dropped because the visible region was not a disk
@@ -74,25 +88,26 @@ TALUS_HD inline int allocate_face(W& ws) {
 // Sets the face's vertices and plane. The winding (a, b, c) is trusted to be outward.
 template <class Real, class W>
 TALUS_HD inline void set_face(W& ws, int f, int a, int b, int c) {
-  ws.face_vertex[f][0] = a;
-  ws.face_vertex[f][1] = b;
-  ws.face_vertex[f][2] = c;
+  using Index = typename W::Index;
+  ws.face_vertex[f][0] = Index(a);
+  ws.face_vertex[f][1] = Index(b);
+  ws.face_vertex[f][2] = Index(c);
   const Vec3<Real>& pa = ws.point[a];
   const Vec3<Real>& pb = ws.point[b];
   const Vec3<Real>& pc = ws.point[c];
   Vec3<Real> n = cross(pb - pa, pc - pa);
   const Real len = norm(n);
-  n = len > Real(0) ? n / len : Vec3<Real>(0, 0, 0);
+  n = len > Real(0) ? n * (Real(1) / len) : Vec3<Real>(0, 0, 0);
   ws.face_normal[f] = n;
   // Eq. 7 takes one vertex's offset; the mean of the three halves the round-off.
-  ws.face_offset[f] = (dot(n, pa) + dot(n, pb) + dot(n, pc)) / Real(3);
+  ws.face_offset[f] = (dot(n, pa) + dot(n, pb) + dot(n, pc)) * (Real(1) / Real(3));
   ws.face_scale[f] = max_of(ws.point_norm[a], max_of(ws.point_norm[b], ws.point_norm[c]));
   ws.face_stamp[f] = 0;
 }
 
 // Assigns point p to the new face (among faces[0..count)) it is farthest outside of, if any.
 template <class Real, class W>
-TALUS_HD inline void assign_point(W& ws, int p, const int* faces, int count) {
+TALUS_HD inline void assign_point(W& ws, int p, const typename W::Index* faces, int count) {
   ws.point_face[p] = -1;
   Real best = 0;
   for (int i = 0; i < count; ++i) {
@@ -100,7 +115,7 @@ TALUS_HD inline void assign_point(W& ws, int p, const int* faces, int count) {
     const Real d = distance<Real>(ws, f, p);
     if (d > tolerance<Real>(ws, f, ws.point_norm[p]) && d > best) {
       best = d;
-      ws.point_face[p] = f;
+      ws.point_face[p] = typename W::Index(f);
     }
   }
   ws.point_dist[p] = best;
@@ -174,9 +189,9 @@ TALUS_HD inline bool init_simplex(W& ws) {
       for (int g = 0; g < 4; ++g)
         for (int k = 0; k < 3; ++k)
           if (ws.face_vertex[g][k] == b && ws.face_vertex[g][(k + 1) % 3] == a)
-            ws.face_neighbor[f][e] = g;
+            ws.face_neighbor[f][e] = typename W::Index(g);
     }
-  const int faces[4] = {0, 1, 2, 3};
+  const typename W::Index faces[4] = {0, 1, 2, 3};
   for (int p = 0; p < n; ++p) {
     if (p == i0 || p == i1 || p == i2 || p == i3) {
       ws.point_face[p] = -1;
@@ -240,7 +255,7 @@ TALUS_HD inline void expand_once(W& ws, int p, int stamp) {
     if (f >= 0 && ws.face_stamp[f] < 0) ws.orphans[n_orphans++] = q;
   }
   // New faces: the horizon edge (a, b) as wound in the visible face, then the apex.
-  int* new_faces = ws.new_faces;
+  auto* new_faces = ws.new_faces;
   for (int h = 0; h < n_horizon; ++h) {
     const int g = ws.horizon_face[h], k = ws.horizon_edge[h];
     // In the kept face g the shared edge runs (vertex[k], vertex[k+1]); reversed for us.

@@ -17,6 +17,15 @@ namespace talus {
 // True when a CUDA device can be used; otherwise `reason` (if given) says why not.
 bool cuda_device_available(std::string* reason = nullptr);
 
+// How the batch kernel runs (one thread per pair in all three). Each builds the same polytope
+// with the same arithmetic, so the results are identical; they differ only in where the data
+// lives, and are kept selectable so that the benchmark shows what each step gains.
+enum class OverlapBatchKernel : int {
+  global_templates = 0,  // templates read from global memory; one workspace for all faces
+  shared_templates = 1,  // templates staged in each block's shared memory
+  small_workspace = 2,   // staged, and a workspace for one body's faces first (the default)
+};
+
 template <class Real>
 class OverlapBatchGpu {
  public:
@@ -29,12 +38,16 @@ class OverlapBatchGpu {
   // Copies the pose pairs to the device, where they stay for repeated runs.
   void set_poses(const std::vector<Pose<Real>>& poses_a, const std::vector<Pose<Real>>& poses_b);
   // Computes every pair; returns the kernel time in milliseconds (CUDA events).
-  double run(OverlapOptions options = OverlapOptions());
+  double run(OverlapOptions options = OverlapOptions(),
+             OverlapBatchKernel kernel = OverlapBatchKernel::small_workspace);
   // The results of the last run, in pair order.
   std::vector<OverlapResult<Real>> results() const;
 
   int workspace_capacity() const;       // planes per pair the workspace holds
   std::size_t workspace_bytes() const;  // per pair (per thread, in local memory)
+  // The workspace the small_workspace kernel tries first (3/8 of the full one).
+  int small_workspace_capacity() const;
+  std::size_t small_workspace_bytes() const;
   std::size_t pair_count() const;
 
  private:

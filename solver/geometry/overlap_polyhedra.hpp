@@ -29,12 +29,15 @@ template <class Real, int MaxPlanes>
 struct OverlapWorkspace {
   static constexpr int kMaxPlanes = MaxPlanes;
   Vec3<Real> plane_normal[MaxPlanes];  // unit, outward of the owning body, frame centred on A
-  Real plane_offset[MaxPlanes];        // dot(n, x) <= offset inside
+  // dot(n, x) <= offset inside; from step 4 on, the plane's slack at x_o (offset - dot(n, x_o)).
+  Real plane_offset[MaxPlanes];
   signed char plane_owner[MaxPlanes];  // 0: A, 1: B
   signed char plane_twin[MaxPlanes];   // 1 when a coincident plane of the other body was merged
+  // Also holds each dual face's primal vertex (relative to x_o) in place of its normal once the
+  // hull is built (step 5).
   DualHullWorkspace<Real, MaxPlanes> hull;
-  Vec3<Real> primal_vertex[2 * MaxPlanes];  // per dual face, relative to x_o
-  short fan_apex[MaxPlanes];  // per dual vertex: a dual face around it (-1: not on the hull)
+  // Per dual vertex: a dual face around it (-1: not on the hull).
+  typename DualHullWorkspace<Real, MaxPlanes>::Index fan_apex[MaxPlanes];
 };
 
 // The workspace for `planes` face planes in all (the sum over both templates), rounded up to the
@@ -57,22 +60,32 @@ struct TwinTolerance<float> {
 
 namespace overlap_detail {
 
-// Range of signed heights of the vertices of `other` above the plane (n, h) of the frame centred
-// on A; `other` sits at `other_center` with rotation `other_rot`.
+// Where the plane (n, h) of the frame centred on A leaves `other` (at `other_center`, rotated by
+// `other_rot`), from the signed heights of its vertices above the plane, with `round_off` the
+// absolute round-off of a height. The loop stops as soon as one vertex lies below -round_off and
+// one at or above it: the plane then cuts the body, and the rest of the vertices cannot change
+// that. Only a separating plane needs every height, for `lowest`.
+enum class PlaneSide { cuts, below, beyond };
+
 template <class Real>
-TALUS_HD inline void height_range(const ConvexView<Real>& other, const Mat3<Real>& other_rot,
-                                  const Vec3<Real>& other_center, const Vec3<Real>& n, Real h,
-                                  Real& lowest, Real& highest) {
+TALUS_HD inline PlaneSide plane_side(const ConvexView<Real>& other, const Mat3<Real>& other_rot,
+                                     const Vec3<Real>& other_center, const Vec3<Real>& n, Real h,
+                                     Real round_off, Real& lowest) {
   const Vec3<Real> n_body = other_rot.transpose_times(n);
   const Real h_body = h - dot(n, other_center);
-  lowest = highest = dot(n_body, other.vertices[0]);
+  Real low = dot(n_body, other.vertices[0]), high = low;
   for (int i = 1; i < other.n_vertices; ++i) {
     const Real s = dot(n_body, other.vertices[i]);
-    lowest = min_of(lowest, s);
-    highest = max_of(highest, s);
+    low = min_of(low, s);
+    high = max_of(high, s);
+    // Rounding is monotone, so min_i(s_i) - h_body rounds to the least of the rounded
+    // differences: the test reads the same as on the full range.
+    if (low - h_body <= -round_off && !(high - h_body < -round_off)) return PlaneSide::cuts;
   }
-  lowest -= h_body;
-  highest -= h_body;
+  lowest = low - h_body;
+  if (lowest > -round_off) return PlaneSide::beyond;        // a separating plane
+  if (high - h_body < -round_off) return PlaneSide::below;  // strictly inside: bounds nothing
+  return PlaneSide::cuts;
 }
 
 // The vertex of the intersection dual to hull face f. Eq. 8 gives it as n_f / w_f, whose relative
@@ -92,28 +105,33 @@ TALUS_HD inline Vec3<Real> primal_vertex_of(const Workspace& ws, int f, Real w) 
   const Vec3<Real> c23 = cross(n2, n3), c31 = cross(n3, n1), c12 = cross(n1, n2);
   const Real det = dot(n1, c23);
   if (abs_of(det) > Real(1e-3)) {
-    // slack s = 1 / |y| for each plane.
-    return (c23 / hull.point_norm[i] + c31 / hull.point_norm[j] + c12 / hull.point_norm[k]) / det;
+    // The slacks s_i are kept in plane_offset from step 4 on: one division, not twelve.
+    return (c23 * ws.plane_offset[i] + c31 * ws.plane_offset[j] + c12 * ws.plane_offset[k]) *
+           (Real(1) / det);
   }
   return hull.face_normal[f] / w;
 }
 
 // True when face f of `self` (its polygon, not its plane) lies strictly outside `other`: some
 // plane of `other` has every vertex of the face above it by more than `margin`. The other body's
-// planes are given in self's body frame (other_normals, other_offsets). Such a face cannot
-// bound the intersection: were its plane needed, removing it would let the intersection grow past
-// the plane, and the segment from an interior point to the new part would cross the plane inside
+// planes are taken to self's body frame as they are needed: normal `to_self * n`, offset
+// `h + dot(n, shift)` (to_self = R_self^T R_other, shift = R_other^T (c_other - c_self)), which
+// costs a few multiplications instead of a table per pair in memory. Such a face cannot bound
+// the intersection: were its plane needed, removing it would let the intersection grow past the
+// plane, and the segment from an interior point to the new part would cross the plane inside
 // both bodies, i.e. on the face and inside `other`.
 template <class Real>
 TALUS_HD inline bool face_outside(const ConvexView<Real>& self, int f,
-                                  const Vec3<Real>* other_normals, const Real* other_offsets,
-                                  int other_faces, Real margin) {
+                                  const ConvexView<Real>& other, const Mat3<Real>& to_self,
+                                  const Vec3<Real>& shift, Real margin) {
   const int begin = self.face_loop_offsets[f], end = self.face_loop_offsets[f + 1];
-  for (int g = 0; g < other_faces; ++g) {
+  for (int g = 0; g < other.n_faces; ++g) {
+    const Vec3<Real> n_other = other.face_normals[g];
+    const Vec3<Real> n = to_self * n_other;
+    const Real h = other.face_offsets[g] + dot(n_other, shift) + margin;
     bool all_above = true;
     for (int k = begin; k < end && all_above; ++k)
-      all_above = dot(other_normals[g], self.vertices[self.face_loop_vertices[k]]) >
-                  other_offsets[g] + margin;
+      all_above = dot(n, self.vertices[self.face_loop_vertices[k]]) > h;
     if (all_above) return true;
   }
   return false;
@@ -145,23 +163,21 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   const ConvexView<Real>* body[2] = {&a, &b};
 
   // Step 2. Planes of both bodies, culled against the other body's vertices and, where the
-  // templates carry their face loops, by the face-polygon test (face_outside). The hull's point
-  // arrays are free until step 4 and hold the other body's planes in self's body frame.
+  // templates carry their face loops, by the face-polygon test (face_outside).
   int m = 0;
   auto& hull = ws.hull;
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
     const int other = 1 - owner;
-    const bool face_test = options.cull_planes && options.cull_faces &&
-                           self.face_loop_offsets != nullptr &&
-                           body[other]->n_faces <= Workspace::kMaxPlanes;
-    if (face_test)
-      for (int g = 0; g < body[other]->n_faces; ++g) {
-        const Vec3<Real> n_world = rot[other] * body[other]->face_normals[g];
-        hull.point[g] = rot[owner].transpose_times(n_world);
-        hull.point_norm[g] =
-            body[other]->face_offsets[g] + dot(n_world, center[other] - center[owner]);
-      }
+    const bool face_test =
+        options.cull_planes && options.cull_faces && self.face_loop_offsets != nullptr;
+    Mat3<Real> to_self;  // R_self^T R_other: the other body's frame to self's
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        to_self.m[i][j] = rot[owner].m[0][i] * rot[other].m[0][j] +
+                          rot[owner].m[1][i] * rot[other].m[1][j] +
+                          rot[owner].m[2][i] * rot[other].m[2][j];
+    const Vec3<Real> shift = rot[other].transpose_times(center[other] - center[owner]);
     for (int f = 0; f < self.n_faces; ++f) {
       const Vec3<Real> n = rot[owner] * self.face_normals[f];
       const Real h = self.face_offsets[f] + dot(n, center[owner]);
@@ -169,16 +185,16 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
         // The other body's bounding sphere decides most planes without visiting its vertices.
         const Real sphere_height = dot(n, center[other]) - h;
         if (sphere_height + body[other]->bounding_radius < -round_off) continue;
-        Real lowest, highest;
-        overlap_detail::height_range(*body[other], rot[other], center[other], n, h, lowest,
-                                     highest);
-        if (lowest > -round_off) {  // the other body lies beyond this plane: a separating plane
+        Real lowest = 0;
+        const overlap_detail::PlaneSide side = overlap_detail::plane_side(
+            *body[other], rot[other], center[other], n, h, round_off, lowest);
+        if (side == overlap_detail::PlaneSide::beyond) {  // the other body lies beyond the plane
           result.status = lowest > round_off ? OverlapStatus::separate : OverlapStatus::touching;
           return result;
         }
-        if (highest < -round_off) continue;  // strictly inside: this plane bounds nothing
-        if (face_test && overlap_detail::face_outside(self, f, hull.point, hull.point_norm,
-                                                      body[other]->n_faces, round_off))
+        if (side == overlap_detail::PlaneSide::below) continue;  // strictly inside: bounds nothing
+        if (face_test &&
+            overlap_detail::face_outside(self, f, *body[other], to_self, shift, round_off))
           continue;
       }
       if (m >= Workspace::kMaxPlanes) {
@@ -230,8 +246,8 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   int n_points = 0;
   for (int i = 0; i < m; ++i) {
     const Real slack = ws.plane_offset[i] - dot(ws.plane_normal[i], x_o);
-    const Vec3<Real> y = ws.plane_normal[i] / slack;
     const Real y_norm = Real(1) / slack;
+    const Vec3<Real> y = ws.plane_normal[i] * y_norm;
     bool merged = false;
     if (ws.plane_owner[i] == 1) {
       for (int j = 0; j < n_points && !merged; ++j) {
@@ -244,6 +260,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
     }
     if (merged) continue;
     ws.plane_normal[n_points] = ws.plane_normal[i];
+    ws.plane_offset[n_points] = slack;  // from here on the slack at x_o
     ws.plane_owner[n_points] = ws.plane_owner[i];
     ws.plane_twin[n_points] = 0;
     hull.point[n_points] = y;
@@ -269,7 +286,8 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       result.status = OverlapStatus::degenerate;
       return result;
     }
-    ws.primal_vertex[f] = overlap_detail::primal_vertex_of<Real>(ws, f, w);
+    // In place of the face's normal, which primal_vertex_of reads first.
+    hull.face_normal[f] = overlap_detail::primal_vertex_of<Real>(ws, f, w);
     for (int k = 0; k < 3; ++k) ws.fan_apex[hull.face_vertex[f][k]] = f;
   }
   // Cones from x_o over the fan of each face (Eq. 9): the primal edge between the vertices of
@@ -279,19 +297,20 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   Vec3<Real> moment, vector_area;
   for (int f = 0; f < hull.n_slots; ++f) {
     if (hull.face_stamp[f] < 0) continue;
-    const Vec3<Real>& p_f = ws.primal_vertex[f];
+    const Vec3<Real>& p_f = hull.face_normal[f];  // the primal vertex from here on
     for (int e = 0; e < 3; ++e) {
       const int v = hull.face_vertex[f][e];
       const int g = hull.face_neighbor[f][e];
       const int apex = ws.fan_apex[v];
       if (apex == f || apex == g) continue;  // a triangle of the fan with no area
-      const Vec3<Real>& p_g = ws.primal_vertex[g];
-      const Vec3<Real>& c = ws.primal_vertex[apex];
+      const Vec3<Real>& p_g = hull.face_normal[g];
+      const Vec3<Real>& c = hull.face_normal[apex];
       // Signed along the face's outward normal (the ring runs clockwise seen from outside):
       // a fan triangle flipped by round-off, where a primal vertex sits almost on the segment
       // of its neighbours, then subtracts instead of adding. Taking |area| cost float 1e-3.
       const Real area = dot(cross(p_g - c, p_f - c), ws.plane_normal[v]) / Real(2);
-      const Real cone = area / (Real(3) * hull.point_norm[v]);  // area * distance / 3
+      // area * distance / 3, the distance from x_o being the slack.
+      const Real cone = area * ws.plane_offset[v] * (Real(1) / Real(3));
       volume += cone;
       moment += (c + p_f + p_g) * (cone / Real(4));
       const Real share =

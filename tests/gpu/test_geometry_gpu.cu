@@ -102,6 +102,71 @@ TEST(GpuOverlap, HardCasesAgreeWithTheHost) {
   compare_overlap(cyl, cyl, turned);
 }
 
+// The kernels of OverlapBatchKernel differ only in where the templates and the workspace live
+// (global or shared memory; a workspace of one body's faces first, the full one when more planes
+// survive the culling): the arithmetic is the same, so the results must be identical, bit for
+// bit, in every culling variant. Deep pairs (depth up to 0.95 of the radii) keep more planes than
+// the small workspace holds and so exercise its fallback, which the test asserts.
+template <class Real>
+void expect_identical_kernels(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                              const std::vector<Pose<Real>>& pa, const std::vector<Pose<Real>>& pb,
+                              int& many_planes) {
+  OverlapBatchGpu<Real> batch(a, b);
+  batch.set_poses(pa, pb);
+  for (const char* variant : {"faces", "planes", "naive"}) {
+    SCOPED_TRACE(variant);
+    const OverlapOptions options = overlap_options_named(variant);
+    batch.run(options, OverlapBatchKernel::global_templates);
+    const auto reference = batch.results();
+    for (const OverlapBatchKernel kernel :
+         {OverlapBatchKernel::shared_templates, OverlapBatchKernel::small_workspace}) {
+      batch.run(options, kernel);
+      const auto other = batch.results();
+      ASSERT_EQ(other.size(), reference.size());
+      for (std::size_t k = 0; k < other.size(); ++k) {
+        const auto &r = reference[k], &o = other[k];
+        ASSERT_EQ(int(o.status), int(r.status)) << k;
+        ASSERT_EQ(o.volume, r.volume) << k;
+        ASSERT_EQ(o.depth_hint, r.depth_hint) << k;
+        ASSERT_EQ(o.hull_points, r.hull_points) << k;
+        ASSERT_EQ(o.workspace_overrun, r.workspace_overrun) << k;
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_EQ(o.vector_area[c], r.vector_area[c]) << k;
+          ASSERT_EQ(o.centroid[c], r.centroid[c]) << k;
+        }
+      }
+    }
+    for (const auto& r : reference) many_planes += r.hull_points > batch.small_workspace_capacity();
+  }
+}
+
+TEST(GpuOverlap, KernelsGiveIdenticalResults) {
+  REQUIRE_GPU();
+  for (const char* spec : {"dodecahedron:0.01", "cylinder:0.008,0.0053"}) {
+    SCOPED_TRACE(spec);
+    const TestShape shape(spec);
+    std::mt19937_64 rng(31);
+    PoseList poses;
+    for (int k = 0; k < 3000; ++k) {
+      const double deepest = k % 3 == 0 ? 0.95 : 0.1;
+      const auto pair = random_overlapping_pair(rng, shape.shape.bounding_radius,
+                                                shape.shape.bounding_radius, 0.0, deepest);
+      poses.a.push_back(pair.a);
+      poses.b.push_back(pair.b);
+    }
+    int many_planes = 0;
+    expect_identical_kernels(shape.view(), shape.view(), poses.a, poses.b, many_planes);
+    std::vector<Pose<float>> fa, fb;
+    for (std::size_t k = 0; k < poses.a.size(); ++k) {
+      fa.push_back(to_float(poses.a[k]));
+      fb.push_back(to_float(poses.b[k]));
+    }
+    expect_identical_kernels(shape.view_f(), shape.view_f(), fa, fb, many_planes);
+    // Pairs whose polytope has more faces than the small workspace holds took the fallback.
+    EXPECT_GT(many_planes, 0);
+  }
+}
+
 // Float on the device against float on the host: the same float arithmetic up to contraction,
 // whose effect is ~1e-7 relative, amplified by L/d for shallow overlaps: 1e-4 on overlaps deeper
 // than 1e-3 of the body.
