@@ -1,0 +1,228 @@
+// The broad phase (DESIGN.md "The step", 1-2; paper §2.2 and Fig. 3c; BLAZE-DEM's spatial hashing
+// with sorting): particles binned in a uniform grid whose cells are at least one bounding
+// diameter (plus the skin) wide, the cells hashed into a table, particles sorted by bucket; then
+// per particle the candidates in its 27 neighbour cells are counted, the counts exclusive-scanned,
+// and every pair whose bounding spheres overlap written into one 1-D array of ContactPair {a, b},
+// a < b, sorted by (a, b).
+//
+// The per-particle steps are TALUS_HD functions (one thread per particle on the GPU); the host
+// driver build_candidate_pairs runs them in loops. Correctness does not depend on the hash: any
+// two overlapping spheres lie in neighbouring cells (cell >= 2 r_max + skin), so the partner's
+// bucket is among the 27 visited; a bucket shared by several visited cells is visited once, and
+// collisions only add candidates that the exact sphere test rejects.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "solver/core/hd.hpp"
+#include "solver/core/math.hpp"
+
+namespace talus {
+
+struct ContactPair {
+  int a = 0, b = 0;  // particle indices, a < b
+  friend bool operator==(const ContactPair& p, const ContactPair& q) {
+    return p.a == q.a && p.b == q.b;
+  }
+};
+
+// The particles as the step holds them (structure of arrays).
+template <class Real>
+struct NeighborInput {
+  const Real* x = nullptr;
+  const Real* y = nullptr;
+  const Real* z = nullptr;
+  const Real* radius = nullptr;  // bounding radius about the centroid, m
+  int count = 0;
+  Real skin = 0;  // m: pairs are kept while |x_a - x_b| <= r_a + r_b + skin (a Verlet skin)
+};
+
+// The binning: a cell size, an origin and a table of 2^k buckets.
+template <class Real>
+struct NeighborGrid {
+  Real origin[3] = {0, 0, 0};
+  Real cell_size = 1;
+  std::uint32_t bucket_mask = 0;  // table size - 1 (a power of two)
+};
+
+// Integer cell coordinate of x (floor((x - origin) / cell)), clamped to +-2^40 so that a far-off
+// particle cannot overflow the hash; clamping merges far cells, which only adds candidates.
+template <class Real>
+TALUS_HD inline std::int64_t cell_coordinate(Real x, Real origin, Real cell_size) {
+  const Real c = (x - origin) / cell_size;
+  const Real limit = Real(1099511627776.0);  // 2^40
+  const Real clamped = c < -limit ? -limit : (c > limit ? limit : c);
+  std::int64_t i = static_cast<std::int64_t>(clamped);
+  if (Real(i) > clamped) --i;  // floor for negative values
+  return i;
+}
+
+TALUS_HD inline std::uint32_t cell_bucket(std::int64_t cx, std::int64_t cy, std::int64_t cz,
+                                          std::uint32_t mask) {
+  // Large odd multipliers mix the three coordinates (Teschner et al. 2003 use these primes).
+  const std::uint64_t h = static_cast<std::uint64_t>(cx) * 73856093ull ^
+                          static_cast<std::uint64_t>(cy) * 19349663ull ^
+                          static_cast<std::uint64_t>(cz) * 83492791ull;
+  return static_cast<std::uint32_t>((h ^ (h >> 29)) & mask);
+}
+
+template <class Real>
+TALUS_HD inline std::uint32_t particle_bucket(const NeighborInput<Real>& in,
+                                              const NeighborGrid<Real>& grid, int i) {
+  return cell_bucket(cell_coordinate(in.x[i], grid.origin[0], grid.cell_size),
+                     cell_coordinate(in.y[i], grid.origin[1], grid.cell_size),
+                     cell_coordinate(in.z[i], grid.origin[2], grid.cell_size), grid.bucket_mask);
+}
+
+// The distinct buckets of particle i's 27 neighbour cells, ascending; returns how many (<= 27).
+template <class Real>
+TALUS_HD inline int neighbour_buckets(const NeighborInput<Real>& in, const NeighborGrid<Real>& grid,
+                                      int i, std::uint32_t (&buckets)[27]) {
+  const std::int64_t cx = cell_coordinate(in.x[i], grid.origin[0], grid.cell_size);
+  const std::int64_t cy = cell_coordinate(in.y[i], grid.origin[1], grid.cell_size);
+  const std::int64_t cz = cell_coordinate(in.z[i], grid.origin[2], grid.cell_size);
+  int n = 0;
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const std::uint32_t b = cell_bucket(cx + dx, cy + dy, cz + dz, grid.bucket_mask);
+        // Insertion into the sorted list, skipping a bucket already there.
+        int k = n;
+        while (k > 0 && buckets[k - 1] > b) --k;
+        if (k > 0 && buckets[k - 1] == b) continue;
+        for (int m = n; m > k; --m) buckets[m] = buckets[m - 1];
+        buckets[k] = b;
+        ++n;
+      }
+    }
+  }
+  return n;
+}
+
+// The bounding-sphere test: |x_a - x_b| <= r_a + r_b + skin (touching counts).
+template <class Real>
+TALUS_HD inline bool spheres_overlap(const NeighborInput<Real>& in, int a, int b) {
+  const Real dx = in.x[a] - in.x[b], dy = in.y[a] - in.y[b], dz = in.z[a] - in.z[b];
+  const Real reach = in.radius[a] + in.radius[b] + in.skin;
+  return dx * dx + dy * dy + dz * dz <= reach * reach;
+}
+
+// Visits every j > i whose sphere overlaps i's, bucket by bucket (bucket_start has one entry per
+// bucket plus one; sorted holds the particle indices ordered by bucket). Calls visit(j).
+template <class Real, class Visit>
+TALUS_HD inline void for_each_partner(const NeighborInput<Real>& in, const NeighborGrid<Real>& grid,
+                                      const int* bucket_start, const int* sorted, int i,
+                                      Visit&& visit) {
+  std::uint32_t buckets[27];
+  const int n = neighbour_buckets(in, grid, i, buckets);
+  for (int k = 0; k < n; ++k) {
+    for (int s = bucket_start[buckets[k]]; s < bucket_start[buckets[k] + 1]; ++s) {
+      const int j = sorted[s];
+      if (j > i && spheres_overlap(in, i, j)) visit(j);
+    }
+  }
+}
+
+// ---- Host driver (std::vector; the CUDA backend runs the same steps with CUB).
+
+// What one build did, for the step's statistics and the tests.
+struct NeighborStats {
+  int buckets = 0;
+  long long candidates = 0;  // particles looked at in neighbour buckets (j > i), before the test
+  long long pairs = 0;
+};
+
+// The grid for these particles: cells of 2 r_max + skin (at least `min_cell`), origin at the
+// lowest corner, about 2 buckets per particle. Throws std::invalid_argument for a non-finite
+// position or radius, naming the particle.
+template <class Real>
+NeighborGrid<Real> make_neighbor_grid(const NeighborInput<Real>& in, Real min_cell = 0) {
+  NeighborGrid<Real> grid;
+  Real r_max = 0;
+  for (int i = 0; i < in.count; ++i) {
+    const Real v[4] = {in.x[i], in.y[i], in.z[i], in.radius[i]};
+    for (int k = 0; k < 4; ++k) {
+      if (!is_finite(v[k]) || (k == 3 && v[k] < 0)) {
+        throw std::invalid_argument("neighbour search: particle " + std::to_string(i) +
+                                    " has a non-finite position or a bad bounding radius");
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      grid.origin[k] = i == 0 ? v[k] : min_of(grid.origin[k], v[k]);
+    }
+    r_max = max_of(r_max, v[3]);
+  }
+  grid.cell_size = max_of(min_cell, Real(2) * r_max + in.skin);
+  if (!(grid.cell_size > 0)) grid.cell_size = 1;  // all points: any size bins them
+  std::uint32_t size = 64;
+  while (size < 2u * static_cast<std::uint32_t>(in.count) && size < (1u << 30)) size *= 2;
+  grid.bucket_mask = size - 1;
+  return grid;
+}
+
+// Every pair of particles whose bounding spheres overlap (within the skin), as ContactPair
+// {a, b} with a < b, sorted by (a, b): bin, count per particle, exclusive scan, write.
+template <class Real>
+std::vector<ContactPair> build_candidate_pairs(const NeighborInput<Real>& in,
+                                               NeighborStats* stats = nullptr, Real min_cell = 0) {
+  const NeighborGrid<Real> grid = make_neighbor_grid(in, min_cell);
+  const int buckets = static_cast<int>(grid.bucket_mask) + 1;
+  // Bin: bucket of each particle, counting sort into `sorted` (stable: indices ascend per bucket).
+  std::vector<std::uint32_t> bucket_of(in.count);
+  std::vector<int> bucket_start(buckets + 1, 0);
+  for (int i = 0; i < in.count; ++i) {
+    bucket_of[i] = particle_bucket(in, grid, i);
+    ++bucket_start[bucket_of[i] + 1];
+  }
+  for (int b = 0; b < buckets; ++b) bucket_start[b + 1] += bucket_start[b];
+  std::vector<int> sorted(in.count), fill(bucket_start.begin(), bucket_start.end() - 1);
+  for (int i = 0; i < in.count; ++i) sorted[fill[bucket_of[i]]++] = i;
+
+  // Count, exclusive scan, write (paper Fig. 3c).
+  std::vector<int> first(in.count + 1, 0);
+  long long candidates = 0;
+  for (int i = 0; i < in.count; ++i) {
+    int count = 0;
+    for_each_partner(in, grid, bucket_start.data(), sorted.data(), i, [&](int) { ++count; });
+    first[i + 1] = count;
+  }
+  for (int i = 0; i < in.count; ++i) first[i + 1] += first[i];
+  std::vector<ContactPair> pairs(first[in.count]);
+  for (int i = 0; i < in.count; ++i) {
+    int slot = first[i];
+    for_each_partner(in, grid, bucket_start.data(), sorted.data(), i, [&](int j) {
+      pairs[slot++] = ContactPair{i, j};
+    });
+    // Sorted by b within a's segment, so the list does not depend on the hash (insertion sort:
+    // a segment holds a particle's few neighbours).
+    for (int s = first[i] + 1; s < first[i + 1]; ++s) {
+      const ContactPair p = pairs[s];
+      int t = s;
+      while (t > first[i] && pairs[t - 1].b > p.b) {
+        pairs[t] = pairs[t - 1];
+        --t;
+      }
+      pairs[t] = p;
+    }
+  }
+  if (stats) {
+    stats->buckets = buckets;
+    for (int i = 0; i < in.count; ++i) {
+      std::uint32_t visited[27];
+      const int n = neighbour_buckets(in, grid, i, visited);
+      for (int k = 0; k < n; ++k) {
+        for (int s = bucket_start[visited[k]]; s < bucket_start[visited[k] + 1]; ++s) {
+          candidates += sorted[s] > i ? 1 : 0;
+        }
+      }
+    }
+    stats->candidates = candidates;
+    stats->pairs = static_cast<long long>(pairs.size());
+  }
+  return pairs;
+}
+
+}  // namespace talus
