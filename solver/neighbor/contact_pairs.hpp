@@ -23,11 +23,11 @@
 namespace talus {
 
 struct ContactPair {
-  int a = 0, b = 0;  // particle indices, a < b
-  friend bool operator==(const ContactPair& p, const ContactPair& q) {
-    return p.a == q.a && p.b == q.b;
-  }
+  int a, b;  // particle indices, a < b
 };
+inline bool operator==(const ContactPair& p, const ContactPair& q) {
+  return p.a == q.a && p.b == q.b;
+}
 
 // The particles as the step holds them (structure of arrays).
 template <class Real>
@@ -110,19 +110,34 @@ TALUS_HD inline bool spheres_overlap(const NeighborInput<Real>& in, int a, int b
   return dx * dx + dy * dy + dz * dz <= reach * reach;
 }
 
-// Visits every j > i whose sphere overlaps i's, bucket by bucket (bucket_start has one entry per
-// bucket plus one; sorted holds the particle indices ordered by bucket). Calls visit(j).
+// Visits every j > i whose sphere overlaps i's, bucket by bucket: bucket b holds
+// sorted[bucket_begin[b]] .. sorted[bucket_end[b] - 1] (sorted: particle indices ordered by
+// bucket). Calls visit(j).
 template <class Real, class Visit>
 TALUS_HD inline void for_each_partner(const NeighborInput<Real>& in, const NeighborGrid<Real>& grid,
-                                      const int* bucket_start, const int* sorted, int i,
-                                      Visit&& visit) {
+                                      const int* bucket_begin, const int* bucket_end,
+                                      const int* sorted, int i, Visit&& visit) {
   std::uint32_t buckets[27];
   const int n = neighbour_buckets(in, grid, i, buckets);
   for (int k = 0; k < n; ++k) {
-    for (int s = bucket_start[buckets[k]]; s < bucket_start[buckets[k] + 1]; ++s) {
+    for (int s = bucket_begin[buckets[k]]; s < bucket_end[buckets[k]]; ++s) {
       const int j = sorted[s];
       if (j > i && spheres_overlap(in, i, j)) visit(j);
     }
+  }
+}
+
+// Sorts pairs[begin, end) by b (insertion sort: one particle's segment holds its few partners),
+// so that the list does not depend on the hash or on the order of the buckets.
+TALUS_HD inline void sort_segment_by_partner(ContactPair* pairs, int begin, int end) {
+  for (int s = begin + 1; s < end; ++s) {
+    const ContactPair p = pairs[s];
+    int t = s;
+    while (t > begin && pairs[t - 1].b > p.b) {
+      pairs[t] = pairs[t - 1];
+      --t;
+    }
+    pairs[t] = p;
   }
 }
 
@@ -184,29 +199,21 @@ std::vector<ContactPair> build_candidate_pairs(const NeighborInput<Real>& in,
   // Count, exclusive scan, write (paper Fig. 3c).
   std::vector<int> first(in.count + 1, 0);
   long long candidates = 0;
+  const int* begin = bucket_start.data();
+  const int* end = bucket_start.data() + 1;
   for (int i = 0; i < in.count; ++i) {
     int count = 0;
-    for_each_partner(in, grid, bucket_start.data(), sorted.data(), i, [&](int) { ++count; });
+    for_each_partner(in, grid, begin, end, sorted.data(), i, [&](int) { ++count; });
     first[i + 1] = count;
   }
   for (int i = 0; i < in.count; ++i) first[i + 1] += first[i];
   std::vector<ContactPair> pairs(first[in.count]);
   for (int i = 0; i < in.count; ++i) {
     int slot = first[i];
-    for_each_partner(in, grid, bucket_start.data(), sorted.data(), i, [&](int j) {
+    for_each_partner(in, grid, begin, end, sorted.data(), i, [&](int j) {
       pairs[slot++] = ContactPair{i, j};
     });
-    // Sorted by b within a's segment, so the list does not depend on the hash (insertion sort:
-    // a segment holds a particle's few neighbours).
-    for (int s = first[i] + 1; s < first[i + 1]; ++s) {
-      const ContactPair p = pairs[s];
-      int t = s;
-      while (t > first[i] && pairs[t - 1].b > p.b) {
-        pairs[t] = pairs[t - 1];
-        --t;
-      }
-      pairs[t] = p;
-    }
+    sort_segment_by_partner(pairs.data(), first[i], first[i + 1]);
   }
   if (stats) {
     stats->buckets = buckets;

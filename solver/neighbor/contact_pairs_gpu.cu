@@ -1,0 +1,252 @@
+// The broad phase on the GPU (see contact_pairs_gpu.hpp): reductions for the grid, bucket per
+// particle, CUB radix sort by bucket, bucket ranges, count per particle, CUB exclusive scan,
+// write and per-segment sort. Every step is the host driver's, in the same order.
+#include "solver/neighbor/contact_pairs_gpu.hpp"
+
+#include <cub/cub.cuh>
+
+#include <climits>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "solver/core/device_buffer.hpp"
+
+namespace talus {
+
+namespace {
+
+constexpr int kBlock = 256;
+
+int blocks_for(int n) {
+  return (n + kBlock - 1) / kBlock;
+}
+
+// Index of the first particle with a non-finite position or a negative or non-finite radius.
+template <class Real>
+__global__ void find_bad_particle(NeighborInput<Real> in, int* first_bad) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= in.count) return;
+  const bool bad = !is_finite(in.x[i]) || !is_finite(in.y[i]) || !is_finite(in.z[i]) ||
+                   !is_finite(in.radius[i]) || in.radius[i] < 0;
+  if (bad) atomicMin(first_bad, i);
+}
+
+template <class Real>
+__global__ void bucket_particles(NeighborInput<Real> in, NeighborGrid<Real> grid,
+                                 std::uint32_t* bucket_of, int* index) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= in.count) return;
+  bucket_of[i] = particle_bucket(in, grid, i);
+  index[i] = i;
+}
+
+// begin[b], end[b]: the range of bucket b in the sorted order (both 0 when b is empty).
+__global__ void bucket_ranges(const std::uint32_t* sorted_bucket, int n, int* begin, int* end) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= n) return;
+  const std::uint32_t b = sorted_bucket[s];
+  if (s == 0 || sorted_bucket[s - 1] != b) begin[b] = s;
+  if (s == n - 1 || sorted_bucket[s + 1] != b) end[b] = s + 1;
+}
+
+template <class Real>
+__global__ void count_partners(NeighborInput<Real> in, NeighborGrid<Real> grid, const int* begin,
+                               const int* end, const int* sorted, int* counts) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= in.count) return;
+  int count = 0;
+  for_each_partner(in, grid, begin, end, sorted, i, [&](int) { ++count; });
+  counts[i] = count;
+}
+
+template <class Real>
+__global__ void write_partners(NeighborInput<Real> in, NeighborGrid<Real> grid, const int* begin,
+                               const int* end, const int* sorted, const int* first,
+                               ContactPair* pairs) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= in.count) return;
+  int slot = first[i];
+  for_each_partner(in, grid, begin, end, sorted, i, [&](int j) {
+    pairs[slot++] = ContactPair{i, j};
+  });
+  sort_segment_by_partner(pairs, first[i], first[i + 1]);
+}
+
+// Reduction functors (CUB's Min/Max operators changed names across versions).
+struct MinOp {
+  template <class T>
+  __device__ T operator()(const T& a, const T& b) const {
+    return b < a ? b : a;
+  }
+};
+struct MaxOp {
+  template <class T>
+  __device__ T operator()(const T& a, const T& b) const {
+    return a < b ? b : a;
+  }
+};
+
+}  // namespace
+
+template <class Real>
+struct ContactPairsGpu<Real>::Impl {
+  int count = 0;
+  Real skin = 0;
+  DeviceBuffer<Real> x, y, z, radius;
+  DeviceBuffer<std::uint32_t> bucket_of, sorted_bucket;
+  DeviceBuffer<int> index, sorted, begin, end, counts, first, scratch_int;
+  DeviceBuffer<Real> reduced;  // origin x, y, z and r_max
+  DeviceBuffer<unsigned char> temp;
+  DeviceBuffer<ContactPair> pairs;
+  long long pair_count = 0;
+
+  NeighborInput<Real> input() const {
+    NeighborInput<Real> in;
+    in.x = x.data(), in.y = y.data(), in.z = z.data(), in.radius = radius.data();
+    in.count = count;
+    in.skin = skin;
+    return in;
+  }
+
+  // CUB's two-call pattern: size the temporary storage, then run.
+  template <class Call>
+  void cub_call(Call&& call) {
+    std::size_t bytes = 0;
+    TALUS_CUDA_CHECK(call(nullptr, bytes));
+    if (bytes > temp.size()) temp.resize(bytes);
+    TALUS_CUDA_CHECK(call(temp.data(), bytes));
+  }
+};
+
+template <class Real>
+ContactPairsGpu<Real>::ContactPairsGpu() : impl_(std::make_unique<Impl>()) {}
+
+template <class Real>
+ContactPairsGpu<Real>::~ContactPairsGpu() = default;
+
+template <class Real>
+void ContactPairsGpu<Real>::set_particles(const NeighborInput<Real>& host) {
+  Impl& m = *impl_;
+  m.count = host.count;
+  m.skin = host.skin;
+  m.x.upload(host.x, host.count);
+  m.y.upload(host.y, host.count);
+  m.z.upload(host.z, host.count);
+  m.radius.upload(host.radius, host.count);
+}
+
+template <class Real>
+double ContactPairsGpu<Real>::build(Real min_cell) {
+  Impl& m = *impl_;
+  const int n = m.count;
+  m.pair_count = 0;
+  if (n == 0) {
+    m.pairs.resize(0);
+    return 0;
+  }
+  const NeighborInput<Real> in = m.input();
+
+  // Bad input first: the reductions below would carry a NaN into the grid.
+  m.scratch_int.resize(1);
+  const int none = INT_MAX;
+  m.scratch_int.upload(&none, 1);
+  find_bad_particle<<<blocks_for(n), kBlock>>>(in, m.scratch_int.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int first_bad = INT_MAX;
+  TALUS_CUDA_CHECK(
+      cudaMemcpy(&first_bad, m.scratch_int.data(), sizeof(int), cudaMemcpyDeviceToHost));
+  if (first_bad != INT_MAX) {
+    throw std::invalid_argument("neighbour search: particle " + std::to_string(first_bad) +
+                                " has a non-finite position or a bad bounding radius");
+  }
+
+  cudaEvent_t start, stop;
+  TALUS_CUDA_CHECK(cudaEventCreate(&start));
+  TALUS_CUDA_CHECK(cudaEventCreate(&stop));
+  TALUS_CUDA_CHECK(cudaEventRecord(start));
+
+  // The grid, as make_neighbor_grid: origin at the lowest coordinates, cells of 2 r_max + skin.
+  m.reduced.resize(4);
+  const Real* sources[4] = {m.x.data(), m.y.data(), m.z.data(), m.radius.data()};
+  for (int k = 0; k < 4; ++k) {
+    Real* out = m.reduced.data() + k;
+    const Real initial = k < 3 ? Real(HUGE_VAL) : Real(0);
+    if (k < 3) {
+      m.cub_call([&](void* t, std::size_t& b) {
+        return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MinOp(), initial);
+      });
+    } else {
+      m.cub_call([&](void* t, std::size_t& b) {
+        return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MaxOp(), initial);
+      });
+    }
+  }
+  std::vector<Real> reduced;
+  m.reduced.download(reduced);
+  NeighborGrid<Real> grid;
+  for (int k = 0; k < 3; ++k) grid.origin[k] = reduced[k];
+  grid.cell_size = max_of(min_cell, Real(2) * reduced[3] + m.skin);
+  if (!(grid.cell_size > 0)) grid.cell_size = 1;
+  std::uint32_t size = 64;
+  int bits = 6;
+  while (size < 2u * static_cast<std::uint32_t>(n) && size < (1u << 30)) size *= 2, ++bits;
+  grid.bucket_mask = size - 1;
+
+  // Bin and sort by bucket (radix sort is stable: indices ascend within a bucket).
+  m.bucket_of.resize(n), m.sorted_bucket.resize(n), m.index.resize(n), m.sorted.resize(n);
+  bucket_particles<<<blocks_for(n), kBlock>>>(in, grid, m.bucket_of.data(), m.index.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  m.cub_call([&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, m.bucket_of.data(), m.sorted_bucket.data(),
+                                           m.index.data(), m.sorted.data(), n, 0, bits);
+  });
+  m.begin.resize(size), m.end.resize(size);
+  TALUS_CUDA_CHECK(cudaMemset(m.begin.data(), 0, size * sizeof(int)));
+  TALUS_CUDA_CHECK(cudaMemset(m.end.data(), 0, size * sizeof(int)));
+  bucket_ranges<<<blocks_for(n), kBlock>>>(m.sorted_bucket.data(), n, m.begin.data(), m.end.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+
+  // Count, exclusive scan, write (paper Fig. 3c).
+  m.counts.resize(n + 1), m.first.resize(n + 1);
+  TALUS_CUDA_CHECK(cudaMemset(m.counts.data() + n, 0, sizeof(int)));
+  count_partners<<<blocks_for(n), kBlock>>>(in, grid, m.begin.data(), m.end.data(), m.sorted.data(),
+                                            m.counts.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  m.cub_call([&](void* t, std::size_t& b) {
+    return cub::DeviceScan::ExclusiveSum(t, b, m.counts.data(), m.first.data(), n + 1);
+  });
+  int total = 0;
+  TALUS_CUDA_CHECK(cudaMemcpy(&total, m.first.data() + n, sizeof(int), cudaMemcpyDeviceToHost));
+  m.pairs.resize(total);
+  if (total > 0) {
+    write_partners<<<blocks_for(n), kBlock>>>(in, grid, m.begin.data(), m.end.data(),
+                                              m.sorted.data(), m.first.data(), m.pairs.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+  m.pair_count = total;
+  TALUS_CUDA_CHECK(cudaEventRecord(stop));
+  TALUS_CUDA_CHECK(cudaEventSynchronize(stop));
+  float ms = 0;
+  TALUS_CUDA_CHECK(cudaEventElapsedTime(&ms, start, stop));
+  TALUS_CUDA_CHECK(cudaEventDestroy(start));
+  TALUS_CUDA_CHECK(cudaEventDestroy(stop));
+  return ms;
+}
+
+template <class Real>
+std::vector<ContactPair> ContactPairsGpu<Real>::pairs() const {
+  std::vector<ContactPair> out;
+  impl_->pairs.download(out);
+  return out;
+}
+
+template <class Real>
+long long ContactPairsGpu<Real>::pair_count() const {
+  return impl_->pair_count;
+}
+
+template class ContactPairsGpu<float>;
+template class ContactPairsGpu<double>;
+
+}  // namespace talus
