@@ -33,7 +33,19 @@ PairGeometry sphere_lens_geometry(const Eigen::Vector3d& centre_a, double radius
 // Linear model, two polyhedra: brute-force separating-axis test over all face normals of both
 // bodies and all cross products of an edge of A with an edge of B (the minimum translation
 // distance of convex polyhedra is attained on one of them). delta = the smallest overlap of the
-// projections, n = that axis oriented from A to B. The point is the exact overlap's centroid.
+// projections, n = that axis oriented from A to B. The point is the exact overlap's centroid,
+// deliberately not production's feature rule (docs/geometry.md, "The simple contact": the mean of
+// the supporting-feature vertices inside the other body, else edge closest points, else feature
+// centroids, put on the mid-plane). That rule depends on a tolerance (kFeatureTolerance) and
+// jumps when a vertex enters or leaves the other body or the tolerance band (a face sliding over
+// a face: the point, so the torque, steps), and for overlapping faces the mean of the inside
+// corners is not the patch's centre. The centroid is continuous in the poses, tolerance-free,
+// the point of the volume model too, and for face-face contact its projection onto the
+// mid-plane is the common patch's centroid. What production should change: for face-face and
+// edge-face contacts, clip the two supporting faces' polygons in the mid-plane (the Sutherland-
+// Hodgman of wall_clip.hpp) and take the patch's area centroid; keep the vertex rule for
+// vertex-face only (one vertex: the same point). Until then, comparisons of the two solvers
+// (issue 4) should compare forces exactly and torques only up to |F| times the patch's size.
 PairGeometry linear_polyhedra_geometry(const ShapeTemplate& a, const RefPose& pose_a,
                                        const ShapeTemplate& b, const RefPose& pose_b);
 

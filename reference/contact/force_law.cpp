@@ -90,8 +90,7 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
     const double modulus = contact.normal_stiffness / contact.area;  // K
     const double v0 = history.approach_speed;
     const double beta = calibrated_damping_ratio(law.restitution);
-    c_n = v0 > 0 ? beta * std::pow(m, 0.25) * std::pow(modulus, 0.75) / std::sqrt(v0) *
-                       contact.area
+    c_n = v0 > 0 ? beta * std::pow(m, 0.25) * std::pow(modulus, 0.75) / std::sqrt(v0) * contact.area
                  : std::numeric_limits<double>::infinity();
   }
   if (law.time_step > 0) c_n = std::min(c_n, m / law.time_step);
@@ -112,7 +111,7 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
   s += dt * v_t;
   const double k_t = contact.tangential_stiffness;
   const double c_t = damping_coefficient(law.restitution, k_t, law.effective_mass);  // Eq. 20
-  Eigen::Vector3d f_t = -k_t * s - c_t * v_t;                                 // Eqs. 17, 18, 20
+  Eigen::Vector3d f_t = -k_t * s - c_t * v_t;  // Eqs. 17, 18, 20
   const double cap = law.friction * out.normal_force.norm();
   const double f_t_norm = f_t.norm();
   if (f_t_norm > cap) {

@@ -50,7 +50,7 @@ struct NormalContact {
 //                  is q'' = -max(0, q^(1/3) + beta q'), q(0) = 0, q'(0) = 1 (q = dV/dV*): the
 //                  restitution is a function of beta alone, and eta = beta m v0 / dV* (the
 //                  expression above). The max(0, .) is the no-tension rule, so beta(eps) is
-//                  solved for the contact that cannot pull (eps = 0.1 needs beta = 3.93, not
+//                  solved for the contact that cannot pull (eps = 0.1 needs beta = 4.81, not
 //                  the linear oscillator's value), and the result is eps at every impact speed.
 //                - The coefficient is fixed by the approach, not by the current overlap: the
 //                  overlap-based analogue (Tsuji's construction for Hertz) here needs eta ~
@@ -69,7 +69,7 @@ enum class NormalDamping { kPaper, kCalibrated };
 
 // beta(eps) of kCalibrated: the damping of q'' = -max(0, q^(1/3) + beta q'), q(0) = 0,
 // q'(0) = 1, whose rebound speed -q' at the end of the contact is eps. Solved by bisection on
-// an RK4 integration (step 2e-4, to a relative 1e-9 in the rebound speed: the test
+// an RK4 integration (step 2e-4: within 3e-7 of a 4 times finer step; the test
 // CalibratedDampingRatioGivesTheRestitution checks it) and cached per eps. beta(1) = 0.
 // Throws std::invalid_argument unless eps is in (0, 1].
 double calibrated_damping_ratio(double restitution);

@@ -1,6 +1,7 @@
 #include "reference/world/world.hpp"
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -65,10 +66,11 @@ RefWorld::RefWorld(RefWorldSetup setup) : setup_(std::move(setup)) {
     if (wall.material < 0 || wall.material >= n_materials) {
       fail("wall '" + wall.name + "': no such material");
     }
-    if (fx.contacts && any_sphere && !wall.triangles.empty()) {
+    if (fx.contacts && fx.contact == ContactModel::volume && any_sphere &&
+        !wall.triangles.empty()) {
       fail(
-          "sphere-wall contact is not supported by the reference solver (no exact disc-triangle "
-          "overlap area for the area weighting)");
+          "sphere-wall contact in the volume model is not supported by the reference solver (no "
+          "exact cap-triangle overlap yet); use the linear model");
     }
     for (const RefTriangle& t : wall.triangles) {
       if ((t[1] - t[0]).cross(t[2] - t[0]).norm() == 0) {
@@ -133,10 +135,10 @@ void RefWorld::add_body(const RefBodySpec& spec) {
           "solver (no exact sphere-polyhedron overlap); use the linear model");
     }
   }
-  if (!polyhedron && setup_.effects.contacts) {
+  if (!polyhedron && setup_.effects.contacts && setup_.effects.contact == ContactModel::volume) {
     for (const RefWall& wall : setup_.walls) {
       if (!wall.triangles.empty()) {
-        fail("sphere-wall contact is not supported by the reference solver");
+        fail("sphere-wall contact in the volume model is not supported by the reference solver");
       }
     }
   }
@@ -290,6 +292,10 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
                                double spring_dt,
                                std::map<std::pair<long long, int>, ContactHistory>& next) {
   const RefBody& p = bodies_[i];
+  if (p.kind == ParticleShapeKind::sphere) {
+    sphere_wall_contact(i, w, triangles);
+    return;
+  }
   const RefWall& wall = setup_.walls[w];
   const ShapeTemplate& shape = setup_.templates[p.shape];
   const RefEffects& fx = setup_.effects;
@@ -373,6 +379,49 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   c.elastic_energy = energy;
   c.sliding = f.sliding;
   contacts_.push_back(c);
+}
+
+void RefWorld::sphere_wall_contact(int i, int w, const std::vector<RefTriangle>& triangles) {
+  // Linear model only (the constructor refuses the volume model). Nearest-facet rule: the point
+  // q of the wall's surface (the union of its triangles) closest to the centre c, over all
+  // triangles; delta = r - |c - q|, n = (q - c) / |c - q|, one contact per particle and wall.
+  // This is the sphere's exact penetration of the wall's surface: sliding across an edge
+  // between coplanar facets, or onto a vertex shared by several, it neither doubles nor drops
+  // (the closest point is continuous there), which the area weighting of §2.4 only approximates
+  // and needs the disc-triangle area for. It is docs/geometry.md's sphere-polyhedron simple
+  // contact with the wall's triangles as the surface. The point is midway between q and the
+  // sphere's deepest point c + r n, as for sphere-polyhedron.
+  const RefBody& p = bodies_[i];
+  const RefWall& wall = setup_.walls[w];
+  const Eigen::Vector3d& c = p.state.position;
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d q = c;
+  for (const RefTriangle& t : triangles) {
+    const Eigen::Vector3d x = closest_point_on_triangle(c, t[0], t[1], t[2]);
+    const double d = (x - c).norm();
+    if (d < best) best = d, q = x;
+  }
+  if (!(best < p.sphere_radius) || !(best > 0)) return;  // apart, or the centre on the surface
+  NormalContact nc;
+  nc.normal = (q - c) / best;
+  const double depth = p.sphere_radius - best;
+  nc.point = 0.5 * (q + (c + p.sphere_radius * nc.normal));
+  nc.elastic = setup_.effects.linear.stiffness * depth;
+  const PairProperties props = pair_properties(p.material, wall.material);
+  const Eigen::Vector3d v_r = point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point);
+  const ContactForce f = linear_contact_force(nc, linear_law(props), v_r);
+  const Eigen::Vector3d force = f.total();
+  apply(i, nc.point, force);
+  wall_force_[w] -= force;
+  wall_torque_[w] -= (nc.point - wall.motion.point).cross(force);
+  RefContact rc;
+  rc.body_a = i, rc.wall = w;
+  rc.point = nc.point, rc.normal = nc.normal;
+  rc.force_on_a = force, rc.tangential_force = f.tangential_force;
+  rc.depth = depth;
+  rc.elastic_energy = 0.5 * setup_.effects.linear.stiffness * depth * depth;
+  rc.sliding = f.sliding;
+  contacts_.push_back(rc);
 }
 
 void RefWorld::evaluate_forces(double spring_dt) {

@@ -59,7 +59,7 @@ struct RefEffects {
   LinearContactParameters linear;  // K_N, eta, gamma (linear model)
   bool friction = false;
   bool rotation = true;
-  std::optional<double> drag_alpha;                          // kg/m
+  std::optional<double> drag_alpha;                    // kg/m
   NormalDamping damping = NormalDamping::kCalibrated;  // volume model, force_law.hpp
 };
 
@@ -151,6 +151,7 @@ class RefWorld {
                     std::map<std::pair<long long, long long>, ContactHistory>& next);
   void wall_contact_of(int i, int w, const std::vector<RefTriangle>& triangles, double spring_dt,
                        std::map<std::pair<long long, int>, ContactHistory>& next);
+  void sphere_wall_contact(int i, int w, const std::vector<RefTriangle>& triangles);
   void add_body_unchecked(const RefBodySpec& spec);  // checks the body alone
   void apply(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force);
   Eigen::Vector3d point_velocity(int body, const Eigen::Vector3d& point) const;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "reference/contact/contact_geometry.hpp"
 #include "reference/contact/force_law.hpp"
@@ -196,6 +197,74 @@ TEST(ReferenceContactLaw, WallAreaWeightingOverTwoCoplanarTrianglesEqualsOneTria
   EXPECT_NEAR((two.force_on_a - one.force_on_a).norm(), 0, 1e-10 * f);
   EXPECT_NEAR((two.point - one.point).norm(), 0, 1e-10 * 0.01);
   EXPECT_NEAR((one.normal + Eigen::Vector3d::UnitZ()).norm(), 0, 1e-12);
+}
+
+}  // namespace
+}  // namespace talus::reference
+
+namespace talus::reference {
+namespace {
+
+// Sphere on a wall, linear model (nearest-facet rule, world.cpp): a sphere r = 5 mm pressed
+// 0.1 mm into a square of two triangles gets F = K_N delta along +z at the point midway between
+// the surface and its deepest point, the same in a triangle's middle, on the shared diagonal and
+// at a corner the two share: no facet counts twice.
+TEST(ReferenceContactLaw, SphereOnAWallLinearModelCountsEachFacetOnce) {
+  const double r = 0.005, delta = 1e-4, k = 1e4;
+  for (const Eigen::Vector3d& xy : {Eigen::Vector3d(0.01, -0.01, 0), Eigen::Vector3d(0.01, 0.01, 0),
+                                    Eigen::Vector3d(-0.025, -0.025, 0)}) {
+    RefWorldSetup s;
+    s.materials = {testing::material(1e6, 0.5)};
+    s.effects.contact = ContactModel::linear;
+    s.effects.linear.stiffness = k;
+    RefBodySpec b;
+    b.kind = ParticleShapeKind::sphere;
+    b.sphere_radius = r;
+    b.material = 0;
+    b.id = 1;
+    b.position = xy + Eigen::Vector3d(0, 0, r - delta);
+    s.bodies = {b};
+    s.walls = {testing::square_wall(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.05, 0)};
+    s.time_step = 1e-6;
+    RefWorld world(s);
+    world.evaluate_forces(0);
+    ASSERT_EQ(world.contacts().size(), 1u);
+    const RefContact& c = world.contacts()[0];
+    // delta is r - (r - delta) in double: a few ulps of 5 mm, 1e-18 m; the force K_N times it.
+    EXPECT_NEAR(c.depth, delta, 1e-17);
+    EXPECT_NEAR((c.force_on_a - k * delta * Eigen::Vector3d::UnitZ()).norm(), 0, 1e-13);
+    EXPECT_NEAR((c.point - (xy - 0.5 * delta * Eigen::Vector3d::UnitZ())).norm(), 0, 1e-17);
+    EXPECT_NEAR(world.bodies()[0].state.torque.norm(), 0, 1e-18);  // the point is under c
+  }
+}
+
+// The volume model still refuses spheres with walls, naming the way out.
+TEST(ReferenceContactLaw, SphereOnAWallVolumeModelIsRefused) {
+  RefWorldSetup s;
+  s.materials = {testing::material(1e6, 0.5)};
+  RefBodySpec b;
+  b.kind = ParticleShapeKind::sphere;
+  b.sphere_radius = 0.005;
+  b.material = 0;
+  b.position = Eigen::Vector3d(0, 0, 0.01);
+  s.bodies = {b};
+  s.walls = {testing::square_wall(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.05, 0)};
+  s.time_step = 1e-6;
+  EXPECT_THROW(RefWorld world(s), std::invalid_argument);
+}
+
+// beta(eps) of the calibrated damping inverts the clamped oscillator (force_law.hpp).
+TEST(ReferenceContactLaw, CalibratedDampingRatioGivesTheRestitution) {
+  for (double eps : {0.1, 0.5, 0.85, 0.95}) {
+    const double beta = calibrated_damping_ratio(eps);
+    std::printf("calibrated damping: eps %.2f beta %.6f\n", eps, beta);
+    // The bisection stops at 1e-10 relative in beta; the rebound speed is smooth in beta.
+    EXPECT_NEAR(clamped_volume_oscillator_restitution(beta), eps, 1e-8);
+  }
+  EXPECT_EQ(calibrated_damping_ratio(1.0), 0.0);
+  // Monotone: more damping, less rebound.
+  EXPECT_GT(calibrated_damping_ratio(0.1), calibrated_damping_ratio(0.5));
+  EXPECT_THROW(calibrated_damping_ratio(0.0), std::invalid_argument);
 }
 
 }  // namespace
