@@ -3,6 +3,8 @@
 
 #include <stdexcept>
 
+#include <cub/cub.cuh>
+
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/device_shape.cuh"
 #include "solver/geometry/overlap_polyhedra.hpp"
@@ -27,6 +29,9 @@ namespace {
 
 // Where a template's arrays sit in the block's shared memory (byte offsets; -1: not staged). Only
 // what the overlap reads is staged: vertices, face planes and face loops.
+// The phased kernel keeps a pair's planes as the bits of a 64-bit mask.
+constexpr int kMaxPhasedPlanes = 64;
+
 struct SharedShapeLayout {
   int vertices = -1, face_normals = -1, face_offsets = -1, loop_offsets = -1, loop_vertices = -1;
   int loop_entries = 0;
@@ -89,27 +94,44 @@ struct KernelArgs {
   int count;
   OverlapOptions options;
   SharedShapeLayout layout_a, layout_b;  // used when the templates are staged
+  // The pairs to compute: order[0..count) when given, else 0..count.
+  const int* order = nullptr;
+  // Deferred pairs (a workspace too small): appended here, computed by a later launch.
+  int* overflow = nullptr;
+  int* overflow_count = nullptr;
 };
 
-// One thread per pair. Staged: the templates are first copied into shared memory, where every
-// thread reads them without competing with the workspaces for the L1 cache. Small > 0: the pair
-// is first computed with a workspace of Small planes, and again with Capacity planes only when
-// more planes than Small survive the culling (the culling does not depend on the capacity).
-template <class Real, int Capacity, int Small, bool Staged>
-__global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
-                               const Vec3<Real>* __restrict__ position_a,
-                               const Quat<Real>* __restrict__ orientation_a,
-                               const Vec3<Real>* __restrict__ position_b,
-                               const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
-                               OverlapResult<Real>* __restrict__ out) {
+template <class Real, bool Staged>
+__device__ void stage_both(ConvexView<Real>& a, ConvexView<Real>& b, const KernelArgs& args) {
   extern __shared__ __align__(16) char shared[];
   if (Staged) {
     a = stage_shape(a, shared, args.layout_a);
     b = stage_shape(b, shared, args.layout_b);
     __syncthreads();
   }
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+}
+
+__device__ void defer_pair(const KernelArgs& args, int i) {
+  args.overflow[atomicAdd(args.overflow_count, 1)] = i;
+}
+
+// One thread per pair. Staged: the templates are first copied into shared memory, where every
+// thread reads them without competing with the workspaces for the L1 cache. Small > 0: the pair
+// is first computed with a workspace of Small planes; when more planes than Small survive the
+// culling (the culling does not depend on the capacity) it is computed again with Capacity
+// planes, in the same thread, or (Defer) by a second launch over the deferred pairs, so that
+// this kernel holds one copy of the overlap.
+template <class Real, int Capacity, int Small, bool Staged, bool Defer>
+__global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                               const Vec3<Real>* __restrict__ position_a,
+                               const Quat<Real>* __restrict__ orientation_a,
+                               const Vec3<Real>* __restrict__ position_b,
+                               const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                               OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, Staged>(a, b, args);
+  int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= args.count) return;
+  if (args.order) i = args.order[i];
   const Pose<Real> pose_a{position_a[i], orientation_a[i]};
   const Pose<Real> pose_b{position_b[i], orientation_b[i]};
   if constexpr (Small > 0) {
@@ -119,9 +141,80 @@ __global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
       out[i] = result;
       return;
     }
+    if constexpr (Defer) {
+      defer_pair(args, i);
+      return;
+    }
   }
+  if constexpr (!Defer || Small == 0) {
+    OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+    out[i] = overlap_polyhedra(a, pose_a, b, pose_b, workspace, args.options);
+  }
+}
+
+// Phase 1 of the phased kernel: the culling alone (overlap_cull_mask), one thread per pair. A
+// pair decided here (bounding spheres apart, a separating plane) has its result written and key
+// 0; the others keep their mask of kept planes and key m + 1 (m kept planes). `histogram`
+// counts the keys (one atomic per block and key).
+template <class Real, bool Staged>
+__global__ void cull_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                            const Vec3<Real>* __restrict__ position_a,
+                            const Quat<Real>* __restrict__ orientation_a,
+                            const Vec3<Real>* __restrict__ position_b,
+                            const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                            unsigned long long* __restrict__ masks,
+                            unsigned char* __restrict__ keys, int* __restrict__ order,
+                            int* __restrict__ histogram, OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, Staged>(a, b, args);
+  __shared__ int block_histogram[kMaxPhasedPlanes + 2];
+  const int bins = a.n_faces + b.n_faces + 2;
+  for (int k = threadIdx.x; k < bins; k += blockDim.x) block_histogram[k] = 0;
+  __syncthreads();
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < args.count) {
+    const Pose<Real> pose_a{position_a[i], orientation_a[i]};
+    const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+    OverlapResult<Real> result;
+    unsigned long long mask = 0;
+    const int kept = overlap_cull_mask(a, pose_a, b, pose_b, args.options, mask, result);
+    if (kept < 0) out[i] = result;
+    masks[i] = mask;
+    keys[i] = static_cast<unsigned char>(kept + 1);
+    order[i] = i;
+    atomicAdd(&block_histogram[kept + 1], 1);
+  }
+  __syncthreads();
+  for (int k = threadIdx.x; k < bins; k += blockDim.x)
+    if (block_histogram[k] > 0) atomicAdd(&histogram[k], block_histogram[k]);
+}
+
+// Phase 2 of the phased kernel: steps 3-5 (overlap_from_mask) of the pairs order[begin..end)
+// with a workspace of Capacity planes; a pair it cannot hold is deferred. With `keys`, pairs of
+// key 0 (decided by the culling) are skipped.
+template <class Real, int Capacity, bool Staged>
+__global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                                const Vec3<Real>* __restrict__ position_a,
+                                const Quat<Real>* __restrict__ orientation_a,
+                                const Vec3<Real>* __restrict__ position_b,
+                                const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                                int begin, const unsigned long long* __restrict__ masks,
+                                const unsigned char* __restrict__ keys,
+                                OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, Staged>(a, b, args);
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= args.count) return;
+  const int i = args.order ? args.order[begin + j] : begin + j;
+  if (keys && keys[i] == 0) return;
+  const Pose<Real> pose_a{position_a[i], orientation_a[i]};
+  const Pose<Real> pose_b{position_b[i], orientation_b[i]};
   OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
-  out[i] = overlap_polyhedra(a, pose_a, b, pose_b, workspace, args.options);
+  const OverlapResult<Real> result =
+      overlap_from_mask(a, pose_a, b, pose_b, masks[i], workspace, args.options);
+  if (result.workspace_overrun && args.overflow) {
+    defer_pair(args, i);
+    return;
+  }
+  out[i] = result;
 }
 
 // The smaller workspace of the small_workspace kernel: 3/8 of the full one (12 planes for two
@@ -159,28 +252,155 @@ struct OverlapBatchGpu<Real>::Impl {
 
   bool can_stage() const { return layout_a.bytes + layout_b.bytes <= kSharedTemplateLimit; }
 
+  // Scratch of the deferred and phased kernels, sized on first use.
+  DeviceBuffer<unsigned long long> masks;
+  DeviceBuffer<unsigned char> keys, keys_sorted;
+  DeviceBuffer<int> order, order_sorted, overflow;
+  DeviceBuffer<int> counters;  // [0]: deferred pairs; [1 + k]: pairs of key k (cull_kernel)
+  DeviceBuffer<char> cub_temp;
+
+  int planes() const { return a.view.n_faces + b.view.n_faces; }
+  int count() const { return static_cast<int>(results.size()); }
+  std::size_t shared_bytes(bool staged) const {
+    return staged ? std::size_t(layout_a.bytes + layout_b.bytes) : 0;
+  }
+  KernelArgs args_for(int pairs, OverlapOptions options) const {
+    KernelArgs args;
+    args.count = pairs;
+    args.options = options;
+    args.layout_a = layout_a;
+    args.layout_b = layout_b;
+    return args;
+  }
+
+  // Launches `kernel` (any of the kernels above) over args.count threads.
+  template <class... Params, class... Extra>
+  void launch_over(void (*kernel)(ConvexView<Real>, ConvexView<Real>, const Vec3<Real>*,
+                                  const Quat<Real>*, const Vec3<Real>*, const Quat<Real>*,
+                                  KernelArgs, Params...),
+                   bool staged, const KernelArgs& args, Extra... extra) {
+    if (args.count <= 0) return;
+    const int block = 128;
+    const int grid = (args.count + block - 1) / block;
+    kernel<<<grid, block, shared_bytes(staged)>>>(a.view, b.view, position_a.data(),
+                                                  orientation_a.data(), position_b.data(),
+                                                  orientation_b.data(), args, extra...);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+
   template <int Capacity, int Small, bool Staged>
   void launch(OverlapOptions options) {
-    const int count = static_cast<int>(results.size());
-    const int block = 128;
-    const int grid = (count + block - 1) / block;
-    const KernelArgs args{count, options, layout_a, layout_b};
-    const std::size_t shared = Staged ? std::size_t(layout_a.bytes + layout_b.bytes) : 0;
-    overlap_kernel<Real, Capacity, Small, Staged>
-        <<<grid, block, shared>>>(a.view, b.view, position_a.data(), orientation_a.data(),
-                                  position_b.data(), orientation_b.data(), args, results.data());
-    TALUS_CUDA_LAUNCH_CHECK();
+    launch_over(overlap_kernel<Real, Capacity, Small, Staged, false>, Staged,
+                args_for(count(), options), results.data());
+  }
+
+  void ensure_scratch() {
+    const std::size_t n = results.size();
+    if (order.size() != n) {
+      masks.resize(n);
+      keys.resize(n);
+      keys_sorted.resize(n);
+      order.resize(n);
+      order_sorted.resize(n);
+      overflow.resize(n);
+    }
+    counters.resize(kMaxPhasedPlanes + 3);
+    TALUS_CUDA_CHECK(cudaMemset(counters.data(), 0, counters.size() * sizeof(int)));
+  }
+
+  int deferred_count() const {
+    int deferred = 0;
+    TALUS_CUDA_CHECK(cudaMemcpy(&deferred, counters.data(), sizeof(int), cudaMemcpyDeviceToHost));
+    return deferred;
+  }
+
+  // The pairs deferred by the launches before, computed with the full workspace.
+  template <int Capacity>
+  void launch_deferred(OverlapOptions options) {
+    KernelArgs args = args_for(deferred_count(), options);
+    args.order = overflow.data();
+    launch_over(overlap_kernel<Real, Capacity, 0, true, false>, true, args, results.data());
+  }
+
+  // deferred_overflow: the small workspace, and the pairs it cannot hold in a second launch.
+  template <int Capacity>
+  void launch_split(OverlapOptions options) {
+    ensure_scratch();
+    KernelArgs args = args_for(count(), options);
+    args.overflow = overflow.data();
+    args.overflow_count = counters.data();
+    launch_over(overlap_kernel<Real, Capacity, small_capacity_for(Capacity), true, true>, true,
+                args, results.data());
+    launch_deferred<Capacity>(options);
+  }
+
+  // Phase 2 of phased_sorted: one launch per workspace size Cap = 8, 16, ..., Capacity over the
+  // sorted pairs whose kept planes fit it and not the size before.
+  template <int Cap, int Capacity>
+  void launch_buckets(OverlapOptions options, const std::vector<int>& histogram, int begin,
+                      int below) {
+    int end = begin;
+    for (int m = below + 1; m <= Cap && m + 1 < int(histogram.size()); ++m) end += histogram[m + 1];
+    KernelArgs args = args_for(end - begin, options);
+    args.order = order_sorted.data();
+    args.overflow = overflow.data();
+    args.overflow_count = counters.data();
+    launch_over(polytope_kernel<Real, Cap, true>, true, args, begin, masks.data(),
+                static_cast<const unsigned char*>(nullptr), results.data());
+    if constexpr (Cap < Capacity) launch_buckets<Cap * 2, Capacity>(options, histogram, end, Cap);
+  }
+
+  template <int Capacity>
+  void launch_phased(OverlapOptions options, bool sorted) {
+    ensure_scratch();
+    const int n = count();
+    launch_over(cull_kernel<Real, true>, true, args_for(n, options), masks.data(), keys.data(),
+                order.data(), counters.data() + 1, results.data());
+    if (!sorted) {
+      KernelArgs args = args_for(n, options);
+      args.overflow = overflow.data();
+      args.overflow_count = counters.data();
+      constexpr int small = small_capacity_for(Capacity);
+      launch_over(polytope_kernel<Real, small, true>, true, args, 0, masks.data(),
+                  static_cast<const unsigned char*>(keys.data()), results.data());
+    } else {
+      std::vector<int> histogram(planes() + 2);
+      TALUS_CUDA_CHECK(cudaMemcpy(histogram.data(), counters.data() + 1,
+                                  histogram.size() * sizeof(int), cudaMemcpyDeviceToHost));
+      int end_bit = 1;
+      while ((1 << end_bit) < planes() + 2) ++end_bit;
+      std::size_t temp_bytes = 0;
+      TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temp_bytes, keys.data(),
+                                                       keys_sorted.data(), order.data(),
+                                                       order_sorted.data(), n, 0, end_bit));
+      if (cub_temp.size() < temp_bytes) cub_temp.resize(temp_bytes);
+      TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(cub_temp.data(), temp_bytes, keys.data(),
+                                                       keys_sorted.data(), order.data(),
+                                                       order_sorted.data(), n, 0, end_bit));
+      // Key 0 (decided by the culling) sorts first and is skipped.
+      launch_buckets<8, Capacity>(options, histogram, histogram[0], -1);
+    }
+    launch_deferred<Capacity>(options);
   }
 
   // The small workspace pays only when culling leaves few planes: with the face test. Without
   // it (planes, naive) many shallow pairs keep more planes than it holds, and the warp of each
   // such pair would wait for its second computation, so the full workspace is used at once.
+  // The phased kernels need staged templates and at most 64 planes in all (a 64-bit mask).
   template <int Capacity>
   void launch_kernel(OverlapOptions options, OverlapBatchKernel kernel) {
+    const bool faces = options.cull_planes && options.cull_faces;
+    if constexpr (Capacity <= kMaxPhasedPlanes) {
+      if (can_stage() && kernel == OverlapBatchKernel::phased_sorted)
+        return launch_phased<Capacity>(options, true);
+      if (can_stage() && faces && kernel == OverlapBatchKernel::phased)
+        return launch_phased<Capacity>(options, false);
+    }
+    if (can_stage() && faces && kernel == OverlapBatchKernel::deferred_overflow)
+      return launch_split<Capacity>(options);
     if (kernel == OverlapBatchKernel::global_templates || !can_stage())
       launch<Capacity, 0, false>(options);
-    else if (kernel == OverlapBatchKernel::small_workspace && options.cull_planes &&
-             options.cull_faces)
+    else if (kernel != OverlapBatchKernel::shared_templates && faces)
       launch<Capacity, small_capacity_for(Capacity), true>(options);
     else
       launch<Capacity, 0, true>(options);

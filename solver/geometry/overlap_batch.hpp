@@ -23,7 +23,17 @@ bool cuda_device_available(std::string* reason = nullptr);
 enum class OverlapBatchKernel : int {
   global_templates = 0,  // templates read from global memory; one workspace for all faces
   shared_templates = 1,  // templates staged in each block's shared memory
-  small_workspace = 2,   // staged, and a workspace for one body's faces first (the default)
+  small_workspace = 2,   // staged, and a workspace of 3/8 of the planes first
+  // small_workspace without the second copy of the overlap: the pairs the small workspace cannot
+  // hold are deferred to a second launch with the full one.
+  deferred_overflow = 3,
+  // Two phases: a culling kernel (a mask of kept planes per pair), then a kernel that builds the
+  // polytope from the mask with the small workspace, in pair order; deferred overflow.
+  phased = 4,
+  // phased, with the pairs sorted by their number of kept planes (CUB radix sort) between the
+  // phases, and one polytope kernel per workspace size (8, 16, ... planes) over its range of
+  // the sorted pairs, so that a warp's pairs have the same number of planes (the default).
+  phased_sorted = 5,
 };
 
 template <class Real>
@@ -39,7 +49,7 @@ class OverlapBatchGpu {
   void set_poses(const std::vector<Pose<Real>>& poses_a, const std::vector<Pose<Real>>& poses_b);
   // Computes every pair; returns the kernel time in milliseconds (CUDA events).
   double run(OverlapOptions options = OverlapOptions(),
-             OverlapBatchKernel kernel = OverlapBatchKernel::small_workspace);
+             OverlapBatchKernel kernel = OverlapBatchKernel::phased_sorted);
   // The results of the last run, in pair order.
   std::vector<OverlapResult<Real>> results() const;
 

@@ -139,76 +139,121 @@ TALUS_HD inline bool face_outside(const ConvexView<Real>& self, int f,
 
 }  // namespace overlap_detail
 
-template <class Real, class Workspace>
-TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
-                                                      const Pose<Real>& pose_a,
-                                                      const ConvexView<Real>& b,
-                                                      const Pose<Real>& pose_b, Workspace& ws,
-                                                      OverlapOptions options = OverlapOptions()) {
-  OverlapResult<Real> result;
+// A pair's frame (step 1): both centres in the frame centred on A, their distance, the absolute
+// round-off of an offset or height in that frame, and both rotations. The steps below share it;
+// the GPU batch computes it once per kernel that handles the pair.
+template <class Real>
+struct OverlapFrame {
+  Vec3<Real> center[2];
+  Real distance = 0;
+  Real round_off = 0;
+  Mat3<Real> rot[2];
+};
+
+namespace overlap_detail {
+
+// Step 1. Frame centred on A: positions far from the world origin lose no digits. False when the
+// bounding spheres are apart (or the input is NaN), with `result` final.
+template <class Real>
+TALUS_HD inline bool overlap_frame(const ConvexView<Real>& a, const Pose<Real>& pose_a,
+                                   const ConvexView<Real>& b, const Pose<Real>& pose_b,
+                                   OverlapFrame<Real>& frame, OverlapResult<Real>& result) {
   const Real eps = Eps<Real>::value;
-  // Step 1. Frame centred on A: positions far from the world origin lose no digits.
-  const Vec3<Real> center[2] = {Vec3<Real>(), pose_b.position - pose_a.position};
-  const Real distance = norm(center[1]);
+  frame.center[0] = Vec3<Real>();
+  frame.center[1] = pose_b.position - pose_a.position;
+  const Real distance = norm(frame.center[1]);
+  frame.distance = distance;
   if (!(distance <= a.bounding_radius + b.bounding_radius)) {
     if (!(distance == distance)) result.status = OverlapStatus::degenerate;  // NaN input
-    return result;
+    return false;
   }
   // Absolute round-off of a plane offset or a vertex height in this frame, whose points lie
   // within `reach` of its origin.
   const Real reach = max_of(a.bounding_radius, b.bounding_radius) + distance;
-  const Real round_off = Real(64) * eps * reach;
-  const Mat3<Real> rot[2] = {rotation_matrix(pose_a.orientation),
-                             rotation_matrix(pose_b.orientation)};
-  const ConvexView<Real>* body[2] = {&a, &b};
+  frame.round_off = Real(64) * eps * reach;
+  frame.rot[0] = rotation_matrix(pose_a.orientation);
+  frame.rot[1] = rotation_matrix(pose_b.orientation);
+  return true;
+}
 
-  // Step 2. Planes of both bodies, culled against the other body's vertices and, where the
-  // templates carry their face loops, by the face-polygon test (face_outside).
-  int m = 0;
-  auto& hull = ws.hull;
-  for (int owner = 0; owner < 2; ++owner) {
-    const ConvexView<Real>& self = *body[owner];
-    const int other = 1 - owner;
-    const bool face_test =
-        options.cull_planes && options.cull_faces && self.face_loop_offsets != nullptr;
-    Mat3<Real> to_self;  // R_self^T R_other: the other body's frame to self's
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        to_self.m[i][j] = rot[owner].m[0][i] * rot[other].m[0][j] +
+// What the face test of body `owner` needs: R_self^T R_other (the other body's frame to self's)
+// and the other centre in self's frame (face_outside).
+template <class Real>
+struct FaceTestFrame {
+  Mat3<Real> to_self;
+  Vec3<Real> shift;
+};
+
+template <class Real>
+TALUS_HD inline FaceTestFrame<Real> face_test_frame(const OverlapFrame<Real>& frame, int owner) {
+  const int other = 1 - owner;
+  const Mat3<Real>* rot = frame.rot;
+  FaceTestFrame<Real> t;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      t.to_self.m[i][j] = rot[owner].m[0][i] * rot[other].m[0][j] +
                           rot[owner].m[1][i] * rot[other].m[1][j] +
                           rot[owner].m[2][i] * rot[other].m[2][j];
-    const Vec3<Real> shift = rot[other].transpose_times(center[other] - center[owner]);
-    for (int f = 0; f < self.n_faces; ++f) {
-      const Vec3<Real> n = rot[owner] * self.face_normals[f];
-      const Real h = self.face_offsets[f] + dot(n, center[owner]);
-      if (options.cull_planes) {
-        // The other body's bounding sphere decides most planes without visiting its vertices.
-        const Real sphere_height = dot(n, center[other]) - h;
-        if (sphere_height + body[other]->bounding_radius < -round_off) continue;
-        Real lowest = 0;
-        const overlap_detail::PlaneSide side = overlap_detail::plane_side(
-            *body[other], rot[other], center[other], n, h, round_off, lowest);
-        if (side == overlap_detail::PlaneSide::beyond) {  // the other body lies beyond the plane
-          result.status = lowest > round_off ? OverlapStatus::separate : OverlapStatus::touching;
-          return result;
-        }
-        if (side == overlap_detail::PlaneSide::below) continue;  // strictly inside: bounds nothing
-        if (face_test &&
-            overlap_detail::face_outside(self, f, *body[other], to_self, shift, round_off))
-          continue;
-      }
-      if (m >= Workspace::kMaxPlanes) {
-        result.workspace_overrun = true;
-        result.status = OverlapStatus::degenerate;
-        return result;
-      }
-      ws.plane_normal[m] = n;
-      ws.plane_offset[m] = h;
-      ws.plane_owner[m] = static_cast<signed char>(owner);
-      ws.plane_twin[m] = 0;
-      ++m;
-    }
-  }
+  t.shift = rot[other].transpose_times(frame.center[other] - frame.center[owner]);
+  return t;
+}
+
+// The plane of face f of body `owner` in the frame: dot(n, x) <= h inside.
+template <class Real>
+TALUS_HD inline void frame_plane(const ConvexView<Real>& self, const OverlapFrame<Real>& frame,
+                                 int owner, int f, Vec3<Real>& n, Real& h) {
+  n = frame.rot[owner] * self.face_normals[f];
+  h = self.face_offsets[f] + dot(n, frame.center[owner]);
+}
+
+enum class PlaneCull { kept, dropped, beyond };
+
+// Step 2 for the plane (n, h) of face f of `self` (body `owner`) against `other`: kept, dropped
+// (it cannot bound the intersection), or beyond (the other body lies beyond it: a separating
+// plane, with `lowest` the other body's least height above it).
+template <class Real>
+TALUS_HD inline PlaneCull cull_plane(const ConvexView<Real>& self, const ConvexView<Real>& other,
+                                     const OverlapFrame<Real>& frame, int owner, int f,
+                                     const Vec3<Real>& n, Real h, bool face_test,
+                                     const FaceTestFrame<Real>& face_frame, Real& lowest) {
+  const int o = 1 - owner;
+  // The other body's bounding sphere decides most planes without visiting its vertices.
+  const Real sphere_height = dot(n, frame.center[o]) - h;
+  if (sphere_height + other.bounding_radius < -frame.round_off) return PlaneCull::dropped;
+  const PlaneSide side =
+      plane_side(other, frame.rot[o], frame.center[o], n, h, frame.round_off, lowest);
+  if (side == PlaneSide::beyond) return PlaneCull::beyond;
+  if (side == PlaneSide::below) return PlaneCull::dropped;  // strictly inside: bounds nothing
+  if (face_test &&
+      face_outside(self, f, other, face_frame.to_self, face_frame.shift, frame.round_off))
+    return PlaneCull::dropped;
+  return PlaneCull::kept;
+}
+
+// The verdict of a separating plane whose far side holds the other body `lowest` above it.
+template <class Real>
+TALUS_HD inline OverlapStatus beyond_status(Real lowest, Real round_off) {
+  return lowest > round_off ? OverlapStatus::separate : OverlapStatus::touching;
+}
+
+template <class Real>
+TALUS_HD inline bool uses_face_test(const ConvexView<Real>& self, OverlapOptions options) {
+  return options.cull_planes && options.cull_faces && self.face_loop_offsets != nullptr;
+}
+
+// Steps 3-5 on the m planes in ws (plane_normal, plane_offset, plane_owner; twins cleared).
+template <class Real, class Workspace>
+TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
+                                                   const Pose<Real>& pose_a,
+                                                   const ConvexView<Real>& b,
+                                                   const OverlapFrame<Real>& frame, Workspace& ws,
+                                                   int m, OverlapOptions options) {
+  OverlapResult<Real> result;
+  const Vec3<Real>* center = frame.center;
+  const Mat3<Real>* rot = frame.rot;
+  const Real round_off = frame.round_off;
+  const ConvexView<Real>* body[2] = {&a, &b};
+  auto& hull = ws.hull;
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
   const Vec3<Real> start = center[1] * (a.bounding_radius / radius_sum);
@@ -326,6 +371,137 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   result.centroid = pose_a.position + x_o + (volume > Real(0) ? moment / volume : Vec3<Real>());
   result.status = volume > Real(0) ? OverlapStatus::overlapping : OverlapStatus::touching;
   return result;
+}
+
+}  // namespace overlap_detail
+
+template <class Real, class Workspace>
+TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
+                                                      const Pose<Real>& pose_a,
+                                                      const ConvexView<Real>& b,
+                                                      const Pose<Real>& pose_b, Workspace& ws,
+                                                      OverlapOptions options = OverlapOptions()) {
+  using namespace overlap_detail;
+  OverlapResult<Real> result;
+  OverlapFrame<Real> frame;
+  if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return result;
+  const ConvexView<Real>* body[2] = {&a, &b};
+
+  // Step 2. Planes of both bodies, culled against the other body's vertices and, where the
+  // templates carry their face loops, by the face-polygon test (face_outside).
+  int m = 0;
+  for (int owner = 0; owner < 2; ++owner) {
+    const ConvexView<Real>& self = *body[owner];
+    const bool face_test = uses_face_test(self, options);
+    const FaceTestFrame<Real> face_frame = face_test_frame(frame, owner);
+    for (int f = 0; f < self.n_faces; ++f) {
+      Vec3<Real> n;
+      Real h;
+      frame_plane(self, frame, owner, f, n, h);
+      if (options.cull_planes) {
+        Real lowest = 0;
+        const PlaneCull cull = cull_plane(self, *body[1 - owner], frame, owner, f, n, h, face_test,
+                                          face_frame, lowest);
+        if (cull == PlaneCull::beyond) {  // the other body lies beyond the plane
+          result.status = beyond_status(lowest, frame.round_off);
+          return result;
+        }
+        if (cull == PlaneCull::dropped) continue;
+      }
+      if (m >= Workspace::kMaxPlanes) {
+        result.workspace_overrun = true;
+        result.status = OverlapStatus::degenerate;
+        return result;
+      }
+      ws.plane_normal[m] = n;
+      ws.plane_offset[m] = h;
+      ws.plane_owner[m] = static_cast<signed char>(owner);
+      ws.plane_twin[m] = 0;
+      ++m;
+    }
+  }
+  return overlap_finish(a, pose_a, b, frame, ws, m, options);
+}
+
+// Step 2 alone, for a batch that culls in one kernel and builds the polytope in another: bit
+// p of `mask` is set when plane p is kept (A's faces first, then B's; at most 64 planes in
+// all). Returns the number of kept planes, or -1 when `result` is already final (bounding
+// spheres apart, a separating plane). Same decisions as overlap_polyhedra's step 2.
+template <class Real>
+TALUS_HD inline int overlap_cull_mask(const ConvexView<Real>& a, const Pose<Real>& pose_a,
+                                      const ConvexView<Real>& b, const Pose<Real>& pose_b,
+                                      OverlapOptions options, unsigned long long& mask,
+                                      OverlapResult<Real>& result) {
+  using namespace overlap_detail;
+  mask = 0;
+  OverlapFrame<Real> frame;
+  if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return -1;
+  const ConvexView<Real>* body[2] = {&a, &b};
+  int m = 0;
+  for (int owner = 0; owner < 2; ++owner) {
+    const ConvexView<Real>& self = *body[owner];
+    const int first = owner == 0 ? 0 : a.n_faces;
+    const bool face_test = uses_face_test(self, options);
+    const FaceTestFrame<Real> face_frame = face_test_frame(frame, owner);
+    for (int f = 0; f < self.n_faces; ++f) {
+      if (options.cull_planes) {
+        Vec3<Real> n;
+        Real h;
+        frame_plane(self, frame, owner, f, n, h);
+        Real lowest = 0;
+        const PlaneCull cull = cull_plane(self, *body[1 - owner], frame, owner, f, n, h, face_test,
+                                          face_frame, lowest);
+        if (cull == PlaneCull::beyond) {
+          result.status = beyond_status(lowest, frame.round_off);
+          return -1;
+        }
+        if (cull == PlaneCull::dropped) continue;
+      }
+      mask |= 1ull << (first + f);
+      ++m;
+    }
+  }
+  return m;
+}
+
+// Steps 3-5 for the planes of `mask` (overlap_cull_mask), which must not number more than the
+// workspace holds (else workspace_overrun, as overlap_polyhedra). Gives overlap_polyhedra's
+// result bit for bit: the same planes in the same order through the same arithmetic.
+template <class Real, class Workspace>
+TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
+                                                      const Pose<Real>& pose_a,
+                                                      const ConvexView<Real>& b,
+                                                      const Pose<Real>& pose_b,
+                                                      unsigned long long mask, Workspace& ws,
+                                                      OverlapOptions options = OverlapOptions()) {
+  using namespace overlap_detail;
+  OverlapResult<Real> result;
+  OverlapFrame<Real> frame;
+  if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return result;
+  int m = 0;
+  while (mask != 0) {
+#ifdef __CUDA_ARCH__
+    const int p = __ffsll(static_cast<long long>(mask)) - 1;
+#else
+    const int p = __builtin_ctzll(mask);
+#endif
+    mask &= mask - 1;
+    const int owner = p < a.n_faces ? 0 : 1;
+    if (m >= Workspace::kMaxPlanes) {
+      result.workspace_overrun = true;
+      result.status = OverlapStatus::degenerate;
+      return result;
+    }
+    Vec3<Real> n;
+    Real h;
+    frame_plane(owner == 0 ? a : b, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
+    ws.plane_normal[m] = n;
+    ws.plane_offset[m] = h;
+    ws.plane_owner[m] = static_cast<signed char>(owner);
+    ws.plane_twin[m] = 0;
+    ++m;
+  }
+  return overlap_finish(a, pose_a, b, frame, ws, m, options);
 }
 
 }  // namespace talus

@@ -103,10 +103,13 @@ TEST(GpuOverlap, HardCasesAgreeWithTheHost) {
 }
 
 // The kernels of OverlapBatchKernel differ only in where the templates and the workspace live
-// (global or shared memory; a workspace of one body's faces first, the full one when more planes
-// survive the culling): the arithmetic is the same, so the results must be identical, bit for
-// bit, in every culling variant. Deep pairs (depth up to 0.95 of the radii) keep more planes than
-// the small workspace holds and so exercise its fallback, which the test asserts.
+// (global or shared memory; a small workspace first, the full one when more planes survive the
+// culling, in the same thread or a deferred launch) and in how the work is split (culling and
+// polytope in one kernel or two, pairs in order or sorted by kept planes): every pair goes
+// through the same arithmetic, so the results must be identical, bit for bit, in every culling
+// variant. Deep pairs (depth up to 0.95 of the radii) keep more planes than the small workspace
+// holds and so exercise its fallback and the deferral, which the test asserts; random_pairs-like
+// poses include separated pairs, decided in the phased kernels' culling phase.
 template <class Real>
 void expect_identical_kernels(const ConvexView<Real>& a, const ConvexView<Real>& b,
                               const std::vector<Pose<Real>>& pa, const std::vector<Pose<Real>>& pb,
@@ -119,7 +122,10 @@ void expect_identical_kernels(const ConvexView<Real>& a, const ConvexView<Real>&
     batch.run(options, OverlapBatchKernel::global_templates);
     const auto reference = batch.results();
     for (const OverlapBatchKernel kernel :
-         {OverlapBatchKernel::shared_templates, OverlapBatchKernel::small_workspace}) {
+         {OverlapBatchKernel::shared_templates, OverlapBatchKernel::small_workspace,
+          OverlapBatchKernel::deferred_overflow, OverlapBatchKernel::phased,
+          OverlapBatchKernel::phased_sorted}) {
+      SCOPED_TRACE(int(kernel));
       batch.run(options, kernel);
       const auto other = batch.results();
       ASSERT_EQ(other.size(), reference.size());
