@@ -88,6 +88,16 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
   } else if (law.restitution < 1 && contact.area > 0) {
     // eta = beta m v0 / dV*, dV* = (m v0^2 / K)^(3/4): beta m^(1/4) K^(3/4) / sqrt(v0).
     const double modulus = contact.normal_stiffness / contact.area;  // K
+    // v0 is at least the speed that would have made the current overlap: m v^2 / 2 = U(dV) =
+    // 3/4 K dV^(4/3) (the potential of Eqs. 12-13). In a head-on impact that never exceeds the
+    // approach speed (damping only removes energy), so impacts keep the calibrated eta; a contact
+    // formed at rest or approached very slowly (v0 ~ 0, eta ~ 1/sqrt(v0)) gets the finite eta of
+    // its load instead of the step limit below, which makes an explicit step chatter.
+    if (contact.elastic > 0) {
+      const double cube_root = contact.elastic / contact.normal_stiffness;  // dV^(1/3)
+      const double energy = 0.75 * modulus * std::pow(cube_root, 4.0);
+      history.approach_speed = std::max(history.approach_speed, std::sqrt(2 * energy / m));
+    }
     const double v0 = history.approach_speed;
     const double beta = calibrated_damping_ratio(law.restitution);
     c_n = v0 > 0 ? beta * std::pow(m, 0.25) * std::pow(modulus, 0.75) / std::sqrt(v0) * contact.area

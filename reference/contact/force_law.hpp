@@ -57,7 +57,14 @@ struct NormalContact {
 //                  dV^(-1/3), infinite at first touch, which stops a face dead in one step (the
 //                  fate of the secant stiffness |F^e| / (dV / A_n) that preceded this). eta is
 //                  finite for v0 > 0; a contact that has never approached (v0 = 0: placed in
-//                  contact at rest) has eta = infinity, i.e. the step's limit m_eff / dt below.
+//                  contact at rest) would have eta = infinity, so v0 is at least the speed
+//                  sqrt(2 U(dV) / m_eff) that would have made the current overlap, U = 3/4 K
+//                  dV^(4/3): never above the approach speed in an impact (so impacts keep the
+//                  calibration), finite for a contact formed at rest. Known limit: at very low
+//                  eps (0.1) a loaded contact at rest is damped ~4 times critically, above the
+//                  step limit m_eff / dt of a resolved step, so the normal force alternates
+//                  between steps (averaging right: a resting body stays at rest; a body dragged
+//                  by friction on it is dragged too weakly). test_world_collisions.cpp shows it.
 //                - It dissipates (c_n >= 0; with the no-tension rule the force stays between 0
 //                  and the undamped one on the side that removes energy), leaves a contact at
 //                  rest at rest (v_n = 0: no damping force), and needs one number per contact

@@ -417,5 +417,63 @@ TEST(ReferenceWorld, CloudConservesMomentumAndNeverGainsEnergy) {
   EXPECT_LE(worst_gain, 0.0);
 }
 
+// A moving wall's velocity enters the contact (§2.4 walls; issue 3 "moving walls"): a cube at
+// rest on a floor that starts translating at u = 10 mm/s. The tangential spring starts empty, so
+// the first pull is Eq. 20's damping c_t u, below the Coulomb cap (mu m g = 12 mN): the cube
+// starts at a0 = c_t u / m and is then carried by the spring until it moves with the floor. A
+// wall velocity left out of the relative velocity would leave the cube at rest.
+TEST(ReferenceWorld, TranslatingFloorCarriesTheCube) {
+  RefWorldSetup setup = cube_on_slope(0, 0.5, kRestYoungs, kRestStep);
+  // eps = 0.5: at eps = 0.1 the calibrated normal damping of a loaded face at rest is ~4 times
+  // critical and meets the explicit step's limit m_eff / dt, where the normal force alternates
+  // between steps (a known limit of the reference's damping at very low eps, noted in
+  // force_law.hpp); this test is about the wall's velocity, not that.
+  setup.materials[0].restitution = 0.5;
+  RefWorld settled(setup);
+  settled.run(5000);  // 0.1 s: at rest on the still floor (CubeOnAPlaneComesToRestAndStays)
+  const double u = 0.01;
+  setup.walls[0].motion.kind = RefWallMotion::Kind::kTranslation;
+  setup.walls[0].motion.velocity = Eigen::Vector3d(u, 0, 0);
+  setup.bodies[0].position = settled.bodies()[0].state.position;  // start where it rested
+  RefWorld world(setup);
+
+  // Eq. 19 on the 10 mm face (the wall adds no term): k_t = E / (2 (1 + nu) R) A_n, R the
+  // equal-volume radius; Eq. 20's c_t with eps = 0.5 (material(): nu = 0.3, rho = 2500).
+  const double mass = 2500 * 1e-6, radius = std::cbrt(3e-6 / (4 * M_PI));
+  const double k_t = kRestYoungs / (2 * 1.3 * radius) * 1e-4;
+  const double log_eps = std::log(0.5);
+  const double c_t =
+      -2 * log_eps * std::sqrt(k_t * mass) / std::sqrt(log_eps * log_eps + M_PI * M_PI);
+  world.step();
+  // One step: v = a0 dt, plus the spring's k_t u dt^2 / 2 / m = 1e-3 of it; the contact area
+  // is the resting face's to 1e-3 (35 nm deep). 1% covers both and fails for a missing or
+  // doubled wall velocity.
+  EXPECT_NEAR(world.bodies()[0].state.velocity.x(), c_t * u / mass * kRestStep,
+              1e-2 * c_t * u / mass * kRestStep);
+  world.run(9999);  // to 0.2 s
+  // Carried: the spring oscillates about u with period 2 pi sqrt(m / k_t) = 40 ms and Eq. 20's
+  // damping ratio 0.215 (eps = 0.5), decaying at 34 /s: by 0.2 s to exp(-6.8) = 1e-3 of u; 1% of
+  // u is above that and far below a cube left behind.
+  EXPECT_NEAR(world.bodies()[0].state.velocity.x(), u, 1e-2 * u);
+  EXPECT_NEAR(world.bodies()[0].state.velocity.z(), 0, 1e-6);  // still resting on the floor
+  EXPECT_EQ(world.contacts().size(), 1u);
+}
+
+// The rotating wall's point velocity is omega axis x (x - point), and its triangles turn by
+// omega t about the axis through the point.
+TEST(ReferenceWorld, RotatingWallMotionIsARigidRotation) {
+  RefWallMotion m;
+  m.kind = RefWallMotion::Kind::kRotation;
+  m.axis = Eigen::Vector3d::UnitZ();
+  m.point = Eigen::Vector3d(1, 2, 0);
+  m.angular_speed = 2.0;
+  const Eigen::Vector3d x0(2, 2, 0.5);  // 1 m from the axis along +x
+  // Exact to round-off: the rotation of a unit vector by a quarter turn, 1e-15 m.
+  const Eigen::Vector3d quarter = m.position(x0, M_PI / 4);  // 2 rad/s x pi/4 s = 90 degrees
+  EXPECT_NEAR((quarter - Eigen::Vector3d(1, 3, 0.5)).norm(), 0, 1e-15);
+  const Eigen::Vector3d v = m.velocity_at(quarter);  // omega z x (0, 1, 0.5) = (-2, 0, 0)
+  EXPECT_NEAR((v - Eigen::Vector3d(-2, 0, 0)).norm(), 0, 1e-15);
+}
+
 }  // namespace
 }  // namespace talus::reference
