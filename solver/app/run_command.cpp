@@ -1,6 +1,6 @@
 // `talus run [options] scene.yaml`: loads the scene and runs it with the chosen solver. The
 // reference solver is linked in where CMake found CGAL and Eigen (TALUS_HAVE_REFERENCE); the
-// production solver's step arrives with issue 4.
+// production solver runs on the host backend (solver/step); its CUDA backend is not built yet.
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -9,6 +9,7 @@
 #include "solver/app/json_writer.hpp"
 #include "solver/app/run_arguments.hpp"
 #include "solver/scene/scene_loader.hpp"
+#include "solver/step/production_run.hpp"
 
 #if TALUS_HAVE_REFERENCE
 #include "reference/run/scene_run.hpp"
@@ -18,16 +19,66 @@ namespace talus {
 
 namespace {
 
-#if TALUS_HAVE_REFERENCE
-void print_progress(const reference::SceneRunProgress& p) {
-  const double fraction = p.total_steps > 0 ? double(p.step) / double(p.total_steps) : 1.0;
-  const double left = fraction > 0 ? p.wall_seconds * (1 - fraction) / fraction : 0;
+// One progress line on stderr, the same for both solvers.
+void print_progress_line(long long step, long long total_steps, double time, double end_time,
+                         std::size_t particles, std::size_t contacts, double wall_seconds) {
+  const double fraction = total_steps > 0 ? double(step) / double(total_steps) : 1.0;
+  const double left = fraction > 0 ? wall_seconds * (1 - fraction) / fraction : 0;
   std::fprintf(stderr,
                "talus run: %5.1f%%  t = %.6g of %.6g s  step %lld of %lld  %.3g steps/s  "
                "%zu particles  %zu contacts  about %.0f s left\n",
-               100 * fraction, p.time, p.end_time, p.step, p.total_steps,
-               p.wall_seconds > 0 ? double(p.step) / p.wall_seconds : 0.0, p.particles, p.contacts,
-               left);
+               100 * fraction, time, end_time, step, total_steps,
+               wall_seconds > 0 ? double(step) / wall_seconds : 0.0, particles, contacts, left);
+}
+
+void print_production_progress(const ProductionProgress& p) {
+  print_progress_line(p.step, p.total_steps, p.time, p.end_time, p.particles, p.contacts,
+                      p.wall_seconds);
+}
+
+// The production solver on the host backend; the summary adds wall time per stage, contacts per
+// step and peak memory.
+std::string run_production_json(const RunArguments& args, const Scene& scene) {
+  ProductionSettings settings;
+  settings.output_root = args.output_root;
+  if (!args.quiet) settings.progress = print_production_progress;
+  ProductionReport report;
+  try {
+    report = run_production(scene, settings);
+  } catch (const StepNotSupported& e) {
+    // What the production step cannot simulate yet is the run's setting, not an internal fault.
+    throw RunError(e.what());
+  }
+  JsonWriter json;
+  json.begin_object();
+  json.member("solver", "talus");
+  json.member("backend", "cpu");
+  json.member("precision", to_string(scene.precision));
+  json.member("scene", args.scene_path);
+  json.member("steps", static_cast<double>(report.steps));
+  json.member("simulated_time", report.simulated_time);
+  json.member("wall_seconds", report.wall_seconds);
+  json.member("particles", static_cast<int>(report.particles));
+  json.member("mean_contacts_per_step", report.mean_contacts);
+  json.key("stage_seconds");
+  json.begin_object();
+  for (const auto& [stage, seconds] : report.stage_seconds) json.member(stage, seconds);
+  json.member("output", report.output_seconds);
+  json.end_object();
+  json.member("particle_array_bytes", static_cast<double>(report.particle_bytes));
+  json.member("peak_memory_bytes", static_cast<double>(report.peak_memory_bytes));
+  json.key("outputs");
+  json.begin_array(JsonWriter::Layout::multi_line);
+  for (const std::string& output : report.outputs) json.value(output);
+  json.end_array();
+  json.end_object();
+  return json.str();
+}
+
+#if TALUS_HAVE_REFERENCE
+void print_progress(const reference::SceneRunProgress& p) {
+  print_progress_line(p.step, p.total_steps, p.time, p.end_time, p.particles, p.contacts,
+                      p.wall_seconds);
 }
 #endif
 
@@ -39,10 +90,15 @@ std::string run_json(const RunArguments& args) {
   if (args.precision) scene.precision = *args.precision;
 
   if (args.solver == SolverKind::production) {
-    throw RunError(
-        "the production solver's time step is not built yet (issue 4); run this scene with the "
-        "reference solver: talus run --solver reference " +
-        args.scene_path);
+    if (scene.backend == Backend::cuda) {
+      throw RunError(
+          "the production solver's CUDA backend is not built yet (issue 4); run this scene with "
+          "--backend cpu (or --backend auto)");
+    }
+    if (scene.backend == Backend::automatic && !args.quiet) {
+      std::fprintf(stderr, "talus run: no GPU backend available yet; running on the host (cpu)\n");
+    }
+    return run_production_json(args, scene);
   }
 #if TALUS_HAVE_REFERENCE
   if (scene.precision != Precision::float64) {

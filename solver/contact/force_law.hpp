@@ -1,0 +1,173 @@
+// Contact force laws of the production solver, as stateless TALUS_HD functions on one contact:
+// the volume model of the method paper (§2.5, Eqs. 12-20) and the linear model of BLAZE-DEM
+// (§3.1, Eqs. 2-3). Conventions, for a contact between A and B (B may be a wall):
+//   n    unit normal from A into B (volume model: n = S / |S|, S the overlap's vector area on A);
+//   v_r  v_A(c) - v_B(c) at the contact point c; v_r . n > 0 while the bodies approach;
+//   the force returned acts on A; B gets its opposite; torques (c - x) x F (Eqs. 21-22).
+#pragma once
+
+#include <cmath>
+
+#include "solver/core/math.hpp"
+#include "solver/core/vec3.hpp"
+
+namespace talus {
+
+template <class Real>
+struct NormalContactData {
+  Vec3<Real> normal;              // n, unit, from A into B
+  Vec3<Real> point;               // c, m (world)
+  Real elastic = 0;               // |F_n^e|: k_n dV^(1/3) (volume) or K_N delta (linear), N
+  Real normal_stiffness = 0;      // k_n = K A_n (Eq. 13), N/m
+  Real tangential_stiffness = 0;  // k_t (Eq. 19), N/m
+  Real area = 0;                  // A_n, m^2
+};
+
+// What a contact carries across steps (keyed by the global ids, tangential_history.hpp): the
+// Cundall-Strack spring Delta-s (Eqs. 17-20), m, and the largest normal approach speed since the
+// contact began, m/s (< 0 before the first evaluation), which fixes the calibrated damping.
+template <class Real>
+struct ContactHistoryData {
+  Vec3<Real> spring;
+  Real approach_speed = -1;
+};
+
+template <class Real>
+struct ContactForceData {
+  Vec3<Real> normal_force;      // on A, N
+  Vec3<Real> tangential_force;  // on A, N
+  bool sliding = false;         // the Coulomb cap bound
+  TALUS_HD Vec3<Real> total() const { return normal_force + tangential_force; }
+};
+
+// Normal damping of the volume model. paper: Eq. 15 (with the dissipating sign) on the current
+// k_n. calibrated: c_n = eta A_n, eta = beta(eps) m^(1/4) K^(3/4) / sqrt(v0), K = E1/R1 + E2/R2,
+// v0 the contact's largest approach speed, beta(eps) from damping_calibration.hpp; A_n cancels
+// in the impact's equation in dV, so one eta gives restitution eps for every shape. v0 is at
+// least the speed that would have made the current overlap (finite for a contact formed at rest).
+enum class NormalDampingModel : int { paper = 0, calibrated = 1 };
+
+template <class Real>
+struct VolumeLawData {
+  Real effective_mass = 0;  // (1/m_A + 1/m_B)^-1; the particle's mass at a wall, kg
+  Real restitution = 1;     // eps in (0, 1], Eqs. 15 and 20
+  Real friction = 0;        // mu, Eq. 17
+  Real damping_ratio = 0;   // beta(eps) of the calibrated damping
+  Real time_step = 0;       // s; c_n <= m_eff / dt (0: no limit)
+  bool with_friction = false;
+  NormalDampingModel damping = NormalDampingModel::calibrated;
+};
+
+// Eqs. 15 and 20 with the sign that dissipates: c = -2 ln(eps) sqrt(k m) / sqrt(ln^2 eps + pi^2).
+template <class Real>
+TALUS_HD inline Real dissipative_damping(Real restitution, Real stiffness, Real mass) {
+  const Real log_e = std::log(restitution);
+  const Real pi = Real(3.14159265358979323846);
+  return Real(-2) * log_e * std::sqrt(stiffness * mass) / std::sqrt(log_e * log_e + pi * pi);
+}
+
+// Eqs. 14, 16 with the no-tension rule: the push along -n is at least zero.
+template <class Real>
+TALUS_HD inline Vec3<Real> no_tension_normal_force(const Vec3<Real>& n, Real elastic, Real damping,
+                                                   Real normal_speed) {
+  const Real push = elastic + damping * normal_speed;
+  return push > Real(0) ? n * (-push) : Vec3<Real>();
+}
+
+// The volume model for one contact: F_n = -(|F^e| + c_n v_n) n, never pulling; the spring turned
+// onto the current tangent plane with its length kept, grown by v_t dt, F_t = -k_t s - c_t v_t
+// capped at mu |F_n| (Eqs. 17-20), the spring reset to the capped force where the cap binds.
+template <class Real>
+TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactData<Real>& c,
+                                                            const VolumeLawData<Real>& law,
+                                                            const Vec3<Real>& v_r, Real dt,
+                                                            ContactHistoryData<Real>& history) {
+  const Vec3<Real>& n = c.normal;
+  const Real v_n = dot(v_r, n);
+  history.approach_speed = max_of(history.approach_speed, max_of(v_n, Real(0)));
+  const Real m = law.effective_mass;
+  Real c_n = 0;
+  bool unlimited = false;  // v0 = 0: the coefficient is infinite, i.e. the step's limit
+  if (law.damping == NormalDampingModel::paper) {
+    c_n = dissipative_damping(law.restitution, c.normal_stiffness, m);  // Eq. 15
+  } else if (law.restitution < Real(1) && c.area > Real(0)) {
+    // v0 is at least the speed that would have made the current overlap, m v^2 / 2 = U(dV) =
+    // 3/4 K dV^(4/3) (the potential of Eqs. 12-13): never above the approach speed of an impact
+    // (damping only removes energy), so impacts keep the calibration, while a contact formed at
+    // rest gets the finite eta of its load rather than the step limit m / dt (which chatters).
+    if (c.elastic > Real(0)) {
+      const Real cube_root = c.elastic / c.normal_stiffness;  // dV^(1/3)
+      const Real energy = Real(0.75) * (c.normal_stiffness / c.area) * std::pow(cube_root, Real(4));
+      history.approach_speed = max_of(history.approach_speed, std::sqrt(Real(2) * energy / m));
+    }
+    const Real v0 = history.approach_speed;
+    if (v0 > Real(0)) {
+      const Real modulus = c.normal_stiffness / c.area;  // K
+      c_n = law.damping_ratio * std::pow(m, Real(0.25)) * std::pow(modulus, Real(0.75)) /
+            std::sqrt(v0) * c.area;
+    } else {
+      unlimited = true;
+    }
+  }
+  if (law.time_step > Real(0)) {
+    c_n = unlimited ? m / law.time_step : min_of(c_n, m / law.time_step);
+  } else if (unlimited) {
+    c_n = 0;  // no approach to damp and no step to limit by
+  }
+  ContactForceData<Real> out;
+  out.normal_force = no_tension_normal_force(n, c.elastic, c_n, v_n);
+  if (!law.with_friction) {
+    history.spring = Vec3<Real>();
+    return out;
+  }
+  Vec3<Real>& s = history.spring;
+  const Real length = norm(s);
+  s -= n * dot(s, n);
+  const Real projected = norm(s);
+  if (projected > Real(0)) s *= length / projected;
+  const Vec3<Real> v_t = v_r - n * v_n;
+  s += v_t * dt;
+  const Real k_t = c.tangential_stiffness;
+  const Real c_t = dissipative_damping(law.restitution, k_t, m);  // Eq. 20
+  Vec3<Real> f_t = s * (-k_t) - v_t * c_t;                        // Eqs. 17, 18, 20
+  const Real cap = law.friction * norm(out.normal_force);
+  const Real f_t_norm = norm(f_t);
+  if (f_t_norm > cap) {
+    out.sliding = true;
+    f_t *= f_t_norm > Real(0) ? cap / f_t_norm : Real(0);
+    s = k_t > Real(0) ? (f_t + v_t * c_t) * (Real(-1) / k_t) : Vec3<Real>();
+  }
+  out.tangential_force = f_t;
+  return out;
+}
+
+template <class Real>
+struct LinearLawData {
+  Real stiffness = 0;           // K_N, N/m
+  Real damping = 0;             // eta, N s/m (on the normal relative velocity)
+  Real tangential_damping = 0;  // gamma, N s/m
+  Real friction = 0;            // mu
+  bool with_friction = false;
+};
+
+// BLAZE-DEM Eqs. 2-3, history-free: F_N = -(K_N delta + eta v_n) n with no tension;
+// F_T = -min(mu K_N delta, gamma |v_T|) v_T / |v_T| (the cap is the elastic normal force).
+template <class Real>
+TALUS_HD inline ContactForceData<Real> linear_contact_force(const NormalContactData<Real>& c,
+                                                            const LinearLawData<Real>& law,
+                                                            const Vec3<Real>& v_r) {
+  const Vec3<Real>& n = c.normal;
+  const Real v_n = dot(v_r, n);
+  ContactForceData<Real> out;
+  out.normal_force = no_tension_normal_force(n, c.elastic, law.damping, v_n);  // Eq. 2
+  if (!law.with_friction) return out;
+  const Vec3<Real> v_t = v_r - n * v_n;
+  const Real speed = norm(v_t);
+  if (speed == Real(0)) return out;
+  const Real cap = law.friction * c.elastic, viscous = law.tangential_damping * speed;
+  out.sliding = cap < viscous;
+  out.tangential_force = v_t * (-min_of(cap, viscous) / speed);  // Eq. 3
+  return out;
+}
+
+}  // namespace talus

@@ -1,0 +1,301 @@
+#include "solver/step/host_step.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "solver/scene/initial_particles.hpp"
+#include "solver/step/contact_stage.hpp"
+#include "solver/step/wall_stage.hpp"
+
+namespace talus {
+
+namespace {
+
+double clock_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Mass properties of a template with its material's density (in double, then rounded once).
+template <class Real>
+BodyProperties<Real> body_properties(const Scene& scene, const ParticleTemplate& t,
+                                     const ShapeArrays<Real>* arrays) {
+  const double density = scene.materials.at(t.material).density;
+  BodyProperties<Real> body;
+  body.material = t.material;
+  if (t.kind == ParticleShapeKind::sphere) {
+    const double r = t.sphere_radius;
+    const double mass = density * 4 * M_PI * r * r * r / 3;
+    body.sphere = true;
+    body.mass = Real(mass);
+    body.inertia =
+        Vec3<Real>(Real(0.4 * mass * r * r), Real(0.4 * mass * r * r), Real(0.4 * mass * r * r));
+    body.bounding_radius = body.equivalent_radius = body.sphere_radius = Real(r);
+  } else {
+    const ShapeTemplate& s = t.shape;
+    body.mass = Real(density * s.volume);
+    body.inertia = Vec3<Real>(s.principal_moments * density);
+    body.bounding_radius = arrays->bounding_radius;
+    body.equivalent_radius = Real(std::cbrt(3 * s.volume / (4 * M_PI)));
+    body.shape = arrays->view();
+    body.faces = body.shape.n_faces;
+  }
+  if (!(body.mass > 0) || !(body.inertia.x > 0 && body.inertia.y > 0 && body.inertia.z > 0)) {
+    throw std::runtime_error(t.source.where() + ": template '" + t.name +
+                             "' has no positive mass and moments in this precision");
+  }
+  return body;
+}
+
+}  // namespace
+
+template <class Real>
+HostStep<Real>::HostStep(const Scene& scene)
+    : scene_(scene), plan_(plan_step(scene)), dt_(Real(scene.time_step)) {
+  for (const ParticleTemplate& t : scene.templates) {
+    shapes_.push_back(t.kind == ParticleShapeKind::polyhedron
+                          ? std::make_unique<ShapeArrays<Real>>(t.shape)
+                          : nullptr);
+    bodies_.push_back(body_properties(scene, t, shapes_.back().get()));
+  }
+  const std::vector<ParticleState> initial = initial_particles(scene);
+  count_ = static_cast<int>(initial.size());
+  view_.count = count_;
+  const auto soa3 = [&](const std::string& name) {
+    Soa3<Real> s;
+    s.x = allocate(name + ".x"), s.y = allocate(name + ".y"), s.z = allocate(name + ".z");
+    return s;
+  };
+  view_.position = soa3("position");
+  view_.velocity = soa3("velocity");
+  view_.orientation.w = allocate("orientation.w");
+  view_.orientation.x = allocate("orientation.x");
+  view_.orientation.y = allocate("orientation.y");
+  view_.orientation.z = allocate("orientation.z");
+  if (plan_.arrays.force) {
+    view_.force = soa3("force");
+    view_.step_start_acceleration = soa3("step_start_acceleration");
+  }
+  if (plan_.arrays.angular_velocity) view_.angular_velocity = soa3("angular_velocity");
+  if (plan_.arrays.torque) {
+    view_.torque = soa3("torque");
+    view_.step_start_torque = soa3("step_start_torque");
+  }
+  if (plan_.arrays.bounding_radius) view_.bounding_radius = allocate("bounding_radius");
+  template_ids_.resize(count_);
+  material_ids_.resize(count_);
+  global_ids_.resize(count_);
+  view_.template_id = template_ids_.data();
+  view_.material_id = material_ids_.data();
+  view_.global_id = global_ids_.data();
+
+  for (int i = 0; i < count_; ++i) {
+    const ParticleState& p = initial[i];
+    const BodyProperties<Real>& body = bodies_.at(p.template_index);
+    template_ids_[i] = p.template_index;
+    material_ids_[i] = body.material;
+    global_ids_[i] = i;
+    view_.position.set(i, Vec3<Real>(p.position));
+    view_.velocity.set(i, Vec3<Real>(p.velocity));
+    const Quatd q = p.orientation.normalized();
+    view_.orientation.set(i, Quat<Real>(q));
+    if (view_.angular_velocity.present()) {
+      // The scene gives it in the world frame; Euler's equations want the body frame.
+      view_.angular_velocity.set(i, Vec3<Real>(rotate_inverse(q, p.angular_velocity)));
+    }
+    if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
+  }
+  if (plan_.contacts) contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_);
+  if (plan_.walls) walls_ = std::make_unique<WallContactStage<Real>>(scene, bodies_);
+}
+
+template <class Real>
+HostStep<Real>::~HostStep() = default;
+
+template <class Real>
+Real* HostStep<Real>::allocate(const std::string& name) {
+  storage_.emplace_back(name, std::vector<Real>(count_, Real(0)));
+  return storage_.back().second.data();
+}
+
+template <class Real>
+std::vector<std::string> HostStep<Real>::allocated_arrays() const {
+  std::vector<std::string> names;
+  for (const auto& [name, values] : storage_) names.push_back(name);
+  names.insert(names.end(), {"template_id", "material_id", "global_id"});
+  return names;
+}
+
+template <class Real>
+std::size_t HostStep<Real>::allocated_bytes() const {
+  std::size_t bytes = count_ * (2 * sizeof(int) + sizeof(long long));
+  for (const auto& entry : storage_) bytes += entry.second.size() * sizeof(Real);
+  if (contacts_) bytes += contacts_->allocated_bytes();
+  if (walls_) bytes += walls_->allocated_bytes();
+  return bytes;
+}
+
+template <class Real>
+std::size_t HostStep<Real>::pair_contact_count() const {
+  return contacts_ ? contacts_->contact_count() : 0;
+}
+
+template <class Real>
+std::size_t HostStep<Real>::wall_contact_count() const {
+  return walls_ ? walls_->contact_count() : 0;
+}
+
+template <class Real>
+Vec3d HostStep<Real>::wall_force(int w) const {
+  return walls_ ? walls_->wall_force(w) : Vec3d();
+}
+
+template <class Real>
+Vec3d HostStep<Real>::wall_torque(int w) const {
+  return walls_ ? walls_->wall_torque(w) : Vec3d();
+}
+
+template <class Real>
+template <class Body>
+void HostStep<Real>::timed(Stage stage, Body&& body) {
+  const double start = clock_seconds();
+  body();
+  stage_seconds_[static_cast<int>(stage)] += clock_seconds() - start;
+}
+
+template <class Real>
+void HostStep<Real>::run_force_stages(Real spring_dt) {
+  const ParticleView<Real> p = view_;
+  const BodyProperties<Real>* bodies = bodies_.data();
+  for (const Stage stage : plan_.stages) {
+    switch (stage) {
+      case Stage::clear_forces:
+        timed(stage, [&] {
+          for (int i = 0; i < count_; ++i) clear_forces(p, i);
+        });
+        break;
+      case Stage::gravity:
+        timed(stage, [&] {
+          const Vec3<Real> g(*scene_.effects.gravity);
+          for (int i = 0; i < count_; ++i) add_gravity(p, bodies, i, g);
+        });
+        break;
+      case Stage::drag:
+        timed(stage, [&] {
+          const Real alpha = Real(*scene_.effects.drag_alpha);
+          for (int i = 0; i < count_; ++i) add_drag(p, i, alpha);
+        });
+        break;
+      case Stage::candidate_pairs:
+        timed(stage, [&] { contacts_->find_candidates(p); });
+        break;
+      case Stage::pair_contacts:
+        timed(stage, [&] { contacts_->compute(p, spring_dt); });
+        break;
+      case Stage::wall_contacts:
+        timed(stage, [&] {
+          walls_->place(time_);
+          walls_->compute(p, contacts_->tables(), spring_dt);
+        });
+        break;
+      case Stage::accumulate:
+        timed(stage, [&] {
+          contacts_->accumulate(p);  // pairs first, then walls, each in order
+          if (walls_) walls_->accumulate(p);
+        });
+        break;
+      case Stage::integrate_begin:
+      case Stage::integrate_end:
+        break;
+    }
+  }
+}
+
+template <class Real>
+void HostStep<Real>::evaluate_forces() {
+  run_force_stages(Real(0));
+  forces_ready_ = true;
+}
+
+template <class Real>
+void HostStep<Real>::step() {
+  if (!forces_ready_) evaluate_forces();  // F_0, T_0 for the first half-step
+  if (walls_) walls_->open_outlets(time_);
+  const ParticleView<Real> p = view_;
+  timed(Stage::integrate_begin, [&] {
+    for (int i = 0; i < count_; ++i) {
+      if (!integrate_begin(p, bodies_.data(), i, dt_)) {
+        throw std::runtime_error(
+            scene_.file + ": particle " + std::to_string(global_ids_[i]) +
+            " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
+      }
+    }
+  });
+  time_ += scene_.time_step;
+  ++steps_;
+  run_force_stages(dt_);
+  timed(Stage::integrate_end, [&] {
+    for (int i = 0; i < count_; ++i) integrate_end(p, bodies_.data(), i, dt_);
+  });
+}
+
+template <class Real>
+std::vector<TrajectoryRow> HostStep<Real>::trajectory_rows() const {
+  std::vector<TrajectoryRow> rows(count_);
+  for (int i = 0; i < count_; ++i) {
+    TrajectoryRow& row = rows[i];
+    row.id = global_ids_[i];
+    row.template_index = template_ids_[i];
+    row.position = Vec3d(view_.position.get(i));
+    row.orientation = Quatd(view_.orientation.get(i));
+    row.velocity = Vec3d(view_.velocity.get(i));
+    if (view_.angular_velocity.present()) {
+      row.angular_velocity = rotate(row.orientation, Vec3d(view_.angular_velocity.get(i)));
+    }
+  }
+  return rows;
+}
+
+template <class Real>
+double HostStep<Real>::kinetic_energy() const {
+  double energy = 0;
+  for (int i = 0; i < count_; ++i) {
+    const BodyProperties<Real>& body = bodies_[template_ids_[i]];
+    energy += 0.5 * double(body.mass) * norm2(Vec3d(view_.velocity.get(i)));
+    if (view_.angular_velocity.present()) {
+      const Vec3d w(view_.angular_velocity.get(i));
+      const Vec3d inertia(body.inertia);
+      energy += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+    }
+  }
+  return energy;
+}
+
+template <class Real>
+double HostStep<Real>::bed_height(const Vec3d& gravity) const {
+  const double g = norm(gravity);
+  if (!(g > 0)) throw std::invalid_argument("bed_height needs a non-zero gravity");
+  const Vec3d up = gravity * (-1 / g);
+  double highest = 0;
+  for (int i = 0; i < count_; ++i) {
+    const BodyProperties<Real>& body = bodies_[template_ids_[i]];
+    const Vec3d x(view_.position.get(i));
+    double top;
+    if (body.sphere) {
+      top = dot(up, x) + double(body.sphere_radius);
+    } else {
+      const Quatd q(view_.orientation.get(i));
+      top = -HUGE_VAL;
+      for (int v = 0; v < body.shape.n_vertices; ++v) {
+        top = std::max(top, dot(up, x + rotate(q, Vec3d(body.shape.vertices[v]))));
+      }
+    }
+    highest = i == 0 ? top : std::max(highest, top);
+  }
+  return highest;
+}
+
+template class HostStep<double>;
+template class HostStep<float>;
+
+}  // namespace talus

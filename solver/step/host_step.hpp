@@ -1,0 +1,93 @@
+// The production step on the host backend: the scene's particles in a structure of arrays, the
+// stages of its plan (step_plan.hpp) run as loops over the per-particle and per-pair functions
+// that the CUDA backend launches as kernels. Serial and deterministic: contact forces are summed
+// per particle in pair order.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solver/io/trajectory.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/shape/shape_arrays.hpp"
+#include "solver/step/particle_kernels.hpp"
+#include "solver/step/step_plan.hpp"
+
+namespace talus {
+
+template <class Real>
+class PairContactStage;  // contact_stage.hpp
+template <class Real>
+class WallContactStage;  // wall_stage.hpp
+
+template <class Real>
+class HostStep {
+ public:
+  // The scene's initial particles (global id = index), its templates and effects. Throws
+  // StepNotSupported naming the scene item for what the production step cannot simulate.
+  explicit HostStep(const Scene& scene);
+  ~HostStep();
+  HostStep(const HostStep&) = delete;
+  HostStep& operator=(const HostStep&) = delete;
+
+  // One step of dt: integrate_begin, the force stages at the new state, integrate_end. The
+  // first call evaluates the forces at t = 0 first (springs do not grow then). Throws
+  // std::runtime_error when a particle's rotation does not converge (|w| dt too large).
+  void step();
+  // The force stages alone at the current state (as the first step does): for step 0's outputs.
+  void evaluate_forces();
+
+  double time() const { return time_; }
+  long long steps() const { return steps_; }
+  const StepPlan& plan() const { return plan_; }
+  int particle_count() const { return count_; }
+  const ParticleView<Real>& particles() const { return view_; }
+  const std::vector<BodyProperties<Real>>& bodies() const { return bodies_; }
+
+  // The particle arrays that exist (names as in ParticleView) and their bytes.
+  std::vector<std::string> allocated_arrays() const;
+  std::size_t allocated_bytes() const;
+  // Wall-clock seconds spent in each stage so far, indexed by Stage.
+  const std::array<double, 9>& stage_seconds() const { return stage_seconds_; }
+  // Touching particle pairs at the last force evaluation (0 without contacts).
+  std::size_t pair_contact_count() const;
+  // Particle-wall contacts (one per particle and wall at most) at the last force evaluation.
+  std::size_t wall_contact_count() const;
+  // Wall w's total contact force (N) and torque about the origin (N m) at the last evaluation.
+  Vec3d wall_force(int w) const;
+  Vec3d wall_torque(int w) const;
+
+  // Output rows (world-frame angular velocity), kinetic energy (translation + rotation, J), the
+  // highest particle point along -g (m; polyhedra: highest vertex, spheres: top).
+  std::vector<TrajectoryRow> trajectory_rows() const;
+  double kinetic_energy() const;
+  double bed_height(const Vec3d& gravity) const;
+
+ private:
+  Real* allocate(const std::string& name);
+  void run_force_stages(Real spring_dt);
+  template <class Body>
+  void timed(Stage stage, Body&& body);
+
+  const Scene& scene_;
+  StepPlan plan_;
+  Real dt_;
+  int count_ = 0;
+  std::vector<std::unique_ptr<ShapeArrays<Real>>> shapes_;  // per template (polyhedra)
+  std::vector<BodyProperties<Real>> bodies_;                // per template
+  std::vector<int> template_of_particle_;
+  std::vector<std::pair<std::string, std::vector<Real>>> storage_;
+  std::vector<int> template_ids_, material_ids_;
+  std::vector<long long> global_ids_;
+  ParticleView<Real> view_;
+  std::unique_ptr<PairContactStage<Real>> contacts_;
+  std::unique_ptr<WallContactStage<Real>> walls_;
+  std::array<double, 9> stage_seconds_{};
+  double time_ = 0;
+  long long steps_ = 0;
+  bool forces_ready_ = false;
+};
+
+}  // namespace talus

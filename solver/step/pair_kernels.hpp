@@ -1,0 +1,163 @@
+// The per-pair stage of the step (one thread per candidate pair on the GPU, a loop on the host):
+// the pair's geometry, its previous history looked up by global ids, the force law of the
+// scene's contact model, and the contact written to the pair's own slot. Nothing is accumulated
+// here, so the result does not depend on the order in which pairs run; accumulate_pair_forces
+// then sums per particle in pair order.
+#pragma once
+
+#include "solver/contact/force_law.hpp"
+#include "solver/contact/pair_geometry.hpp"
+#include "solver/contact/tangential_history.hpp"
+#include "solver/step/particle_kernels.hpp"
+
+namespace talus {
+
+// The per-material and per-model constants every pair reads (device-copyable: raw pointers).
+template <class Real>
+struct PairLawTables {
+  const BodyProperties<Real>* bodies = nullptr;  // per template
+  const Real* youngs_modulus = nullptr;          // per material, Pa
+  const Real* poisson_ratio = nullptr;           // per material
+  // Per material pair (a * materials + b): mu, eps and the calibrated beta(eps).
+  const Real* pair_friction = nullptr;
+  const Real* pair_restitution = nullptr;
+  const Real* pair_damping_ratio = nullptr;
+  int materials = 0;
+  bool volume_model = true;
+  bool with_friction = false;
+  NormalDampingModel damping = NormalDampingModel::calibrated;
+  Real time_step = 0;          // s
+  LinearLawData<Real> linear;  // K_N, eta, gamma (friction filled per pair)
+};
+
+template <class Real>
+struct PairContactRecord {
+  bool in_contact = false;
+  bool degenerate = false;
+  int a = -1, b = -1;  // particle indices; A is the polyhedron of a polyhedron-sphere pair
+  PairKey key;
+  Vec3<Real> point;       // m
+  Vec3<Real> force_on_a;  // N; B gets the opposite
+  ContactHistoryData<Real> history;
+};
+
+template <class Real>
+TALUS_HD inline Vec3<Real> point_velocity(const ParticleView<Real>& p, int i,
+                                          const Vec3<Real>& point) {
+  Vec3<Real> v = p.velocity.get(i);
+  if (p.angular_velocity.present()) {
+    const Vec3<Real> w = rotate(p.orientation.get(i), p.angular_velocity.get(i));
+    v += cross(w, point - p.position.get(i));
+  }
+  return v;
+}
+
+// Which particle of the candidate (i, j) is A: a polyhedron-sphere pair has the polyhedron first
+// (the simple contact's normal from it into the sphere).
+template <class Real>
+TALUS_HD inline void order_pair(const ParticleView<Real>& p, const PairLawTables<Real>& t, int i,
+                                int j, int& ia, int& ib) {
+  const bool swap = t.bodies[p.template_id[i]].sphere && !t.bodies[p.template_id[j]].sphere;
+  ia = swap ? j : i;
+  ib = swap ? i : j;
+}
+
+// Geometry for the ordered pair (ia, ib) except polyhedra in the volume model, which need an
+// overlap workspace (polyhedra_volume_geometry, called by the backend with the capacity of the
+// two templates).
+template <class Real>
+TALUS_HD inline PairGeometryData<Real> simple_pair_geometry(const ParticleView<Real>& p,
+                                                            const PairLawTables<Real>& t, int ia,
+                                                            int ib) {
+  const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+  const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+  const Vec3<Real> xa = p.position.get(ia), xb = p.position.get(ib);
+  if (a.sphere && b.sphere) {
+    return t.volume_model ? sphere_lens_geometry(xa, a.sphere_radius, xb, b.sphere_radius)
+                          : from_simple_contact(
+                                sphere_sphere_contact(xa, a.sphere_radius, xb, b.sphere_radius));
+  }
+  const Pose<Real> pose_a{xa, p.orientation.get(ia)};
+  if (b.sphere) {
+    return from_simple_contact(polyhedron_sphere_contact(a.shape, pose_a, xb, b.sphere_radius));
+  }
+  const Pose<Real> pose_b{xb, p.orientation.get(ib)};
+  return from_simple_contact(polyhedron_polyhedron_contact(a.shape, pose_a, b.shape, pose_b));
+}
+
+// The force of the ordered pair (ia, ib) with geometry g; the previous history is found among
+// old_keys[0 .. old_count) (sorted). `spring_dt` is the time the spring advances by (0 for the
+// evaluation before the first step).
+template <class Real>
+TALUS_HD inline PairContactRecord<Real> pair_contact_force(
+    const ParticleView<Real>& p, const PairLawTables<Real>& t, int ia, int ib,
+    const PairGeometryData<Real>& g, Real spring_dt, const PairKey* old_keys,
+    const ContactHistoryData<Real>* old_histories, int old_count) {
+  PairContactRecord<Real> r;
+  r.a = ia;
+  r.b = ib;
+  r.degenerate = g.degenerate;
+  if (!g.in_contact) return r;
+  const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+  const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+  const int ma = p.material_id[ia], mb = p.material_id[ib];
+  const int pair = ma * t.materials + mb;
+  const Vec3<Real> v_r = point_velocity(p, ia, g.point) - point_velocity(p, ib, g.point);
+  NormalContactData<Real> c;
+  c.normal = g.normal;
+  c.point = g.point;
+  ContactForceData<Real> f;
+  r.key = make_pair_key(p.global_id[ia], p.global_id[ib]);
+  if (t.volume_model) {
+    const Real ea = t.youngs_modulus[ma], eb = t.youngs_modulus[mb];
+    const Real stiffness = ea / a.equivalent_radius + eb / b.equivalent_radius;  // Eq. 13 / A_n
+    const Real shear =
+        ea / (Real(2) * (Real(1) + t.poisson_ratio[ma]) * a.equivalent_radius) +
+        eb / (Real(2) * (Real(1) + t.poisson_ratio[mb]) * b.equivalent_radius);  // Eq. 19 / A_n
+    c.normal_stiffness = stiffness * g.area;                                     // Eq. 13
+    c.tangential_stiffness = shear * g.area;                                     // Eq. 19
+    c.elastic = c.normal_stiffness * std::cbrt(g.volume);                        // Eq. 12
+    c.area = g.area;
+    VolumeLawData<Real> law;
+    law.effective_mass = a.mass * b.mass / (a.mass + b.mass);
+    law.restitution = t.pair_restitution[pair];
+    law.friction = t.pair_friction[pair];
+    law.damping_ratio = t.pair_damping_ratio[pair];
+    law.time_step = t.time_step;
+    law.with_friction = t.with_friction;
+    law.damping = t.damping;
+    const int found = find_pair_key(old_keys, old_count, r.key);
+    ContactHistoryData<Real> history;
+    if (found >= 0) history = old_histories[found];
+    // The spring is stored as seen from the lower id as A.
+    const Real sign = p.global_id[ia] == r.key.low ? Real(1) : Real(-1);
+    history.spring *= sign;
+    f = volume_contact_force(c, law, v_r, spring_dt, history);
+    history.spring *= sign;
+    r.history = history;
+  } else {
+    c.elastic = t.linear.stiffness * g.depth;
+    LinearLawData<Real> law = t.linear;
+    law.friction = t.pair_friction[pair];
+    law.with_friction = t.with_friction;
+    f = linear_contact_force(c, law, v_r);
+  }
+  r.in_contact = true;
+  r.point = g.point;
+  r.force_on_a = f.total();
+  return r;
+}
+
+// Adds one contact's force and torques (Eqs. 21-22) to its two particles. The host calls it for
+// the contacts in pair order, which makes the sums independent of scheduling.
+template <class Real>
+TALUS_HD inline void add_pair_force(const ParticleView<Real>& p, const PairContactRecord<Real>& c) {
+  p.force.set(c.a, p.force.get(c.a) + c.force_on_a);
+  p.force.set(c.b, p.force.get(c.b) - c.force_on_a);
+  if (p.torque.present()) {
+    p.torque.set(c.a, p.torque.get(c.a) + cross(c.point - p.position.get(c.a), c.force_on_a));
+    p.torque.set(c.b, p.torque.get(c.b) + cross(c.point - p.position.get(c.b), -c.force_on_a));
+  }
+}
+
+}  // namespace talus

@@ -1,0 +1,72 @@
+// A scene run by the production solver: the host step (host_step.hpp) in the scene's precision,
+// stepped to the end time, writing the outputs the reference solver writes (solver/io:
+// trajectory frames, run.json, probes) at step 0, every `every` steps and at the last step.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "solver/io/trajectory.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/step/step_plan.hpp"
+
+namespace talus {
+
+struct ProductionProgress {
+  long long step = 0, total_steps = 0;
+  double time = 0, end_time = 0;  // s
+  std::size_t particles = 0;
+  std::size_t contacts = 0;  // particle-particle and particle-wall, at the last evaluation
+  double wall_seconds = 0;   // since the run started
+};
+
+struct ProductionSettings {
+  std::string output_root;  // relative output paths of the scene are taken inside it
+  std::function<void(const ProductionProgress&)> progress;
+  double progress_interval = 1.0;  // s of wall time
+};
+
+struct ProductionReport {
+  long long steps = 0;
+  double simulated_time = 0;  // s
+  double wall_seconds = 0;
+  std::size_t particles = 0;
+  double mean_contacts = 0;  // particle-particle and particle-wall contacts per step
+  std::vector<std::pair<std::string, double>> stage_seconds;  // the plan's stages, in order
+  double output_seconds = 0;
+  std::size_t particle_bytes = 0;   // the step's arrays at the end
+  long long peak_memory_bytes = 0;  // the process's peak resident set (getrusage)
+  std::vector<std::string> outputs;
+};
+
+// Steps: round(end_time / time_step). Throws StepNotSupported naming the scene item for what
+// the production step cannot simulate yet (StepPlan), and for output files that fail.
+class ProductionRunner {
+ public:
+  ProductionRunner(const Scene& scene, ProductionSettings settings);
+  ~ProductionRunner();
+  ProductionRunner(const ProductionRunner&) = delete;
+  ProductionRunner& operator=(const ProductionRunner&) = delete;
+
+  bool done() const;
+  void advance();  // one step and its outputs
+  long long step() const;
+  const StepPlan& plan() const;
+  // The current particles as trajectory rows (world-frame angular velocity).
+  std::vector<TrajectoryRow> rows() const;
+  std::size_t pair_contacts() const;  // at the last evaluation
+  std::size_t wall_contacts() const;
+  ProductionReport report() const;
+  void report_progress();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+ProductionReport run_production(const Scene& scene, const ProductionSettings& settings);
+
+}  // namespace talus

@@ -1,0 +1,55 @@
+// The step assembled from the scene's effects (DESIGN.md steer 3): the ordered list of stages
+// that run and the particle arrays they need. An effect the scene does not name has no stage and
+// no array; the tests read the plan (and the host step's allocations) to show it.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "solver/scene/scene.hpp"
+
+namespace talus {
+
+// A scene asks for something the production step does not provide (yet): the message names the
+// scene item and says what to do instead. `talus run` reports it as a setting, exit status 2.
+class StepNotSupported : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class Stage {
+  integrate_begin,  // x_{k+1}, predicted v (and, with rotation, q_{k+1} and predicted w)
+  clear_forces,     // forces (and torques) to zero
+  gravity,          // m g
+  drag,             // -alpha |v| v
+  candidate_pairs,  // broad phase: bounding spheres (neighbor/)
+  pair_contacts,    // narrow phase, overlap, force laws, tangential history
+  wall_contacts,    // particle-wall facets, area weighting
+  accumulate,       // contact forces summed per particle in pair order (deterministic)
+  integrate_end,    // v_{k+1} (and w_{k+1})
+};
+
+const char* to_string(Stage stage);
+
+// The particle arrays a step needs beyond the always-present state (ParticleView).
+struct ParticleArrayNeeds {
+  bool force = false;             // force, step_start_acceleration
+  bool angular_velocity = false;  // rotation
+  bool torque = false;            // torque, step_start_torque: rotation with contacts
+  bool bounding_radius = false;   // contacts
+};
+
+struct StepPlan {
+  bool gravity = false, drag = false, contacts = false, friction = false, rotation = false;
+  bool walls = false;
+  std::vector<Stage> stages;  // in the order they run within one step
+  ParticleArrayNeeds arrays;
+  bool has(Stage stage) const;
+};
+
+// The plan of a scene. Throws StepNotSupported naming the scene file and item for what the
+// production step does not provide yet (feeds).
+StepPlan plan_step(const Scene& scene);
+
+}  // namespace talus

@@ -1,0 +1,91 @@
+// The per-(particle, wall) stage of the step: the wall geometry of walls/wall_contact.hpp, the
+// force law of the scene's contact model with the wall as an infinitely large rigid body, and
+// the contact written to its own slot (accumulated later, in order, with the pair contacts).
+#pragma once
+
+#include "solver/step/pair_kernels.hpp"
+#include "solver/walls/wall_contact.hpp"
+
+namespace talus {
+
+template <class Real>
+struct WallContactRecord {
+  bool in_contact = false;
+  bool degenerate = false;
+  int particle = -1, wall = -1;
+  PairKey key;  // {global id, wall index}
+  Vec3<Real> point;
+  Vec3<Real> force;  // on the particle, N; the wall gets the opposite
+  ContactHistoryData<Real> history;
+};
+
+template <class Real>
+TALUS_HD inline WallContactRecord<Real> wall_contact(
+    const ParticleView<Real>& p, const PairLawTables<Real>& t, int i, int wall, int wall_material,
+    const WallFacets<Real>& facets, const WallMotionData<Real>& motion, Real spring_dt,
+    const PairKey* old_keys, const ContactHistoryData<Real>* old_histories, int old_count) {
+  WallContactRecord<Real> r;
+  r.particle = i;
+  r.wall = wall;
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  const int material = p.material_id[i];
+  const Real youngs = t.youngs_modulus[material];
+  WallContactGeometry<Real> g;
+  if (body.sphere) {
+    g = sphere_wall_geometry(p.position.get(i), body.sphere_radius, facets, t.linear.stiffness);
+  } else {
+    const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
+    const Real stiffness = t.volume_model ? youngs / body.equivalent_radius : t.linear.stiffness;
+    const Real shear =
+        youngs / (Real(2) * (Real(1) + t.poisson_ratio[material]) * body.equivalent_radius);
+    g = polyhedron_wall_geometry(body.shape, pose, facets, t.volume_model, stiffness, shear);
+  }
+  r.degenerate = g.degenerate;
+  if (!g.in_contact) return r;
+  NormalContactData<Real> c;
+  c.normal = g.normal;
+  c.point = g.point;
+  c.elastic = g.elastic;
+  c.normal_stiffness = g.normal_stiffness;
+  c.tangential_stiffness = g.tangential_stiffness;
+  c.area = g.area;
+  const int pair = material * t.materials + wall_material;
+  const Vec3<Real> v_r = point_velocity(p, i, g.point) - motion.velocity_at(g.point);
+  ContactForceData<Real> f;
+  r.key = PairKey{p.global_id[i], wall};
+  if (t.volume_model && !body.sphere) {
+    VolumeLawData<Real> law;
+    law.effective_mass = body.mass;  // 1 / m_wall = 0
+    law.restitution = t.pair_restitution[pair];
+    law.friction = t.pair_friction[pair];
+    law.damping_ratio = t.pair_damping_ratio[pair];
+    law.time_step = t.time_step;
+    law.with_friction = t.with_friction;
+    law.damping = t.damping;
+    const int found = find_pair_key(old_keys, old_count, r.key);
+    ContactHistoryData<Real> history;
+    if (found >= 0) history = old_histories[found];
+    f = volume_contact_force(c, law, v_r, spring_dt, history);
+    r.history = history;
+  } else {
+    LinearLawData<Real> law = t.linear;
+    law.friction = t.pair_friction[pair];
+    law.with_friction = t.with_friction;
+    f = linear_contact_force(c, law, v_r);
+  }
+  r.in_contact = true;
+  r.point = g.point;
+  r.force = f.total();
+  return r;
+}
+
+template <class Real>
+TALUS_HD inline void add_wall_force(const ParticleView<Real>& p, const WallContactRecord<Real>& c) {
+  p.force.set(c.particle, p.force.get(c.particle) + c.force);
+  if (p.torque.present()) {
+    p.torque.set(c.particle,
+                 p.torque.get(c.particle) + cross(c.point - p.position.get(c.particle), c.force));
+  }
+}
+
+}  // namespace talus

@@ -1,0 +1,144 @@
+// Host driver of the wall contacts (paper §2.4): each wall's triangles placed at the current time
+// by its rigid motion (scene/wall_motion.hpp; a closed outlet's plate dropped when it opens), then
+// per particle and wall, in wall-major order, one area-weighted contact (wall_kernels.hpp); the
+// volume model's histories keyed by {global id, wall}; the contacts added to the particles after
+// the pair contacts, in order. Facets are found by brute force (every facet of the wall is
+// tested against the particle's bounding sphere); a bin grid over the facets comes later.
+#pragma once
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "solver/scene/wall_meshes.hpp"
+#include "solver/scene/wall_motion.hpp"
+#include "solver/step/step_plan.hpp"
+#include "solver/step/wall_kernels.hpp"
+
+namespace talus {
+
+template <class Real>
+class WallContactStage {
+ public:
+  WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies)
+      : scene_(scene), meshes_(make_wall_meshes(scene)) {
+    const bool volume = *scene.effects.contact == ContactModel::volume;
+    for (const BodyProperties<Real>& b : bodies) {
+      if (volume && b.sphere) {
+        throw StepNotSupported(scene.file +
+                               ": effects.contact: the volume model has no sphere-wall overlap; "
+                               "use contact: linear for spheres with walls");
+      }
+    }
+    for (std::size_t w = 0; w < scene.walls.size(); ++w) {
+      const WallMotion& m = scene.walls[w].motion;
+      WallMotionData<Real> d;
+      if (m.kind == WallMotion::Kind::rotation) {
+        d.kind = 1;
+        d.axis = Vec3<Real>(m.axis * (1 / norm(m.axis)));
+        d.point = Vec3<Real>(m.point);
+        d.angular_speed = Real(m.angular_speed());
+      } else if (m.kind == WallMotion::Kind::translation) {
+        d.kind = 2;
+        d.velocity = Vec3<Real>(m.velocity);
+      }
+      motion_.push_back(d);
+      plate_.push_back(meshes_[w].plate_triangles);
+    }
+    corners_.resize(scene.walls.size());
+    wall_force_.assign(scene.walls.size(), Vec3d());
+    wall_torque_.assign(scene.walls.size(), Vec3d());
+  }
+
+  // Drops the plates of the outlets that are open at `time` (s), the start of a step.
+  void open_outlets(double time) {
+    for (std::size_t w = 0; w < meshes_.size(); ++w) {
+      if (plate_[w] > 0 && !outlet_closed_at(scene_.walls[w], time)) plate_[w] = 0;
+    }
+  }
+
+  // The triangles where the walls are at `time` (s).
+  void place(double time) {
+    for (std::size_t w = 0; w < meshes_.size(); ++w) {
+      const TriangleMesh& mesh = meshes_[w].mesh;
+      const int present = static_cast<int>(mesh.triangles.size()) -
+                          (plate_[w] > 0 ? 0 : meshes_[w].plate_triangles);
+      const RigidTransform transform = wall_transform(scene_.walls[w].motion, time);
+      corners_[w].clear();
+      for (int t = 0; t < present; ++t) {
+        for (int k = 0; k < 3; ++k) {
+          corners_[w].push_back(Vec3<Real>(transform.apply(mesh.vertices[mesh.triangles[t][k]])));
+        }
+      }
+    }
+  }
+
+  void compute(const ParticleView<Real>& p, const PairLawTables<Real>& tables, Real spring_dt) {
+    contacts_.clear();
+    const int old_count = static_cast<int>(keys_.size());
+    for (std::size_t w = 0; w < corners_.size(); ++w) {
+      const WallFacets<Real> facets{corners_[w].data(), static_cast<int>(corners_[w].size() / 3)};
+      for (int i = 0; i < p.count; ++i) {
+        const WallContactRecord<Real> r =
+            wall_contact(p, tables, i, static_cast<int>(w), scene_.walls[w].material, facets,
+                         motion_[w], spring_dt, keys_.data(), histories_.data(), old_count);
+        if (r.degenerate) {
+          throw std::runtime_error(scene_.file + ": particle " + std::to_string(p.global_id[i]) +
+                                   " against wall '" + scene_.walls[w].name +
+                                   "': a facet's clipping failed (section capacity)");
+        }
+        if (r.in_contact) contacts_.push_back(r);
+      }
+    }
+    if (tables.volume_model) {
+      std::vector<int> order(contacts_.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(),
+                [&](int x, int y) { return key_less(contacts_[x].key, contacts_[y].key); });
+      keys_.resize(order.size());
+      histories_.resize(order.size());
+      for (std::size_t k = 0; k < order.size(); ++k) {
+        keys_[k] = contacts_[order[k]].key;
+        histories_[k] = contacts_[order[k]].history;
+      }
+    }
+  }
+
+  // The forces on the particles, and each wall's total force and torque about the origin (minus
+  // what its contacts gave the particles).
+  void accumulate(const ParticleView<Real>& p) {
+    std::fill(wall_force_.begin(), wall_force_.end(), Vec3d());
+    std::fill(wall_torque_.begin(), wall_torque_.end(), Vec3d());
+    for (const WallContactRecord<Real>& c : contacts_) {
+      add_wall_force(p, c);
+      wall_force_[c.wall] -= Vec3d(c.force);
+      wall_torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
+    }
+  }
+
+  std::size_t contact_count() const { return contacts_.size(); }
+  const Vec3d& wall_force(int w) const { return wall_force_.at(w); }
+  const Vec3d& wall_torque(int w) const { return wall_torque_.at(w); }
+  std::size_t allocated_bytes() const {
+    std::size_t bytes = contacts_.capacity() * sizeof(WallContactRecord<Real>) +
+                        keys_.capacity() * sizeof(PairKey) +
+                        histories_.capacity() * sizeof(ContactHistoryData<Real>);
+    for (const auto& c : corners_) bytes += c.capacity() * sizeof(Vec3<Real>);
+    return bytes;
+  }
+
+ private:
+  const Scene& scene_;
+  std::vector<WallMesh> meshes_;
+  std::vector<WallMotionData<Real>> motion_;
+  std::vector<int> plate_;  // per wall: its closed plate's triangles while present, else 0
+  std::vector<std::vector<Vec3<Real>>> corners_;
+  std::vector<WallContactRecord<Real>> contacts_;
+  std::vector<PairKey> keys_;
+  std::vector<ContactHistoryData<Real>> histories_;
+  std::vector<Vec3d> wall_force_, wall_torque_;
+};
+
+}  // namespace talus

@@ -1,0 +1,139 @@
+// One particle against one wall (paper §2.4), as TALUS_HD functions (one thread per particle and
+// wall on the GPU): the wall's facets reached by the particle, each clipped by Sutherland-Hodgman
+// (geometry/wall_clip.hpp, Algorithm VII), combined into ONE contact per particle and wall with
+// the area weights w = overlap area / section area, so that a section spread over several
+// coplanar facets (an edge, a vertex) counts once. The wall is rigid and infinitely large: its
+// E/R term of Eqs. 13 and 19 vanishes and m_eff of Eq. 15 is the particle's mass.
+//   volume model: F^e = sum_i w_i K A_i dV_i^(1/3) n_i, k_n = sum_i w_i K A_i (K = E/R of the
+//                 particle, A_i the facet plane's section area, dV_i the volume below it);
+//   linear model: F^e = sum_i w_i K_N delta_i n_i;
+// n = -F^e / |F^e| (from the particle into the wall), the point = the overlap-area-weighted mean
+// of the clipped sections' centroids. Spheres (linear model) use the nearest-facet rule: the
+// closest point q of the wall's surface to the centre, delta = r - |c - q|, exact across facet
+// edges and vertices.
+#pragma once
+
+#include <cmath>
+
+#include "solver/geometry/simple_contact.hpp"
+#include "solver/geometry/wall_clip.hpp"
+
+namespace talus {
+
+// A wall's prescribed rigid motion (scene/wall_motion.hpp places its triangles; this gives the
+// velocity of its material point at x, for the relative velocity at the contact point).
+template <class Real>
+struct WallMotionData {
+  int kind = 0;            // 0 none, 1 rotation, 2 translation
+  Vec3<Real> axis;         // unit (rotation)
+  Vec3<Real> point;        // on the axis (rotation)
+  Real angular_speed = 0;  // rad/s
+  Vec3<Real> velocity;     // m/s (translation)
+  TALUS_HD Vec3<Real> velocity_at(const Vec3<Real>& x) const {
+    if (kind == 1) return cross(axis, x - point) * angular_speed;
+    if (kind == 2) return velocity;
+    return Vec3<Real>();
+  }
+};
+
+// The facets of one wall where they are now: triangle t has corners corners[3 t .. 3 t + 2].
+template <class Real>
+struct WallFacets {
+  const Vec3<Real>* corners = nullptr;
+  int count = 0;
+};
+
+// The geometry of one particle-wall contact, before the force law.
+template <class Real>
+struct WallContactGeometry {
+  bool in_contact = false;
+  bool degenerate = false;        // a facet's clipping failed (capacity, non-finite input)
+  Vec3<Real> normal;              // unit, from the particle into the wall
+  Vec3<Real> point;               // m (world)
+  Real elastic = 0;               // |F^e|, N
+  Real normal_stiffness = 0;      // sum w_i K A_i (volume model), N/m
+  Real tangential_stiffness = 0;  // sum w_i G A_i (volume model), N/m
+  Real area = 0;                  // sum w_i A_i, m^2
+};
+
+// A polyhedron against one wall. `stiffness` is K = E/R (volume model) or K_N (linear), `shear`
+// G = E / (2 (1 + nu) R) (volume model only).
+template <class Real>
+TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexView<Real>& shape,
+                                                                   const Pose<Real>& pose,
+                                                                   const WallFacets<Real>& facets,
+                                                                   bool volume_model,
+                                                                   Real stiffness, Real shear) {
+  WallContactGeometry<Real> g;
+  Vec3<Real> elastic, moment;
+  Real area_sum = 0;
+  for (int t = 0; t < facets.count; ++t) {
+    const Vec3<Real>& a = facets.corners[3 * t];
+    const Vec3<Real>& b = facets.corners[3 * t + 1];
+    const Vec3<Real>& c = facets.corners[3 * t + 2];
+    // Facets beyond the bounding sphere cannot be reached.
+    if (norm(closest_point_on_triangle(pose.position, a, b, c) - pose.position) >
+        shape.bounding_radius) {
+      continue;
+    }
+    const WallContact<Real> wc = clip_against_triangle(shape, pose, a, b, c);
+    if (wc.status == WallContactStatus::degenerate) {
+      g.degenerate = true;
+      return g;
+    }
+    if (!(wc.overlap_area > Real(0)) || !(wc.section_area > Real(0))) continue;
+    // The weight is not clamped to 1: the clipped area never exceeds the section's but for
+    // round-off, and the weights must be the reference's definition to agree with it.
+    const Real w = wc.overlap_area / wc.section_area;
+    if (volume_model) {
+      if (!(wc.volume_below > Real(0))) continue;
+      elastic += wc.normal * (w * stiffness * wc.section_area * std::cbrt(wc.volume_below));
+      g.normal_stiffness += w * stiffness * wc.section_area;  // Eq. 13
+      g.tangential_stiffness += w * shear * wc.section_area;  // Eq. 19
+    } else {
+      if (!(wc.depth > Real(0))) continue;
+      elastic += wc.normal * (w * stiffness * wc.depth);
+    }
+    moment += wc.overlap_centroid * wc.overlap_area;
+    area_sum += wc.overlap_area;
+    g.area += w * wc.section_area;
+  }
+  const Real magnitude = norm(elastic);
+  if (!(area_sum > Real(0)) || !(magnitude > Real(0))) return g;
+  g.in_contact = true;
+  g.normal = elastic / (-magnitude);
+  g.point = moment / area_sum;
+  g.elastic = magnitude;
+  return g;
+}
+
+// A sphere against one wall, linear model: the nearest-facet rule. The point is midway between
+// q and the sphere's deepest point c + r n.
+template <class Real>
+TALUS_HD inline WallContactGeometry<Real> sphere_wall_geometry(const Vec3<Real>& centre,
+                                                               Real radius,
+                                                               const WallFacets<Real>& facets,
+                                                               Real stiffness) {
+  WallContactGeometry<Real> g;
+  Real best = Real(0);
+  bool any = false;
+  Vec3<Real> q = centre;
+  for (int t = 0; t < facets.count; ++t) {
+    const Vec3<Real> x = closest_point_on_triangle(
+        centre, facets.corners[3 * t], facets.corners[3 * t + 1], facets.corners[3 * t + 2]);
+    const Real d = norm(x - centre);
+    if (!any || d < best) {
+      best = d;
+      q = x;
+      any = true;
+    }
+  }
+  if (!any || !(best < radius) || !(best > Real(0))) return g;  // apart, or centre on the wall
+  g.in_contact = true;
+  g.normal = (q - centre) / best;
+  g.point = (q + (centre + g.normal * radius)) * Real(0.5);
+  g.elastic = stiffness * (radius - best);
+  return g;
+}
+
+}  // namespace talus
