@@ -10,6 +10,7 @@
 
 #include "solver/io/probes.hpp"
 #include "solver/scene/scene_loader.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace talus {
 namespace {
@@ -17,18 +18,9 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string test_directory(const std::string& name) {
-  const fs::path dir = fs::path(TALUS_BINARY_DIR) / "test-io" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return talus_test::fresh_test_directory("test-io", name);
 }
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using talus_test::read_text;
 
 TEST(Probes, ColumnsFollowTheSceneAndItsWalls) {
   const Scene scene = parse_scene(R"(time: {step: 1.0e-5, end: 0.1}

@@ -13,26 +13,17 @@
 #include "solver/io/output_files.hpp"
 #include "solver/io/trajectory.hpp"
 #include "tests/app/json_reader.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace talus {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh, empty directory under the build tree for one test.
 std::string test_directory(const std::string& name) {
-  const fs::path dir = fs::path(TALUS_BINARY_DIR) / "test-io" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return talus_test::fresh_test_directory("test-io", name);
 }
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using talus_test::read_text;
 
 std::vector<std::string> file_names(const std::string& dir) {
   std::vector<std::string> names;

@@ -11,6 +11,7 @@
 #include "solver/io/trajectory.hpp"
 #include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace {
 
@@ -20,18 +21,12 @@ using talus_test::parse_or_fail;
 using talus_test::ProcessResult;
 using talus_test::run_talus;
 
-// A fresh directory for one test, under the build tree.
 std::string test_directory(const std::string& name) {
-  const fs::path dir = fs::path(TALUS_BINARY_DIR) / "test-run-command" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return talus_test::fresh_test_directory("test-run-command", name);
 }
 
 std::string write_scene(const std::string& dir, const std::string& text) {
-  const std::string path = dir + "/scene.yaml";
-  std::ofstream(path) << text;
-  return path;
+  return talus_test::write_text(dir + "/scene.yaml", text);
 }
 
 // Two spheres thrown at each other along x with the linear model, no gravity: 2000 steps.
