@@ -1,9 +1,12 @@
 // `talus run [options] scene.yaml`: loads the scene and runs it with the chosen solver. The
 // reference solver is linked in where CMake found CGAL and Eigen (TALUS_HAVE_REFERENCE); the
-// production solver runs on the host backend (solver/step); its CUDA backend is not built yet.
+// production solver runs on the host backend (solver/step/host_step.hpp) or, in CUDA builds
+// (TALUS_HAVE_CUDA), on the CUDA backend (solver/step/cuda_step.hpp): `--backend cuda` asks for
+// it, `auto` takes it where a device is usable.
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "solver/app/commands.hpp"
 #include "solver/app/json_writer.hpp"
@@ -13,6 +16,10 @@
 
 #if TALUS_HAVE_REFERENCE
 #include "reference/run/scene_run.hpp"
+#endif
+#if TALUS_HAVE_CUDA
+#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/step/cuda_step.hpp"
 #endif
 
 namespace talus {
@@ -36,10 +43,12 @@ void print_production_progress(const ProductionProgress& p) {
                       p.wall_seconds);
 }
 
-// The production solver on the host backend; the summary adds wall time per stage, contacts per
-// step and peak memory.
-std::string run_production_json(const RunArguments& args, const Scene& scene) {
+// The production solver on the chosen backend (make_step: empty for the host); the summary adds
+// wall time per stage, contacts per step and peak memory.
+std::string run_production_json(const RunArguments& args, const Scene& scene,
+                                StepFactory make_step) {
   ProductionSettings settings;
+  settings.make_step = std::move(make_step);
   settings.output_root = args.output_root;
   if (!args.quiet) settings.progress = print_production_progress;
   ProductionReport report;
@@ -52,7 +61,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene) {
   JsonWriter json;
   json.begin_object();
   json.member("solver", "talus");
-  json.member("backend", "cpu");
+  json.member("backend", report.backend);
   json.member("precision", to_string(scene.precision));
   json.member("scene", args.scene_path);
   json.member("steps", static_cast<double>(report.steps));
@@ -90,15 +99,35 @@ std::string run_json(const RunArguments& args) {
   if (args.precision) scene.precision = *args.precision;
 
   if (args.solver == SolverKind::production) {
+    StepFactory make_step;  // empty: the host
+#if TALUS_HAVE_CUDA
+    std::string why;
+    if (scene.backend != Backend::cpu) {
+      if (cuda_device_available(&why)) {
+        make_step = make_cuda_step;
+      } else if (scene.backend == Backend::cuda) {
+        throw RunError("--backend cuda: " + why +
+                       "; run this scene with --backend cpu (or "
+                       "--backend auto, which falls back to the host)");
+      }
+    }
+    if (scene.backend == Backend::automatic && !make_step && !args.quiet) {
+      std::fprintf(stderr, "talus run: no usable GPU backend (%s); running on the host (cpu)\n",
+                   why.c_str());
+    }
+#else
     if (scene.backend == Backend::cuda) {
       throw RunError(
-          "the production solver's CUDA backend is not built yet (issue 4); run this scene with "
+          "this talus was built without CUDA (no nvcc at configure time); run this scene with "
           "--backend cpu (or --backend auto)");
     }
     if (scene.backend == Backend::automatic && !args.quiet) {
-      std::fprintf(stderr, "talus run: no GPU backend available yet; running on the host (cpu)\n");
+      std::fprintf(stderr,
+                   "talus run: no usable GPU backend (this talus was built without CUDA); running "
+                   "on the host (cpu)\n");
     }
-    return run_production_json(args, scene);
+#endif
+    return run_production_json(args, scene, std::move(make_step));
   }
 #if TALUS_HAVE_REFERENCE
   if (scene.precision != Precision::float64) {

@@ -94,6 +94,7 @@ struct ContactPairsGpu<Real>::Impl {
   int count = 0;
   Real skin = 0;
   DeviceBuffer<Real> x, y, z, radius;
+  NeighborInput<Real> external;  // set_device_particles: the caller's arrays (x null: none)
   DeviceBuffer<std::uint32_t> bucket_of, sorted_bucket;
   DeviceBuffer<int> index, sorted, begin, end, counts, first, scratch_int;
   DeviceBuffer<Real> reduced;  // origin x, y, z and r_max
@@ -102,6 +103,7 @@ struct ContactPairsGpu<Real>::Impl {
   long long pair_count = 0;
 
   NeighborInput<Real> input() const {
+    if (external.x) return external;
     NeighborInput<Real> in;
     in.x = x.data(), in.y = y.data(), in.z = z.data(), in.radius = radius.data();
     in.count = count;
@@ -128,6 +130,7 @@ ContactPairsGpu<Real>::~ContactPairsGpu() = default;
 template <class Real>
 void ContactPairsGpu<Real>::set_particles(const NeighborInput<Real>& host) {
   Impl& m = *impl_;
+  m.external = NeighborInput<Real>();
   m.count = host.count;
   m.skin = host.skin;
   m.x.upload(host.x, host.count);
@@ -137,14 +140,19 @@ void ContactPairsGpu<Real>::set_particles(const NeighborInput<Real>& host) {
 }
 
 template <class Real>
+void ContactPairsGpu<Real>::set_device_particles(const NeighborInput<Real>& device_input) {
+  Impl& m = *impl_;
+  m.external = device_input;
+  m.count = device_input.count;
+  m.skin = device_input.skin;
+}
+
+template <class Real>
 double ContactPairsGpu<Real>::build(Real min_cell) {
   Impl& m = *impl_;
   const int n = m.count;
   m.pair_count = 0;
-  if (n == 0) {
-    m.pairs.resize(0);
-    return 0;
-  }
+  if (n == 0) return 0;
   const NeighborInput<Real> in = m.input();
 
   // Bad input first: the reductions below would carry a NaN into the grid.
@@ -168,7 +176,7 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
 
   // The grid, as make_neighbor_grid: origin at the lowest coordinates, cells of 2 r_max + skin.
   m.reduced.resize(4);
-  const Real* sources[4] = {m.x.data(), m.y.data(), m.z.data(), m.radius.data()};
+  const Real* sources[4] = {in.x, in.y, in.z, in.radius};
   for (int k = 0; k < 4; ++k) {
     Real* out = m.reduced.data() + k;
     const Real initial = k < 3 ? Real(HUGE_VAL) : Real(0);
@@ -218,7 +226,8 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
   });
   int total = 0;
   TALUS_CUDA_CHECK(cudaMemcpy(&total, m.first.data() + n, sizeof(int), cudaMemcpyDeviceToHost));
-  m.pairs.resize(total);
+  // Grow-only: a step rebuilds the list every step, and its length changes a little each time.
+  if (m.pairs.size() < static_cast<std::size_t>(total)) m.pairs.resize(total + total / 4 + 64);
   if (total > 0) {
     write_partners<<<blocks_for(n), kBlock>>>(in, grid, m.begin.data(), m.end.data(),
                                               m.sorted.data(), m.first.data(), m.pairs.data());
@@ -236,14 +245,22 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
 
 template <class Real>
 std::vector<ContactPair> ContactPairsGpu<Real>::pairs() const {
-  std::vector<ContactPair> out;
-  impl_->pairs.download(out);
+  std::vector<ContactPair> out(impl_->pair_count);
+  if (!out.empty()) {
+    TALUS_CUDA_CHECK(cudaMemcpy(out.data(), impl_->pairs.data(), out.size() * sizeof(ContactPair),
+                                cudaMemcpyDeviceToHost));
+  }
   return out;
 }
 
 template <class Real>
 long long ContactPairsGpu<Real>::pair_count() const {
   return impl_->pair_count;
+}
+
+template <class Real>
+const ContactPair* ContactPairsGpu<Real>::device_pairs() const {
+  return impl_->pairs.data();
 }
 
 template class ContactPairsGpu<float>;

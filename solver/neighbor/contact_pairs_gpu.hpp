@@ -20,6 +20,10 @@ class ContactPairsGpu {
 
   // Copies the particles (host arrays) to the device, where they stay for repeated builds.
   void set_particles(const NeighborInput<Real>& host_input);
+  // Uses particles that already live on the device (`device_input`'s arrays are device pointers,
+  // owned by the caller and read by every later build(): the production step's own arrays, with
+  // no copy through the host).
+  void set_device_particles(const NeighborInput<Real>& device_input);
   // Builds the pair list on the device from the resident particles (the grid as
   // make_neighbor_grid makes it: the same cells, buckets and, after the per-particle sort, the
   // same list as build_candidate_pairs). Returns the time in milliseconds (CUDA events), from
@@ -28,6 +32,9 @@ class ContactPairsGpu {
   // The list of the last build, downloaded.
   std::vector<ContactPair> pairs() const;
   long long pair_count() const;
+  // The list of the last build in device memory (pair_count() entries, sorted by (a, b)); valid
+  // until the next build.
+  const ContactPair* device_pairs() const;
 
  private:
   struct Impl;

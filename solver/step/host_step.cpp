@@ -1,5 +1,6 @@
 #include "solver/step/host_step.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -15,6 +16,8 @@ namespace {
 double clock_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
+
+}  // namespace
 
 // Mass properties of a template with its material's density (in double, then rounded once).
 template <class Real>
@@ -47,7 +50,10 @@ BodyProperties<Real> body_properties(const Scene& scene, const ParticleTemplate&
   return body;
 }
 
-}  // namespace
+template BodyProperties<double> body_properties(const Scene&, const ParticleTemplate&,
+                                                const ShapeArrays<double>*);
+template BodyProperties<float> body_properties(const Scene&, const ParticleTemplate&,
+                                               const ShapeArrays<float>*);
 
 template <class Real>
 HostStep<Real>::HostStep(const Scene& scene)
@@ -240,30 +246,31 @@ void HostStep<Real>::step() {
 }
 
 template <class Real>
-std::vector<TrajectoryRow> HostStep<Real>::trajectory_rows() const {
-  std::vector<TrajectoryRow> rows(count_);
-  for (int i = 0; i < count_; ++i) {
+std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>& view) {
+  std::vector<TrajectoryRow> rows(view.count);
+  for (int i = 0; i < view.count; ++i) {
     TrajectoryRow& row = rows[i];
-    row.id = global_ids_[i];
-    row.template_index = template_ids_[i];
-    row.position = Vec3d(view_.position.get(i));
-    row.orientation = Quatd(view_.orientation.get(i));
-    row.velocity = Vec3d(view_.velocity.get(i));
-    if (view_.angular_velocity.present()) {
-      row.angular_velocity = rotate(row.orientation, Vec3d(view_.angular_velocity.get(i)));
+    row.id = view.global_id[i];
+    row.template_index = view.template_id[i];
+    row.position = Vec3d(view.position.get(i));
+    row.orientation = Quatd(view.orientation.get(i));
+    row.velocity = Vec3d(view.velocity.get(i));
+    if (view.angular_velocity.present()) {
+      row.angular_velocity = rotate(row.orientation, Vec3d(view.angular_velocity.get(i)));
     }
   }
   return rows;
 }
 
 template <class Real>
-double HostStep<Real>::kinetic_energy() const {
+double particle_kinetic_energy(const ParticleView<Real>& view,
+                               const std::vector<BodyProperties<Real>>& bodies) {
   double energy = 0;
-  for (int i = 0; i < count_; ++i) {
-    const BodyProperties<Real>& body = bodies_[template_ids_[i]];
-    energy += 0.5 * double(body.mass) * norm2(Vec3d(view_.velocity.get(i)));
-    if (view_.angular_velocity.present()) {
-      const Vec3d w(view_.angular_velocity.get(i));
+  for (int i = 0; i < view.count; ++i) {
+    const BodyProperties<Real>& body = bodies[view.template_id[i]];
+    energy += 0.5 * double(body.mass) * norm2(Vec3d(view.velocity.get(i)));
+    if (view.angular_velocity.present()) {
+      const Vec3d w(view.angular_velocity.get(i));
       const Vec3d inertia(body.inertia);
       energy += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
     }
@@ -272,19 +279,20 @@ double HostStep<Real>::kinetic_energy() const {
 }
 
 template <class Real>
-double HostStep<Real>::bed_height(const Vec3d& gravity) const {
+double particle_bed_height(const ParticleView<Real>& view,
+                           const std::vector<BodyProperties<Real>>& bodies, const Vec3d& gravity) {
   const double g = norm(gravity);
   if (!(g > 0)) throw std::invalid_argument("bed_height needs a non-zero gravity");
   const Vec3d up = gravity * (-1 / g);
   double highest = 0;
-  for (int i = 0; i < count_; ++i) {
-    const BodyProperties<Real>& body = bodies_[template_ids_[i]];
-    const Vec3d x(view_.position.get(i));
+  for (int i = 0; i < view.count; ++i) {
+    const BodyProperties<Real>& body = bodies[view.template_id[i]];
+    const Vec3d x(view.position.get(i));
     double top;
     if (body.sphere) {
       top = dot(up, x) + double(body.sphere_radius);
     } else {
-      const Quatd q(view_.orientation.get(i));
+      const Quatd q(view.orientation.get(i));
       top = -HUGE_VAL;
       for (int v = 0; v < body.shape.n_vertices; ++v) {
         top = std::max(top, dot(up, x + rotate(q, Vec3d(body.shape.vertices[v]))));
@@ -294,6 +302,31 @@ double HostStep<Real>::bed_height(const Vec3d& gravity) const {
   }
   return highest;
 }
+
+template <class Real>
+std::vector<TrajectoryRow> HostStep<Real>::trajectory_rows() const {
+  return particle_rows(view_);
+}
+
+template <class Real>
+double HostStep<Real>::kinetic_energy() const {
+  return particle_kinetic_energy(view_, bodies_);
+}
+
+template <class Real>
+double HostStep<Real>::bed_height(const Vec3d& gravity) const {
+  return particle_bed_height(view_, bodies_, gravity);
+}
+
+#define TALUS_INSTANTIATE_OUTPUTS(Real)                                              \
+  template std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>&);      \
+  template double particle_kinetic_energy(const ParticleView<Real>&,                 \
+                                          const std::vector<BodyProperties<Real>>&); \
+  template double particle_bed_height(const ParticleView<Real>&,                     \
+                                      const std::vector<BodyProperties<Real>>&, const Vec3d&);
+TALUS_INSTANTIATE_OUTPUTS(double)
+TALUS_INSTANTIATE_OUTPUTS(float)
+#undef TALUS_INSTANTIATE_OUTPUTS
 
 template class HostStep<double>;
 template class HostStep<float>;

@@ -22,6 +22,24 @@ class PairContactStage;  // contact_stage.hpp
 template <class Real>
 class WallContactStage;  // wall_stage.hpp
 
+// Mass properties of a template with its material's density (in double, then rounded once);
+// `arrays` are the template's shape arrays (null for a sphere). Shared with the CUDA step.
+template <class Real>
+BodyProperties<Real> body_properties(const Scene& scene, const ParticleTemplate& t,
+                                     const ShapeArrays<Real>* arrays);
+
+// The outputs of a particle view in host memory: trajectory rows (world-frame angular
+// velocity), kinetic energy (J), the highest particle point along -g (m). Shared with the CUDA
+// step, which downloads its arrays first.
+template <class Real>
+std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>& view);
+template <class Real>
+double particle_kinetic_energy(const ParticleView<Real>& view,
+                               const std::vector<BodyProperties<Real>>& bodies);
+template <class Real>
+double particle_bed_height(const ParticleView<Real>& view,
+                           const std::vector<BodyProperties<Real>>& bodies, const Vec3d& gravity);
+
 template <class Real>
 class HostStep {
  public:

@@ -8,6 +8,7 @@
 
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
+#include "solver/step/any_step.hpp"
 #include "solver/step/host_step.hpp"
 
 namespace talus {
@@ -29,55 +30,14 @@ long long peak_resident_bytes() {
   return static_cast<long long>(usage.ru_maxrss) * 1024;  // Linux: kilobytes
 }
 
-// The step in one precision behind one interface (host code: a virtual call per step).
-class AnyStep {
- public:
-  virtual ~AnyStep() = default;
-  virtual void step() = 0;
-  virtual void evaluate_forces() = 0;
-  virtual double time() const = 0;
-  virtual const StepPlan& plan() const = 0;
-  virtual std::size_t particles() const = 0;
-  virtual std::size_t pair_contacts() const = 0;
-  virtual std::size_t wall_contacts() const = 0;
-  virtual Vec3d wall_force(int w) const = 0;
-  virtual Vec3d wall_torque(int w) const = 0;
-  virtual std::vector<TrajectoryRow> rows() const = 0;
-  virtual double kinetic_energy() const = 0;
-  virtual double bed_height(const Vec3d& gravity) const = 0;
-  virtual const std::array<double, 9>& stage_seconds() const = 0;
-  virtual std::size_t bytes() const = 0;
-};
-
-template <class Real>
-class StepIn : public AnyStep {
- public:
-  explicit StepIn(const Scene& scene) : step_(scene) {}
-  void step() override { step_.step(); }
-  void evaluate_forces() override { step_.evaluate_forces(); }
-  double time() const override { return step_.time(); }
-  const StepPlan& plan() const override { return step_.plan(); }
-  std::size_t particles() const override { return step_.particle_count(); }
-  std::size_t pair_contacts() const override { return step_.pair_contact_count(); }
-  std::size_t wall_contacts() const override { return step_.wall_contact_count(); }
-  Vec3d wall_force(int w) const override { return step_.wall_force(w); }
-  Vec3d wall_torque(int w) const override { return step_.wall_torque(w); }
-  std::vector<TrajectoryRow> rows() const override { return step_.trajectory_rows(); }
-  double kinetic_energy() const override { return step_.kinetic_energy(); }
-  double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
-  const std::array<double, 9>& stage_seconds() const override { return step_.stage_seconds(); }
-  std::size_t bytes() const override { return step_.allocated_bytes(); }
-
- private:
-  HostStep<Real> step_;
-};
-
-std::unique_ptr<AnyStep> make_step(const Scene& scene) {
-  if (scene.precision == Precision::float32) return std::make_unique<StepIn<float>>(scene);
-  return std::make_unique<StepIn<double>>(scene);
-}
-
 }  // namespace
+
+std::unique_ptr<AnyStep> make_host_step(const Scene& scene) {
+  if (scene.precision == Precision::float32) {
+    return std::make_unique<StepAdapter<HostStep<float>>>(scene, "cpu");
+  }
+  return std::make_unique<StepAdapter<HostStep<double>>>(scene, "cpu");
+}
 
 struct ProductionRunner::Impl {
   const Scene& scene;
@@ -141,7 +101,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
       }
     }
   }
-  m.step = make_step(scene);
+  m.step = m.settings.make_step ? m.settings.make_step(scene) : make_host_step(scene);
   m.total_steps = std::llround(scene.end_time / scene.time_step);
   if (scene.outputs.trajectories) {
     if (scene.outputs.trajectories->format != TrajectoryFormat::csv) {
@@ -216,6 +176,7 @@ void ProductionRunner::report_progress() {
 ProductionReport ProductionRunner::report() const {
   const Impl& m = *impl_;
   ProductionReport r;
+  r.backend = m.step->backend();
   r.steps = m.step_index;
   r.simulated_time = m.step->time();
   r.wall_seconds = clock_seconds() - m.started;

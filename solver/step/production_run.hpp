@@ -1,4 +1,5 @@
-// A scene run by the production solver: the host step (host_step.hpp) in the scene's precision,
+// A scene run by the production solver: the step of the chosen backend (host_step.hpp by
+// default, cuda_step.hpp where the caller passes make_cuda_step) in the scene's precision,
 // stepped to the end time, writing the outputs the reference solver writes (solver/io:
 // trajectory frames, run.json, probes) at step 0, every `every` steps and at the last step.
 #pragma once
@@ -23,13 +24,21 @@ struct ProductionProgress {
   double wall_seconds = 0;   // since the run started
 };
 
+class AnyStep;  // any_step.hpp
+using StepFactory = std::function<std::unique_ptr<AnyStep>(const Scene&)>;
+
 struct ProductionSettings {
-  std::string output_root;  // relative output paths of the scene are taken inside it
+  std::string output_root;
+  // The backend: the step it makes for the scene (make_cuda_step of cuda_step.hpp in CUDA
+  // builds); empty: the host step. The host library cannot name the CUDA one itself (talus_cuda
+  // links talus_solver), so the caller that links both passes it.
+  StepFactory make_step;  // relative output paths of the scene are taken inside it
   std::function<void(const ProductionProgress&)> progress;
   double progress_interval = 1.0;  // s of wall time
 };
 
 struct ProductionReport {
+  std::string backend = "cpu";  // the step's: "cpu" or "cuda"
   long long steps = 0;
   double simulated_time = 0;  // s
   double wall_seconds = 0;

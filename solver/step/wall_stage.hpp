@@ -119,6 +119,10 @@ class WallContactStage {
   }
 
   std::size_t contact_count() const { return contacts_.size(); }
+  // Per wall: its triangles' corners as place() left them, and its rigid motion (the CUDA step
+  // places the walls here and uploads them).
+  const std::vector<std::vector<Vec3<Real>>>& corners() const { return corners_; }
+  const std::vector<WallMotionData<Real>>& motions() const { return motion_; }
   const Vec3d& wall_force(int w) const { return wall_force_.at(w); }
   const Vec3d& wall_torque(int w) const { return wall_torque_.at(w); }
   std::size_t allocated_bytes() const {

@@ -1,0 +1,65 @@
+// The production step of either backend (host_step.hpp, cuda_step.hpp) in either precision
+// behind one interface, for the runner (production_run.hpp): host code, a virtual call per step.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "solver/io/trajectory.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/step/step_plan.hpp"
+
+namespace talus {
+
+class AnyStep {
+ public:
+  virtual ~AnyStep() = default;
+  virtual const char* backend() const = 0;  // "cpu" or "cuda", as run.json writes it
+  virtual void step() = 0;
+  virtual void evaluate_forces() = 0;
+  virtual double time() const = 0;
+  virtual const StepPlan& plan() const = 0;
+  virtual std::size_t particles() const = 0;
+  virtual std::size_t pair_contacts() const = 0;
+  virtual std::size_t wall_contacts() const = 0;
+  virtual Vec3d wall_force(int w) const = 0;
+  virtual Vec3d wall_torque(int w) const = 0;
+  virtual std::vector<TrajectoryRow> rows() const = 0;
+  virtual double kinetic_energy() const = 0;
+  virtual double bed_height(const Vec3d& gravity) const = 0;
+  virtual const std::array<double, 9>& stage_seconds() const = 0;
+  virtual std::size_t bytes() const = 0;
+};
+
+// AnyStep over a step class with HostStep's interface (HostStep<Real>, CudaStep<Real>).
+template <class Step>
+class StepAdapter : public AnyStep {
+ public:
+  StepAdapter(const Scene& scene, const char* backend) : step_(scene), backend_(backend) {}
+  const char* backend() const override { return backend_; }
+  void step() override { step_.step(); }
+  void evaluate_forces() override { step_.evaluate_forces(); }
+  double time() const override { return step_.time(); }
+  const StepPlan& plan() const override { return step_.plan(); }
+  std::size_t particles() const override { return step_.particle_count(); }
+  std::size_t pair_contacts() const override { return step_.pair_contact_count(); }
+  std::size_t wall_contacts() const override { return step_.wall_contact_count(); }
+  Vec3d wall_force(int w) const override { return step_.wall_force(w); }
+  Vec3d wall_torque(int w) const override { return step_.wall_torque(w); }
+  std::vector<TrajectoryRow> rows() const override { return step_.trajectory_rows(); }
+  double kinetic_energy() const override { return step_.kinetic_energy(); }
+  double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
+  const std::array<double, 9>& stage_seconds() const override { return step_.stage_seconds(); }
+  std::size_t bytes() const override { return step_.allocated_bytes(); }
+
+ private:
+  Step step_;
+  const char* backend_;
+};
+
+// The host step in the scene's precision.
+std::unique_ptr<AnyStep> make_host_step(const Scene& scene);
+
+}  // namespace talus

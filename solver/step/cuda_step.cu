@@ -1,0 +1,858 @@
+// The production step on the CUDA backend (see cuda_step.hpp).
+#include "solver/step/cuda_step.hpp"
+
+#include <cub/cub.cuh>
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "solver/core/device_buffer.hpp"
+#include "solver/geometry/device_shape.cuh"
+#include "solver/neighbor/contact_pairs_gpu.hpp"
+#include "solver/scene/initial_particles.hpp"
+#include "solver/shape/shape_arrays.hpp"
+#include "solver/step/contact_stage.hpp"
+#include "solver/step/host_step.hpp"
+#include "solver/step/wall_stage.hpp"
+
+namespace talus {
+
+namespace {
+
+constexpr int kBlock = 128;
+
+int blocks_for(long long n) {
+  return static_cast<int>((n + kBlock - 1) / kBlock);
+}
+
+double clock_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Grows `buffer` to at least `count` elements (contents are not kept): the contact lists change
+// length every step, and a cudaFree per step would synchronise and fragment.
+template <class T>
+void reserve(DeviceBuffer<T>& buffer, std::size_t count) {
+  if (buffer.size() < count) buffer.resize(count + count / 4 + 64);
+}
+
+// Flags the kernels raise (the lowest index wins: atomicMin), read after their stage.
+enum Flag { failed_rotation = 0, degenerate_pair = 1, degenerate_wall = 2, selected = 3, flags };
+
+// ---- Per-particle stages (particle_kernels.hpp) ----
+
+template <class Real>
+__global__ void integrate_begin_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                                       Real dt, int* flag) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= p.count) return;
+  if (!integrate_begin(p, bodies, i, dt)) atomicMin(flag + failed_rotation, i);
+}
+
+template <class Real>
+__global__ void clear_forces_kernel(ParticleView<Real> p) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) clear_forces(p, i);
+}
+
+template <class Real>
+__global__ void gravity_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                               Vec3<Real> g) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) add_gravity(p, bodies, i, g);
+}
+
+template <class Real>
+__global__ void drag_kernel(ParticleView<Real> p, Real alpha) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) add_drag(p, i, alpha);
+}
+
+template <class Real>
+__global__ void integrate_end_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                                     Real dt) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) integrate_end(p, bodies, i, dt);
+}
+
+// ---- Pair contacts (pair_kernels.hpp) ----
+
+// The workspace capacity of the ordered pair (ia, ib): 0 when its geometry needs none (linear
+// model, spheres), else overlap_capacity_for of the two templates' faces, as the host picks it.
+template <class Real>
+TALUS_HD int pair_capacity(const BodyProperties<Real>& a, const BodyProperties<Real>& b,
+                           bool volume_model) {
+  if (!volume_model || a.sphere || b.sphere) return 0;
+  return overlap_capacity_for(a.faces + b.faces);
+}
+
+struct HistoryIn {
+  const PairKey* keys;
+  int count;
+};
+
+// One thread per candidate pair; this launch computes only the pairs of workspace capacity
+// `Capacity` (another launch per capacity present in the scene computes the rest), so a
+// thread's local memory is the workspace of its own template pair.
+template <class Real, int Capacity>
+__global__ void pair_kernel(ParticleView<Real> p, PairLawTables<Real> t,
+                            const ContactPair* __restrict__ pairs, int count, Real spring_dt,
+                            HistoryIn old, const ContactHistoryData<Real>* __restrict__ histories,
+                            PairContactRecord<Real>* __restrict__ records, int* flag) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  int ia, ib;
+  order_pair(p, t, pairs[k].a, pairs[k].b, ia, ib);
+  const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+  const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+  if (pair_capacity(a, b, t.volume_model) != Capacity) return;
+  PairGeometryData<Real> g;
+  if constexpr (Capacity == 0) {
+    g = simple_pair_geometry(p, t, ia, ib);
+  } else {
+    const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
+    const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
+    OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+    g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
+  }
+  const PairContactRecord<Real> r =
+      pair_contact_force(p, t, ia, ib, g, spring_dt, old.keys, histories, old.count);
+  records[k] = r;
+  if (r.degenerate) atomicMin(flag + degenerate_pair, k);
+}
+
+// The next history store from the touching contacts (sorted afterwards).
+template <class Record, class Real>
+__global__ void copy_histories(const Record* __restrict__ contacts, int count,
+                               PairKey* __restrict__ keys,
+                               ContactHistoryData<Real>* __restrict__ histories) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  keys[k] = contacts[k].key;
+  histories[k] = contacts[k].history;
+}
+
+// Two CSR entries per contact k: (a, k) and (b, k).
+template <class Real>
+__global__ void emit_entries(const PairContactRecord<Real>* __restrict__ contacts, int count,
+                             int* __restrict__ particle, int* __restrict__ contact) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  particle[2 * k] = contacts[k].a;
+  particle[2 * k + 1] = contacts[k].b;
+  contact[2 * k] = contact[2 * k + 1] = k;
+}
+
+// begin[i], end[i]: particle i's range of the sorted entries (both 0 when it has none).
+__global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int* begin, int* end) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= n) return;
+  const int i = sorted_particle[s];
+  if (s == 0 || sorted_particle[s - 1] != i) begin[i] = s;
+  if (s == n - 1 || sorted_particle[s + 1] != i) end[i] = s + 1;
+}
+
+// ---- Wall contacts (wall_kernels.hpp) ----
+
+template <class Real>
+struct WallArgs {
+  const WallFacets<Real>* facets = nullptr;  // per wall, device corners
+  const WallMotionData<Real>* motions = nullptr;
+  const int* materials = nullptr;
+  int walls = 0;
+};
+
+// One thread per (particle, wall), wall-major: record w * count + i.
+template <class Real>
+__global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
+                            Real spring_dt, HistoryIn old,
+                            const ContactHistoryData<Real>* __restrict__ histories,
+                            WallContactRecord<Real>* __restrict__ records, int* flag) {
+  const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= static_cast<long long>(p.count) * walls.walls) return;
+  const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
+  const WallContactRecord<Real> r =
+      wall_contact(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w], spring_dt,
+                   old.keys, histories, old.count);
+  records[k] = r;
+  if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
+}
+
+// ---- Accumulation: one thread per particle, its contacts in pair order, then its walls ----
+
+template <class Real>
+__global__ void accumulate_kernel(ParticleView<Real> p,
+                                  const PairContactRecord<Real>* __restrict__ contacts,
+                                  const int* __restrict__ sorted_contact,
+                                  const int* __restrict__ begin, const int* __restrict__ end,
+                                  const WallContactRecord<Real>* __restrict__ wall_records,
+                                  int walls) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= p.count) return;
+  // The same additions, in the same order, as add_pair_force and add_wall_force on the host.
+  Vec3<Real> f = p.force.get(i), t;
+  const bool torque = p.torque.present();
+  if (torque) t = p.torque.get(i);
+  const Vec3<Real> x = p.position.get(i);
+  if (contacts) {
+    for (int s = begin[i]; s < end[i]; ++s) {
+      const PairContactRecord<Real>& c = contacts[sorted_contact[s]];
+      if (c.a == i) {
+        f = f + c.force_on_a;
+        if (torque) t = t + cross(c.point - x, c.force_on_a);
+      } else {
+        f = f - c.force_on_a;
+        if (torque) t = t + cross(c.point - x, -c.force_on_a);
+      }
+    }
+  }
+  for (int w = 0; w < walls; ++w) {
+    const WallContactRecord<Real>& c = wall_records[static_cast<long long>(w) * p.count + i];
+    if (!c.in_contact) continue;
+    f = f + c.force;
+    if (torque) t = t + cross(c.point - x, c.force);
+  }
+  p.force.set(i, f);
+  if (torque) p.torque.set(i, t);
+}
+
+struct InContact {
+  template <class Record>
+  __host__ __device__ bool operator()(const Record& r) const {
+    return r.in_contact;
+  }
+};
+
+struct KeyLess {
+  __host__ __device__ bool operator()(const PairKey& p, const PairKey& q) const {
+    return key_less(p, q);
+  }
+};
+
+template <class T>
+std::vector<T> download(const T* device, std::size_t count) {
+  std::vector<T> host(count);
+  if (count > 0) {
+    TALUS_CUDA_CHECK(cudaMemcpy(host.data(), device, count * sizeof(T), cudaMemcpyDeviceToHost));
+  }
+  return host;
+}
+
+// A sorted history store (keys and their histories) in device memory, double-buffered: the
+// pair stage reads the current one while the next is written into the other.
+template <class Real>
+struct DeviceHistory {
+  DeviceBuffer<PairKey> keys[2];
+  DeviceBuffer<ContactHistoryData<Real>> histories[2];
+  int current = 0, count = 0;
+  HistoryIn in() const { return {keys[current].data(), count}; }
+  const ContactHistoryData<Real>* values() const { return histories[current].data(); }
+  std::size_t bytes() const {
+    return (keys[0].size() + keys[1].size()) * sizeof(PairKey) +
+           (histories[0].size() + histories[1].size()) * sizeof(ContactHistoryData<Real>);
+  }
+};
+
+}  // namespace
+
+template <class Real>
+struct CudaStep<Real>::Impl {
+  const Scene& scene;
+  StepPlan plan;
+  Real dt;
+  int count = 0;
+  std::vector<std::unique_ptr<ShapeArrays<Real>>> host_shapes;  // per template (polyhedra)
+  std::vector<BodyProperties<Real>> host_bodies;                // host shape views
+  std::vector<std::unique_ptr<DeviceShape<Real>>> device_shapes;
+  DeviceBuffer<BodyProperties<Real>> bodies;  // device shape views
+  std::vector<std::pair<std::string, DeviceBuffer<Real>>> storage;
+  DeviceBuffer<int> template_ids, material_ids;
+  DeviceBuffer<long long> global_ids;
+  ParticleView<Real> view;  // device pointers
+  DeviceBuffer<int> flag;
+  DeviceBuffer<unsigned char> temp;  // CUB's temporary storage
+
+  // Pair contacts.
+  std::unique_ptr<PairContactStage<Real>> host_tables;  // the scene's checks and law tables
+  DeviceBuffer<Real> table_values;
+  PairLawTables<Real> tables;   // device pointers
+  std::vector<int> capacities;  // the workspace capacities of the scene's template pairs
+  std::unique_ptr<ContactPairsGpu<Real>> broad_phase;
+  int candidates = 0;
+  DeviceBuffer<PairContactRecord<Real>> records, contacts;
+  int contact_count = 0;
+  DeviceHistory<Real> pair_history;
+  DeviceBuffer<int> entry_particle, entry_contact, sorted_particle, sorted_contact;
+  DeviceBuffer<int> entry_begin, entry_end;
+
+  // Wall contacts.
+  std::unique_ptr<WallContactStage<Real>> host_walls;  // placement on the host, then uploaded
+  DeviceBuffer<Vec3<Real>> corners;
+  DeviceBuffer<WallFacets<Real>> facets;
+  DeviceBuffer<WallMotionData<Real>> motions;
+  DeviceBuffer<int> wall_materials;
+  DeviceBuffer<WallContactRecord<Real>> wall_records, wall_contacts;
+  int wall_contact_count = 0;
+  DeviceHistory<Real> wall_history;
+  mutable bool wall_sums_ready = false;
+  mutable std::vector<Vec3d> wall_force, wall_torque;
+
+  std::array<double, 9> stage_seconds{};
+  double time = 0;
+  long long steps = 0;
+  bool forces_ready = false;
+
+  explicit Impl(const Scene& s) : scene(s), plan(plan_step(s)), dt(Real(s.time_step)) {}
+
+  Real* allocate(const std::string& name) {
+    storage.emplace_back(name, DeviceBuffer<Real>(count));
+    Real* data = storage.back().second.data();
+    if (count > 0) TALUS_CUDA_CHECK(cudaMemset(data, 0, count * sizeof(Real)));
+    return data;
+  }
+
+  template <class Call>
+  void cub_call(Call&& call) {
+    std::size_t bytes = 0;
+    TALUS_CUDA_CHECK(call(nullptr, bytes));
+    reserve(temp, bytes);
+    bytes = temp.size();
+    TALUS_CUDA_CHECK(call(temp.data(), bytes));
+  }
+
+  void reset_flags() {
+    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0};
+    TALUS_CUDA_CHECK(cudaMemcpy(flag.data(), none, sizeof(none), cudaMemcpyHostToDevice));
+  }
+  int read_flag(Flag which) const {
+    int value = 0;
+    TALUS_CUDA_CHECK(cudaMemcpy(&value, flag.data() + which, sizeof(int), cudaMemcpyDeviceToHost));
+    return value;
+  }
+
+  template <class Body>
+  void timed(Stage stage, Body&& body) {
+    const double start = clock_seconds();
+    body();
+    TALUS_CUDA_CHECK(cudaDeviceSynchronize());
+    stage_seconds[static_cast<int>(stage)] += clock_seconds() - start;
+  }
+
+  // Compacts the records in contact into `out` (their order kept); returns how many.
+  template <class Record>
+  int select_in_contact(const DeviceBuffer<Record>& in, long long n, DeviceBuffer<Record>& out) {
+    if (n == 0) return 0;
+    reserve(out, n);
+    int* selected_count = flag.data() + selected;
+    cub_call([&](void* t, std::size_t& b) {
+      return cub::DeviceSelect::If(t, b, in.data(), out.data(), selected_count, n, InContact());
+    });
+    return read_flag(selected);
+  }
+
+  // The next history store: the touching contacts' keys and histories, sorted by key.
+  template <class Record>
+  void rebuild_history(DeviceHistory<Real>& h, const DeviceBuffer<Record>& touching, int n) {
+    const int next = 1 - h.current;
+    reserve(h.keys[next], n);
+    reserve(h.histories[next], n);
+    if (n > 0) {
+      copy_histories<<<blocks_for(n), kBlock>>>(touching.data(), n, h.keys[next].data(),
+                                                h.histories[next].data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      cub_call([&](void* t, std::size_t& b) {
+        return cub::DeviceMergeSort::SortPairs(t, b, h.keys[next].data(), h.histories[next].data(),
+                                               n, KeyLess());
+      });
+    }
+    h.current = next;
+    h.count = n;
+  }
+
+  void find_candidates() {
+    const double ms = broad_phase->build();
+    (void)ms;
+    candidates = static_cast<int>(broad_phase->pair_count());
+  }
+
+  void compute_pairs(Real spring_dt) {
+    reserve(records, candidates);
+    if (candidates > 0) {
+      for (const int capacity : capacities) {
+        const auto launch = [&](auto kernel) {
+          kernel<<<blocks_for(candidates), kBlock>>>(
+              view, tables, broad_phase->device_pairs(), candidates, spring_dt, pair_history.in(),
+              pair_history.values(), records.data(), flag.data());
+          TALUS_CUDA_LAUNCH_CHECK();
+        };
+        switch (capacity) {
+          case 0:
+            launch(pair_kernel<Real, 0>);
+            break;
+          case 32:
+            launch(pair_kernel<Real, 32>);
+            break;
+          case 64:
+            launch(pair_kernel<Real, 64>);
+            break;
+          case 128:
+            launch(pair_kernel<Real, 128>);
+            break;
+          default:
+            launch(pair_kernel<Real, 256>);
+            break;
+        }
+      }
+      const int bad = read_flag(degenerate_pair);
+      if (bad != INT_MAX) {
+        const PairContactRecord<Real> r = download(records.data() + bad, 1)[0];
+        const std::vector<long long> ids = download(global_ids.data(), count);
+        throw std::runtime_error(
+            scene.file + ": particles " + std::to_string(ids[r.a]) + " and " +
+            std::to_string(ids[r.b]) +
+            ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
+            "workspace cannot hold)");
+      }
+    }
+    contact_count = select_in_contact(records, candidates, contacts);
+    if (tables.volume_model) rebuild_history(pair_history, contacts, contact_count);
+  }
+
+  void compute_walls(Real spring_dt) {
+    host_walls->place(time);
+    const std::vector<std::vector<Vec3<Real>>>& placed = host_walls->corners();
+    const int walls = static_cast<int>(placed.size());
+    std::vector<Vec3<Real>> all;
+    std::vector<std::size_t> offsets;
+    for (const auto& c : placed) {
+      offsets.push_back(all.size());
+      all.insert(all.end(), c.begin(), c.end());
+    }
+    reserve(corners, all.size());
+    if (!all.empty()) {
+      TALUS_CUDA_CHECK(cudaMemcpy(corners.data(), all.data(), all.size() * sizeof(Vec3<Real>),
+                                  cudaMemcpyHostToDevice));
+    }
+    std::vector<WallFacets<Real>> wall_facets(walls);
+    for (int w = 0; w < walls; ++w) {
+      wall_facets[w].corners = corners.data() + offsets[w];
+      wall_facets[w].count = static_cast<int>(placed[w].size() / 3);
+    }
+    facets.upload(wall_facets);
+    WallArgs<Real> args;
+    args.facets = facets.data();
+    args.motions = motions.data();
+    args.materials = wall_materials.data();
+    args.walls = walls;
+    const long long n = static_cast<long long>(count) * walls;
+    reserve(wall_records, n);
+    if (n > 0) {
+      wall_kernel<<<blocks_for(n), kBlock>>>(view, tables, args, spring_dt, wall_history.in(),
+                                             wall_history.values(), wall_records.data(),
+                                             flag.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      const int bad = read_flag(degenerate_wall);
+      if (bad != INT_MAX) {
+        const std::vector<long long> ids = download(global_ids.data(), count);
+        throw std::runtime_error(scene.file + ": particle " + std::to_string(ids[bad % count]) +
+                                 " against wall '" + scene.walls[bad / count].name +
+                                 "': a facet's clipping failed (section capacity)");
+      }
+    }
+    wall_contact_count = select_in_contact(wall_records, n, wall_contacts);
+    if (tables.volume_model) rebuild_history(wall_history, wall_contacts, wall_contact_count);
+    wall_sums_ready = false;
+  }
+
+  void accumulate() {
+    const int entries = 2 * contact_count;
+    if (contact_count > 0) {
+      reserve(entry_particle, entries), reserve(entry_contact, entries);
+      reserve(sorted_particle, entries), reserve(sorted_contact, entries);
+      emit_entries<<<blocks_for(contact_count), kBlock>>>(
+          contacts.data(), contact_count, entry_particle.data(), entry_contact.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      // Stable: each particle's entries stay in ascending contact (pair) order.
+      int bits = 1;
+      while (bits < 31 && (1 << bits) < count) ++bits;
+      cub_call([&](void* t, std::size_t& b) {
+        return cub::DeviceRadixSort::SortPairs(t, b, entry_particle.data(), sorted_particle.data(),
+                                               entry_contact.data(), sorted_contact.data(), entries,
+                                               0, bits);
+      });
+      TALUS_CUDA_CHECK(cudaMemset(entry_begin.data(), 0, count * sizeof(int)));
+      TALUS_CUDA_CHECK(cudaMemset(entry_end.data(), 0, count * sizeof(int)));
+      entry_ranges<<<blocks_for(entries), kBlock>>>(sorted_particle.data(), entries,
+                                                    entry_begin.data(), entry_end.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+    }
+    const int walls = host_walls ? static_cast<int>(scene.walls.size()) : 0;
+    accumulate_kernel<<<blocks_for(count), kBlock>>>(
+        view, contact_count > 0 ? contacts.data() : nullptr, sorted_contact.data(),
+        entry_begin.data(), entry_end.data(), wall_records.data(), walls);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+
+  void run_force_stages(Real spring_dt) {
+    if (count == 0) return;
+    const BodyProperties<Real>* b = bodies.data();
+    for (const Stage stage : plan.stages) {
+      switch (stage) {
+        case Stage::clear_forces:
+          timed(stage, [&] {
+            clear_forces_kernel<<<blocks_for(count), kBlock>>>(view);
+            TALUS_CUDA_LAUNCH_CHECK();
+          });
+          break;
+        case Stage::gravity:
+          timed(stage, [&] {
+            const Vec3<Real> g(*scene.effects.gravity);
+            gravity_kernel<<<blocks_for(count), kBlock>>>(view, b, g);
+            TALUS_CUDA_LAUNCH_CHECK();
+          });
+          break;
+        case Stage::drag:
+          timed(stage, [&] {
+            drag_kernel<<<blocks_for(count), kBlock>>>(view, Real(*scene.effects.drag_alpha));
+            TALUS_CUDA_LAUNCH_CHECK();
+          });
+          break;
+        case Stage::candidate_pairs:
+          timed(stage, [&] { find_candidates(); });
+          break;
+        case Stage::pair_contacts:
+          timed(stage, [&] { compute_pairs(spring_dt); });
+          break;
+        case Stage::wall_contacts:
+          timed(stage, [&] { compute_walls(spring_dt); });
+          break;
+        case Stage::accumulate:
+          timed(stage, [&] { accumulate(); });
+          break;
+        case Stage::integrate_begin:
+        case Stage::integrate_end:
+          break;
+      }
+    }
+  }
+
+  // The particle arrays in host memory, as a host ParticleView over `keep`'s vectors.
+  struct HostCopy {
+    std::vector<std::vector<Real>> arrays;
+    std::vector<int> template_ids;
+    std::vector<long long> global_ids;
+    ParticleView<Real> view;
+  };
+  HostCopy host_copy() const {
+    HostCopy c;
+    c.view.count = count;
+    c.template_ids = download(template_ids.data(), count);
+    c.global_ids = download(global_ids.data(), count);
+    c.view.template_id = c.template_ids.data();
+    c.view.global_id = c.global_ids.data();
+    c.arrays.reserve(13);
+    const auto get = [&](const Real* device) {
+      c.arrays.push_back(download(device, count));
+      return c.arrays.back().data();
+    };
+    const auto get3 = [&](const Soa3<Real>& s) {
+      Soa3<Real> h;
+      if (s.present()) h.x = get(s.x), h.y = get(s.y), h.z = get(s.z);
+      return h;
+    };
+    c.view.position = get3(view.position);
+    c.view.velocity = get3(view.velocity);
+    c.view.angular_velocity = get3(view.angular_velocity);
+    c.view.orientation.w = get(view.orientation.w);
+    c.view.orientation.x = get(view.orientation.x);
+    c.view.orientation.y = get(view.orientation.y);
+    c.view.orientation.z = get(view.orientation.z);
+    return c;
+  }
+
+  void sum_walls() const {
+    if (wall_sums_ready) return;
+    wall_force.assign(scene.walls.size(), Vec3d());
+    wall_torque.assign(scene.walls.size(), Vec3d());
+    if (host_walls) {
+      // As WallContactStage::accumulate: in order, in double.
+      for (const WallContactRecord<Real>& c : download(wall_contacts.data(), wall_contact_count)) {
+        wall_force[c.wall] -= Vec3d(c.force);
+        wall_torque[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
+      }
+    }
+    wall_sums_ready = true;
+  }
+};
+
+template <class Real>
+CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {
+  Impl& m = *impl_;
+  for (const ParticleTemplate& t : scene.templates) {
+    m.host_shapes.push_back(t.kind == ParticleShapeKind::polyhedron
+                                ? std::make_unique<ShapeArrays<Real>>(t.shape)
+                                : nullptr);
+    m.host_bodies.push_back(body_properties(scene, t, m.host_shapes.back().get()));
+  }
+  // The scene's checks first (StepNotSupported), as the host step makes them.
+  if (m.plan.contacts)
+    m.host_tables = std::make_unique<PairContactStage<Real>>(scene, m.host_bodies);
+  if (m.plan.walls) m.host_walls = std::make_unique<WallContactStage<Real>>(scene, m.host_bodies);
+
+  std::vector<BodyProperties<Real>> device_bodies = m.host_bodies;
+  for (std::size_t k = 0; k < device_bodies.size(); ++k) {
+    m.device_shapes.push_back(nullptr);
+    if (m.host_shapes[k]) {
+      m.device_shapes.back() = std::make_unique<DeviceShape<Real>>(m.host_bodies[k].shape);
+      device_bodies[k].shape = m.device_shapes.back()->view;
+    }
+  }
+  m.bodies.upload(device_bodies);
+  m.flag.resize(flags);
+
+  const std::vector<ParticleState> initial = initial_particles(scene);
+  m.count = static_cast<int>(initial.size());
+  const int n = m.count;
+  ParticleView<Real>& v = m.view;
+  v.count = n;
+  const auto soa3 = [&](const std::string& name) {
+    Soa3<Real> s;
+    s.x = m.allocate(name + ".x"), s.y = m.allocate(name + ".y"), s.z = m.allocate(name + ".z");
+    return s;
+  };
+  v.position = soa3("position");
+  v.velocity = soa3("velocity");
+  v.orientation.w = m.allocate("orientation.w");
+  v.orientation.x = m.allocate("orientation.x");
+  v.orientation.y = m.allocate("orientation.y");
+  v.orientation.z = m.allocate("orientation.z");
+  if (m.plan.arrays.force) {
+    v.force = soa3("force");
+    v.step_start_acceleration = soa3("step_start_acceleration");
+  }
+  if (m.plan.arrays.angular_velocity) v.angular_velocity = soa3("angular_velocity");
+  if (m.plan.arrays.torque) {
+    v.torque = soa3("torque");
+    v.step_start_torque = soa3("step_start_torque");
+  }
+  if (m.plan.arrays.bounding_radius) v.bounding_radius = m.allocate("bounding_radius");
+
+  // The initial state, made on the host as HostStep makes it, then uploaded array by array.
+  std::vector<int> template_ids(n), material_ids(n);
+  std::vector<long long> global_ids(n);
+  std::vector<std::vector<Real>> columns(17, std::vector<Real>(n));
+  for (int i = 0; i < n; ++i) {
+    const ParticleState& p = initial[i];
+    const BodyProperties<Real>& body = m.host_bodies.at(p.template_index);
+    template_ids[i] = p.template_index;
+    material_ids[i] = body.material;
+    global_ids[i] = i;
+    const Quatd q = p.orientation.normalized();
+    const Vec3<Real> x(p.position), u(p.velocity);
+    const Quat<Real> qr(q);
+    // The scene gives the angular velocity in the world frame; Euler's equations want the body's.
+    const Vec3<Real> w(rotate_inverse(q, p.angular_velocity));
+    const Real values[14] = {x.x,  x.y,  x.z,  u.x, u.y, u.z, qr.w,
+                             qr.x, qr.y, qr.z, w.x, w.y, w.z, body.bounding_radius};
+    for (int c = 0; c < 14; ++c) columns[c][i] = values[c];
+  }
+  Real* const targets[14] = {v.position.x,         v.position.y,         v.position.z,
+                             v.velocity.x,         v.velocity.y,         v.velocity.z,
+                             v.orientation.w,      v.orientation.x,      v.orientation.y,
+                             v.orientation.z,      v.angular_velocity.x, v.angular_velocity.y,
+                             v.angular_velocity.z, v.bounding_radius};
+  for (int c = 0; c < 14; ++c) {
+    if (targets[c] && n > 0) {
+      TALUS_CUDA_CHECK(
+          cudaMemcpy(targets[c], columns[c].data(), n * sizeof(Real), cudaMemcpyHostToDevice));
+    }
+  }
+  m.template_ids.upload(template_ids);
+  m.material_ids.upload(material_ids);
+  m.global_ids.upload(global_ids);
+  v.template_id = m.template_ids.data();
+  v.material_id = m.material_ids.data();
+  v.global_id = m.global_ids.data();
+
+  if (m.plan.contacts) {
+    // The law tables, in one device buffer, in the host tables' layout.
+    const PairLawTables<Real>& h = m.host_tables->tables();
+    const int materials = h.materials, pairs = materials * materials;
+    std::vector<Real> values;
+    values.insert(values.end(), h.youngs_modulus, h.youngs_modulus + materials);
+    values.insert(values.end(), h.poisson_ratio, h.poisson_ratio + materials);
+    values.insert(values.end(), h.pair_friction, h.pair_friction + pairs);
+    values.insert(values.end(), h.pair_restitution, h.pair_restitution + pairs);
+    values.insert(values.end(), h.pair_damping_ratio, h.pair_damping_ratio + pairs);
+    m.table_values.upload(values);
+    m.tables = h;
+    const Real* d = m.table_values.data();
+    m.tables.bodies = m.bodies.data();
+    m.tables.youngs_modulus = d;
+    m.tables.poisson_ratio = d + materials;
+    m.tables.pair_friction = d + 2 * materials;
+    m.tables.pair_restitution = d + 2 * materials + pairs;
+    m.tables.pair_damping_ratio = d + 2 * materials + 2 * pairs;
+    // One pair launch per workspace capacity among the scene's template pairs.
+    for (const BodyProperties<Real>& a : m.host_bodies) {
+      for (const BodyProperties<Real>& b : m.host_bodies) {
+        const int capacity = pair_capacity(a, b, h.volume_model);
+        if (std::find(m.capacities.begin(), m.capacities.end(), capacity) == m.capacities.end()) {
+          m.capacities.push_back(capacity);
+        }
+      }
+    }
+    std::sort(m.capacities.begin(), m.capacities.end());
+    m.broad_phase = std::make_unique<ContactPairsGpu<Real>>();
+    NeighborInput<Real> in;
+    in.x = v.position.x, in.y = v.position.y, in.z = v.position.z;
+    in.radius = v.bounding_radius;
+    in.count = n;
+    m.broad_phase->set_device_particles(in);
+    m.entry_begin.resize(n), m.entry_end.resize(n);
+  }
+  if (m.host_walls) {
+    m.motions.upload(m.host_walls->motions());
+    std::vector<int> materials;
+    for (const auto& w : scene.walls) materials.push_back(w.material);
+    m.wall_materials.upload(materials);
+  }
+}
+
+template <class Real>
+CudaStep<Real>::~CudaStep() = default;
+
+template <class Real>
+void CudaStep<Real>::evaluate_forces() {
+  Impl& m = *impl_;
+  m.reset_flags();
+  m.run_force_stages(Real(0));
+  m.forces_ready = true;
+}
+
+template <class Real>
+void CudaStep<Real>::step() {
+  Impl& m = *impl_;
+  if (!m.forces_ready) evaluate_forces();  // F_0, T_0 for the first half-step
+  if (m.host_walls) m.host_walls->open_outlets(m.time);
+  m.reset_flags();
+  if (m.count > 0) {
+    m.timed(Stage::integrate_begin, [&] {
+      integrate_begin_kernel<<<blocks_for(m.count), kBlock>>>(m.view, m.bodies.data(), m.dt,
+                                                              m.flag.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+    });
+    const int failed = m.read_flag(failed_rotation);
+    if (failed != INT_MAX) {
+      const long long id = download(m.global_ids.data() + failed, 1)[0];
+      throw std::runtime_error(
+          m.scene.file + ": particle " + std::to_string(id) +
+          " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
+    }
+  }
+  m.time += m.scene.time_step;
+  ++m.steps;
+  m.run_force_stages(m.dt);
+  if (m.count > 0) {
+    m.timed(Stage::integrate_end, [&] {
+      integrate_end_kernel<<<blocks_for(m.count), kBlock>>>(m.view, m.bodies.data(), m.dt);
+      TALUS_CUDA_LAUNCH_CHECK();
+    });
+  }
+}
+
+template <class Real>
+double CudaStep<Real>::time() const {
+  return impl_->time;
+}
+template <class Real>
+long long CudaStep<Real>::steps() const {
+  return impl_->steps;
+}
+template <class Real>
+const StepPlan& CudaStep<Real>::plan() const {
+  return impl_->plan;
+}
+template <class Real>
+int CudaStep<Real>::particle_count() const {
+  return impl_->count;
+}
+template <class Real>
+const std::array<double, 9>& CudaStep<Real>::stage_seconds() const {
+  return impl_->stage_seconds;
+}
+template <class Real>
+std::size_t CudaStep<Real>::pair_contact_count() const {
+  return impl_->contact_count;
+}
+template <class Real>
+std::size_t CudaStep<Real>::wall_contact_count() const {
+  return impl_->wall_contact_count;
+}
+
+template <class Real>
+std::vector<std::string> CudaStep<Real>::allocated_arrays() const {
+  std::vector<std::string> names;
+  for (const auto& [name, values] : impl_->storage) names.push_back(name);
+  names.insert(names.end(), {"template_id", "material_id", "global_id"});
+  return names;
+}
+
+template <class Real>
+std::size_t CudaStep<Real>::allocated_bytes() const {
+  const Impl& m = *impl_;
+  std::size_t bytes = m.count * (2 * sizeof(int) + sizeof(long long));
+  for (const auto& entry : m.storage) bytes += entry.second.size() * sizeof(Real);
+  bytes += m.records.size() * sizeof(PairContactRecord<Real>) +
+           m.contacts.size() * sizeof(PairContactRecord<Real>) + m.pair_history.bytes() +
+           m.wall_history.bytes() +
+           (m.wall_records.size() + m.wall_contacts.size()) * sizeof(WallContactRecord<Real>) +
+           (m.entry_particle.size() + m.entry_contact.size() + m.sorted_particle.size() +
+            m.sorted_contact.size() + m.entry_begin.size() + m.entry_end.size()) *
+               sizeof(int) +
+           m.temp.size() + m.corners.size() * sizeof(Vec3<Real>);
+  return bytes;
+}
+
+template <class Real>
+Vec3d CudaStep<Real>::wall_force(int w) const {
+  impl_->sum_walls();
+  return impl_->wall_force.at(w);
+}
+
+template <class Real>
+Vec3d CudaStep<Real>::wall_torque(int w) const {
+  impl_->sum_walls();
+  return impl_->wall_torque.at(w);
+}
+
+template <class Real>
+std::vector<TrajectoryRow> CudaStep<Real>::trajectory_rows() const {
+  return particle_rows(impl_->host_copy().view);
+}
+
+template <class Real>
+double CudaStep<Real>::kinetic_energy() const {
+  return particle_kinetic_energy(impl_->host_copy().view, impl_->host_bodies);
+}
+
+template <class Real>
+double CudaStep<Real>::bed_height(const Vec3d& gravity) const {
+  return particle_bed_height(impl_->host_copy().view, impl_->host_bodies, gravity);
+}
+
+std::unique_ptr<AnyStep> make_cuda_step(const Scene& scene) {
+  if (scene.precision == Precision::float32) {
+    return std::make_unique<StepAdapter<CudaStep<float>>>(scene, "cuda");
+  }
+  return std::make_unique<StepAdapter<CudaStep<double>>>(scene, "cuda");
+}
+
+template class CudaStep<double>;
+template class CudaStep<float>;
+
+}  // namespace talus

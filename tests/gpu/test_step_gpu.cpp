@@ -1,0 +1,321 @@
+// The production step on the GPU (solver/step/cuda_step.hpp) against the host step
+// (host_step.hpp, itself tested against the reference solver in
+// tests/reference/test_production_vs_reference.cpp) on that file's 2- and 20-particle scenes,
+// stepped side by side over the same horizons: the same number of pair and wall contacts at every
+// step, and positions within 1e-10 relative. Skipped with the reason where no GPU is usable.
+//
+// TALUS_GPU_TEST_MAX_STEPS caps the steps of every comparison (compute-sanitizer runs the kernels
+// tens of times slower): the capped runs then check agreement only, not that contacts formed;
+// GpuStep.CrowdInABoxVolumeMatchesHost has pair and wall contacts from its first step and 300
+// steps in all, so the capped runs still exercise every contact kernel.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/scene/scene_loader.hpp"
+#include "solver/step/cuda_step.hpp"
+#include "solver/step/host_step.hpp"
+
+namespace talus {
+namespace {
+
+#define SKIP_WITHOUT_GPU()                                 \
+  do {                                                     \
+    std::string why;                                       \
+    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
+  } while (0)
+
+Scene scene_from(const std::string& yaml) {
+  return parse_scene(yaml, "test.yaml", ".");
+}
+
+long long max_steps() {
+  const char* cap = std::getenv("TALUS_GPU_TEST_MAX_STEPS");
+  return cap ? std::atoll(cap) : -1;
+}
+
+// The scenes of test_production_vs_reference.cpp (same text, same seeds).
+const char* const kGlass = R"(
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
+          restitution: 0.5}
+)";
+
+std::string cloud(int n, double spacing, double speed, const std::vector<std::string>& templates,
+                  std::uint64_t seed, int side = 3) {
+  std::mt19937_64 random(seed);
+  const auto uniform = [&] { return double(random() >> 11) * 0x1.0p-53 - 0.5; };
+  std::ostringstream out;
+  out.precision(17);
+  out << "particles:\n  - explicit:\n";
+  for (int k = 0; k < n; ++k) {
+    const double mid = 0.5 * (side - 1);
+    const double x = spacing * (k % side - mid + 0.1 * uniform());
+    const double y = spacing * ((k / side) % side - mid + 0.1 * uniform());
+    const double z = spacing * (k / (side * side) - mid + 0.1 * uniform());
+    out << "      - {template: " << templates[k % templates.size()] << ", position: [" << x << ", "
+        << y << ", " << z << "], velocity: [" << -speed * x / spacing + speed * uniform() << ", "
+        << -speed * y / spacing << ", " << -speed * z / spacing << "], orientation: {axis: ["
+        << uniform() << ", 1, " << uniform() << "], degrees: " << 90 * uniform()
+        << "}, angular_velocity: [" << 10 * uniform() << ", " << 10 * uniform() << ", "
+        << 10 * uniform() << "]}\n";
+  }
+  return out.str();
+}
+
+Scene two_cubes_volume() {
+  return scene_from(std::string("time: {step: 1.0e-6, end: 3.0e-3}\n") + kGlass + R"(
+templates:
+  cube: {shape: "cube:0.01", material: glass}
+  octa: {shape: "octahedron:0.012", material: glass}
+particles:
+  - explicit:
+      - {template: cube, position: [-0.0062, 0.001, 0.0005], velocity: [1.0, 0, 0],
+         orientation: {axis: [1, 1, 0], degrees: 30}, angular_velocity: [0, 5, 20]}
+      - {template: octa, position: [0.0062, -0.001, 0], velocity: [-1.0, 0.2, 0],
+         orientation: {axis: [0, 1, 1], degrees: 20}}
+effects:
+  contact: volume
+  friction: true
+  rotation: true
+)");
+}
+
+Scene two_spheres_volume() {
+  return scene_from(std::string("time: {step: 1.0e-6, end: 2.0e-3}\n") + kGlass + R"(
+templates:
+  ball: {sphere: 0.005, material: glass}
+  small: {sphere: 0.003, material: glass}
+particles:
+  - explicit:
+      - {template: ball, position: [-0.0051, 0.001, 0], velocity: [1.0, 0, 0],
+         angular_velocity: [0, 10, 30]}
+      - {template: small, position: [0.0032, -0.001, 0], velocity: [-1.0, 0.2, 0]}
+effects:
+  contact: volume
+  friction: true
+  rotation: true
+)");
+}
+
+Scene sphere_and_cube_linear() {
+  return scene_from(std::string("time: {step: 1.0e-6, end: 2.0e-3}\n") + kGlass + R"(
+templates:
+  cube: {shape: "cube:0.01", material: glass}
+  ball: {sphere: 0.004, material: glass}
+particles:
+  - explicit:
+      - {template: cube, position: [-0.0052, 0.001, 0.0005], velocity: [1.0, 0, 0],
+         orientation: {axis: [1, 1, 0], degrees: 30}, angular_velocity: [0, 5, 20]}
+      - {template: ball, position: [0.0052, -0.001, 0], velocity: [-1.0, 0.2, 0]}
+effects:
+  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
+  friction: true
+  rotation: true
+)");
+}
+
+Scene twenty_polyhedra_volume(const std::string& precision = "double") {
+  return scene_from(std::string("time: {step: 2.0e-6, end: 3.0e-3}\nprecision: ") + precision +
+                    "\n" + kGlass + R"(
+templates:
+  cube: {shape: "cube:0.008", material: glass}
+  octa: {shape: "octahedron:0.011", material: glass}
+)" + cloud(20, 0.011, 1.0, {"cube", "octa"}, 11) +
+                    R"(
+effects:
+  contact: volume
+  friction: true
+  rotation: true
+)");
+}
+
+Scene twenty_mixed_in_a_box_linear() {
+  std::vector<std::string> names;
+  for (int k = 0; k < 20; ++k)
+    names.push_back(k == 0 || k == 19 ? "cube" : k % 2 ? "ball" : "small");
+  return scene_from(std::string("time: {step: 2.0e-6, end: 6.0e-3}\n") + kGlass + R"(
+templates:
+  cube: {shape: "cube:0.008", material: glass}
+  ball: {sphere: 0.005, material: glass}
+  small: {sphere: 0.004, material: glass}
+walls:
+  - box: {min: [-0.019, -0.019, -0.019], max: [0.019, 0.019, 0.019], material: glass}
+)" + cloud(20, 0.012, 1.0, names, 5) +
+                    R"(
+effects:
+  gravity: [0, 0, -9.81]
+  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
+  friction: true
+  rotation: true
+)");
+}
+
+struct Agreement {
+  long long steps = 0, contact_steps = 0, mismatches = 0;
+  double position_error = 0;  // max |x_gpu - x_host| / max(|x_host|, length)
+  bool finite = true;
+};
+
+// Both steps side by side. `length`: the particles' size (the error of a particle near the origin
+// is measured against it rather than against 0).
+template <class Real>
+Agreement compare_steps(const Scene& scene, double length) {
+  HostStep<Real> host(scene);
+  CudaStep<Real> gpu(scene);
+  long long total = std::llround(scene.end_time / scene.time_step);
+  if (max_steps() > 0) total = std::min(total, max_steps());
+  Agreement a;
+  for (long long k = 0; k < total; ++k) {
+    host.step();
+    gpu.step();
+    ++a.steps;
+    a.contact_steps += host.pair_contact_count() + host.wall_contact_count() > 0 ? 1 : 0;
+    a.mismatches += host.pair_contact_count() != gpu.pair_contact_count() ||
+                            host.wall_contact_count() != gpu.wall_contact_count()
+                        ? 1
+                        : 0;
+    const std::vector<TrajectoryRow> h = host.trajectory_rows(), g = gpu.trajectory_rows();
+    EXPECT_EQ(h.size(), g.size());
+    for (std::size_t i = 0; i < std::min(h.size(), g.size()); ++i) {
+      a.finite = a.finite && std::isfinite(g[i].position.x) && std::isfinite(g[i].position.y) &&
+                 std::isfinite(g[i].position.z);
+      a.position_error = std::max(a.position_error, norm(g[i].position - h[i].position) /
+                                                        std::max(norm(h[i].position), length));
+    }
+  }
+  std::printf("steps %lld  contact steps %lld  mismatches %lld  position error %.3g\n", a.steps,
+              a.contact_steps, a.mismatches, a.position_error);
+  return a;
+}
+
+// Double: the GPU runs the host's functions with the host's summation order; what differs is
+// nvcc's fused multiply-adds (and libm's cbrt/sqrt), ~1e-16 relative per operation. A contact
+// amplifies that by far less than 1e5 over these horizons (the reference comparison, whose
+// implementations differ far more, stays below 1e-8), so 1e-10 leaves a margin of 100 above
+// 1e-16 x 1e4 and still catches any wrong term (a force or torque term off is ~1e-3 and more).
+constexpr double kDoubleTolerance = 1e-10;
+
+void expect_agreement(const Agreement& a, long long min_contact_steps) {
+  EXPECT_TRUE(a.finite);
+  EXPECT_EQ(a.mismatches, 0);
+  if (max_steps() <= 0) EXPECT_GE(a.contact_steps, min_contact_steps);
+  EXPECT_LT(a.position_error, kDoubleTolerance);
+}
+
+TEST(GpuStep, TwoCubesVolumeMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  expect_agreement(compare_steps<double>(two_cubes_volume(), 0.01), 100);
+}
+
+TEST(GpuStep, TwoSpheresVolumeMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  expect_agreement(compare_steps<double>(two_spheres_volume(), 0.005), 100);
+}
+
+TEST(GpuStep, SphereAndCubeLinearMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  expect_agreement(compare_steps<double>(sphere_and_cube_linear(), 0.01), 100);
+}
+
+TEST(GpuStep, TwentyPolyhedraVolumeMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  expect_agreement(compare_steps<double>(twenty_polyhedra_volume(), 0.01), 100);
+}
+
+TEST(GpuStep, TwentyMixedParticlesInABoxLinearMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  expect_agreement(compare_steps<double>(twenty_mixed_in_a_box_linear(), 0.01), 100);
+}
+
+std::string mixed_capacity_scene() {
+  return std::string("time: {step: 2.0e-6, end: 3.0e-3}\n") + kGlass + R"(
+templates:
+  cube: {shape: "cube:0.008", material: glass}
+  ico: {shape: "icosahedron:0.012", material: glass}
+)" + cloud(12, 0.011, 2.0, {"cube", "ico"}, 3) +
+         R"(
+effects:
+  contact: volume
+  friction: true
+  rotation: true
+)";
+}
+
+// Mixed workspace capacities in one scene: cubes and icosahedra (6 + 6 and 6 + 20 faces: the
+// 32-plane workspace; 20 + 20: the 64-plane one), so two pair launches each step.
+TEST(GpuStep, MixedWorkspaceCapacitiesMatchHost) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = scene_from(mixed_capacity_scene());
+  expect_agreement(compare_steps<double>(scene, 0.01), 50);
+}
+
+// 20 cubes and icosahedra crowded in a box, volume model, gravity, friction, rotation: 2 to 35
+// touching pairs and 7 wall contacts at the start (the host step says so), both workspace
+// capacities, histories for pairs and walls; 300 steps.
+TEST(GpuStep, CrowdInABoxVolumeMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = scene_from(std::string("time: {step: 2.0e-6, end: 6.0e-4}\n") + kGlass + R"(
+templates:
+  cube: {shape: "cube:0.008", material: glass}
+  ico: {shape: "icosahedron:0.009", material: glass}
+walls:
+  - box: {min: [-0.0115, -0.0115, -0.0115], max: [0.0115, 0.0115, 0.0115], material: glass}
+)" + cloud(20, 0.0075, 3.0, {"cube", "ico"}, 9) +
+                                 R"(
+effects:
+  gravity: [0, 0, -9.81]
+  contact: volume
+  friction: true
+  rotation: true
+)");
+  const Agreement a = compare_steps<double>(scene, 0.01);
+  expect_agreement(a, 300);
+  EXPECT_EQ(a.steps, 300);
+}
+
+// Float: finite, and close to the host's float run. The two round differently (fused
+// multiply-adds, ~6e-8 relative per operation) and contacts amplify it by up to ~1e4 over the
+// horizon: 1e-3 of the particle size is ~100x that and still far below a wrong force.
+TEST(GpuStep, FloatRunIsFiniteAndClose) {
+  SKIP_WITHOUT_GPU();
+  const Agreement a = compare_steps<float>(twenty_polyhedra_volume("float"), 0.01);
+  EXPECT_TRUE(a.finite);
+  if (max_steps() <= 0) EXPECT_GE(a.contact_steps, 100);
+  EXPECT_LT(a.position_error, 1e-3);
+}
+
+// Only the stages of the scene's effects allocate: no contacts, no rotation: no force-law arrays,
+// no torque, no bounding radius (as the host step's plan).
+TEST(GpuStep, AllocatesOnlyThePlansArrays) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = scene_from(std::string("time: {step: 1.0e-3, end: 1.0e-2}\n") + kGlass + R"(
+templates:
+  ball: {sphere: 0.005, material: glass}
+particles:
+  - explicit:
+      - {template: ball, position: [0, 0, 1], velocity: [1, 0, 0]}
+effects:
+  gravity: [0, 0, -9.81]
+)");
+  HostStep<double> host(scene);
+  CudaStep<double> gpu(scene);
+  EXPECT_EQ(gpu.allocated_arrays(), host.allocated_arrays());
+  for (int k = 0; k < 10; ++k) host.step(), gpu.step();
+  // Free fall: z = 1 - g t^2 / 2 exactly for the Verlet step; both within round-off.
+  const double z = gpu.trajectory_rows()[0].position.z;
+  EXPECT_NEAR(z, 1 - 0.5 * 9.81 * 0.01 * 0.01, 1e-12);
+  EXPECT_NEAR(z, host.trajectory_rows()[0].position.z, 1e-15);
+}
+
+}  // namespace
+}  // namespace talus
