@@ -5,47 +5,15 @@
 // step), in a closed box wall.
 #include <benchmark/benchmark.h>
 
-#include <random>
 #include <string>
 
-#include "solver/scene/scene_loader.hpp"
+#include "benchmarks/dodecahedron_bed.hpp"
 #include "solver/step/host_step.hpp"
 
 namespace {
 
-// The scene with the named effects (YAML lines under `effects:`), walls when `walls` is set.
-talus::Scene bed_scene(const std::string& effects, bool walls) {
-  std::string yaml = R"(time: {step: 1.0e-6, end: 1.0}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
-          restitution: 0.5}
-templates:
-  grain: {shape: "dodecahedron:0.01", material: glass}
-particles:
-  - explicit:
-)";
-  // The lattice by hand: the loader's lattice keeps bounding spheres apart, this bed overlaps.
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> unit(-1, 1);
-  for (int i = 0; i < 1000; ++i) {
-    const double x = 0.0041 + 0.0082 * (i % 10), y = 0.0041 + 0.0082 * ((i / 10) % 10);
-    const double z = 0.0041 + 0.0082 * (i / 100);
-    yaml += "      - {template: grain, position: [" + std::to_string(x) + ", " + std::to_string(y) +
-            ", " + std::to_string(z) + "], orientation: {axis: [" + std::to_string(unit(rng)) +
-            ", " + std::to_string(unit(rng)) + ", " + std::to_string(unit(rng) + 1.5) +
-            "], degrees: " + std::to_string(180 * unit(rng)) + "}}\n";
-  }
-  if (walls) {
-    yaml += R"(walls:
-  - box: {min: [-0.0005, -0.0005, -0.0005], max: [0.0825, 0.0825, 0.0825], material: glass}
-)";
-  }
-  yaml += "effects:\n" + effects;
-  return talus::parse_scene(yaml, "bench_step_cpu.yaml", ".");
-}
-
 void host_step(benchmark::State& state, const std::string& effects, bool walls) {
-  const talus::Scene scene = bed_scene(effects, walls);
+  const talus::Scene scene = talus_bench::dodecahedron_bed(10, effects, walls);
   talus::HostStep<double> step(scene);
   step.step();  // the first step evaluates the forces at t = 0 too
   double contacts = 0;
@@ -62,8 +30,7 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
   state.counters["particles"] = particles;
 }
 
-const std::string kAll =
-    "  gravity: [0, 0, -9.81]\n  contact: volume\n  friction: true\n  rotation: true\n";
+const std::string& kAll = talus_bench::kAllEffects;
 
 }  // namespace
 

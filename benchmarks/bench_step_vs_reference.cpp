@@ -8,11 +8,10 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
-#include <random>
 #include <string>
 
+#include "benchmarks/dodecahedron_bed.hpp"
 #include "reference/run/scene_run.hpp"
-#include "solver/scene/scene_loader.hpp"
 #include "solver/step/host_step.hpp"
 
 namespace {
@@ -23,38 +22,9 @@ int bed_side() {
   return side > 0 ? side : 27;
 }
 
-talus::Scene bed_scene(int side) {
-  const double spacing = 0.0082, extent = spacing * side;
-  std::string yaml = R"(time: {step: 1.0e-6, end: 1.0}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
-          restitution: 0.5}
-templates:
-  grain: {shape: "dodecahedron:0.01", material: glass}
-particles:
-  - explicit:
-)";
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> unit(-1, 1);
-  for (int i = 0; i < side * side * side; ++i) {
-    const double x = spacing * (0.5 + i % side), y = spacing * (0.5 + (i / side) % side);
-    const double z = spacing * (0.5 + i / (side * side));
-    yaml += "      - {template: grain, position: [" + std::to_string(x) + ", " + std::to_string(y) +
-            ", " + std::to_string(z) + "], orientation: {axis: [" + std::to_string(unit(rng)) +
-            ", " + std::to_string(unit(rng)) + ", " + std::to_string(unit(rng) + 1.5) +
-            "], degrees: " + std::to_string(180 * unit(rng)) + "}}\n";
-  }
-  const std::string lo = std::to_string(-0.0005), hi = std::to_string(extent + 0.0005);
-  yaml += "walls:\n  - box: {min: [" + lo + ", " + lo + ", " + lo + "], max: [" + hi + ", " + hi +
-          ", " + hi + "], material: glass}\n";
-  yaml +=
-      "effects:\n  gravity: [0, 0, -9.81]\n  contact: volume\n  friction: true\n"
-      "  rotation: true\n";
-  return talus::parse_scene(yaml, "bench_step_vs_reference.yaml", ".");
-}
-
 const talus::Scene& scene() {
-  static const talus::Scene bed = bed_scene(bed_side());
+  static const talus::Scene bed =
+      talus_bench::dodecahedron_bed(bed_side(), talus_bench::kAllEffects, true);
   return bed;
 }
 

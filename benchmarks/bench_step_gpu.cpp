@@ -1,0 +1,57 @@
+// The production step on the GPU (solver/step/cuda_step): the dodecahedron bed of
+// dodecahedron_bed.hpp (about 3 pair contacts per particle, in a box wall, gravity, volume model,
+// friction, rotation, double) at 1e5 and 1e6 particles (side 46 and 100): polyhedron-steps per
+// second, contacts, time per stage and device bytes per particle. Each iteration is one step
+// (the stages synchronise at their ends; the time is the wall time of the step).
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <string>
+
+#include "benchmarks/dodecahedron_bed.hpp"
+#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/step/cuda_step.hpp"
+
+namespace {
+
+void gpu_step(benchmark::State& state) {
+  std::string why;
+  if (!talus::cuda_device_available(&why)) {
+    state.SkipWithError(why.c_str());
+    return;
+  }
+  const int side = static_cast<int>(state.range(0));
+  const talus::Scene scene = talus_bench::dodecahedron_bed(side, talus_bench::kAllEffects, true);
+  talus::CudaStep<double> step(scene);
+  step.step();  // the first step evaluates the forces at t = 0 too
+  const std::array<double, 9> before = step.stage_seconds();
+  long long steps = 0;
+  double contacts = 0;
+  for (auto _ : state) {
+    step.step();
+    contacts += double(step.pair_contact_count() + step.wall_contact_count());
+    ++steps;
+  }
+  const double particles = step.particle_count();
+  state.counters["polyhedron_steps/s"] =
+      benchmark::Counter(particles, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["particles"] = particles;
+  state.counters["contacts_per_step"] = steps > 0 ? contacts / double(steps) : 0;
+  state.counters["bytes_per_particle"] = double(step.allocated_bytes()) / particles;
+  const std::array<double, 9>& after = step.stage_seconds();
+  for (int k = 0; k < 9; ++k) {
+    if (after[k] > before[k] && steps > 0) {
+      state.counters[std::string("ms_") + talus::to_string(static_cast<talus::Stage>(k))] =
+          1e3 * (after[k] - before[k]) / double(steps);
+    }
+  }
+}
+BENCHMARK(gpu_step)
+    ->Name("gpu_step/dodecahedron_bed")
+    ->Arg(46)
+    ->Arg(100)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
