@@ -32,6 +32,12 @@ class DeviceBuffer {
       TALUS_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&data_), count * sizeof(T)));
     size_ = count;
   }
+  // At least `count` elements, growing by a quarter more than asked (contents are not kept): for
+  // lists whose length changes every step, where a cudaFree per step would synchronise and
+  // fragment memory.
+  void grow_to(std::size_t count) {
+    if (size_ < count) resize(count + count / 4 + 64);
+  }
   void upload(const T* host, std::size_t count) {
     resize(count);
     if (count > 0)

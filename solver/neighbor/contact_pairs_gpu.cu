@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "solver/core/cub_call.cuh"
 #include "solver/core/device_buffer.hpp"
 
 namespace talus {
@@ -110,15 +111,6 @@ struct ContactPairsGpu<Real>::Impl {
     in.skin = skin;
     return in;
   }
-
-  // CUB's two-call pattern: size the temporary storage, then run.
-  template <class Call>
-  void cub_call(Call&& call) {
-    std::size_t bytes = 0;
-    TALUS_CUDA_CHECK(call(nullptr, bytes));
-    if (bytes > temp.size()) temp.resize(bytes);
-    TALUS_CUDA_CHECK(call(temp.data(), bytes));
-  }
 };
 
 template <class Real>
@@ -181,11 +173,11 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
     Real* out = m.reduced.data() + k;
     const Real initial = k < 3 ? Real(HUGE_VAL) : Real(0);
     if (k < 3) {
-      m.cub_call([&](void* t, std::size_t& b) {
+      cub_call(m.temp, [&](void* t, std::size_t& b) {
         return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MinOp(), initial);
       });
     } else {
-      m.cub_call([&](void* t, std::size_t& b) {
+      cub_call(m.temp, [&](void* t, std::size_t& b) {
         return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MaxOp(), initial);
       });
     }
@@ -205,7 +197,7 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
   m.bucket_of.resize(n), m.sorted_bucket.resize(n), m.index.resize(n), m.sorted.resize(n);
   bucket_particles<<<blocks_for(n), kBlock>>>(in, grid, m.bucket_of.data(), m.index.data());
   TALUS_CUDA_LAUNCH_CHECK();
-  m.cub_call([&](void* t, std::size_t& b) {
+  cub_call(m.temp, [&](void* t, std::size_t& b) {
     return cub::DeviceRadixSort::SortPairs(t, b, m.bucket_of.data(), m.sorted_bucket.data(),
                                            m.index.data(), m.sorted.data(), n, 0, bits);
   });
@@ -221,13 +213,13 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
   count_partners<<<blocks_for(n), kBlock>>>(in, grid, m.begin.data(), m.end.data(), m.sorted.data(),
                                             m.counts.data());
   TALUS_CUDA_LAUNCH_CHECK();
-  m.cub_call([&](void* t, std::size_t& b) {
+  cub_call(m.temp, [&](void* t, std::size_t& b) {
     return cub::DeviceScan::ExclusiveSum(t, b, m.counts.data(), m.first.data(), n + 1);
   });
   int total = 0;
   TALUS_CUDA_CHECK(cudaMemcpy(&total, m.first.data() + n, sizeof(int), cudaMemcpyDeviceToHost));
   // Grow-only: a step rebuilds the list every step, and its length changes a little each time.
-  if (m.pairs.size() < static_cast<std::size_t>(total)) m.pairs.resize(total + total / 4 + 64);
+  m.pairs.grow_to(static_cast<std::size_t>(total));
   if (total > 0) {
     write_partners<<<blocks_for(n), kBlock>>>(in, grid, m.begin.data(), m.end.data(),
                                               m.sorted.data(), m.first.data(), m.pairs.data());

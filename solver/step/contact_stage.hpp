@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <memory>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/pair_kernels.hpp"
+#include "solver/step/sorted_histories.hpp"
 #include "solver/step/step_plan.hpp"
 
 namespace talus {
@@ -107,18 +107,7 @@ class PairContactStage {
     for (const PairContactRecord<Real>& r : records_) {
       if (r.in_contact) contacts_.push_back(r);
     }
-    if (tables_.volume_model) {
-      std::vector<int> order(contacts_.size());
-      std::iota(order.begin(), order.end(), 0);
-      std::sort(order.begin(), order.end(),
-                [&](int x, int y) { return key_less(contacts_[x].key, contacts_[y].key); });
-      keys_.resize(order.size());
-      histories_.resize(order.size());
-      for (std::size_t k = 0; k < order.size(); ++k) {
-        keys_[k] = contacts_[order[k]].key;
-        histories_[k] = contacts_[order[k]].history;
-      }
-    }
+    if (tables_.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
   // Per-particle sums in pair order (deterministic).

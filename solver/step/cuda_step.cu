@@ -1,4 +1,5 @@
-// The production step on the CUDA backend (see cuda_step.hpp).
+// The production step on the CUDA backend (see cuda_step.hpp): the device state, the stages as
+// launches of the kernels in cuda_step_kernels.cuh, and the set-up from a scene.
 #include "solver/step/cuda_step.hpp"
 
 #include <cub/cub.cuh>
@@ -10,254 +11,18 @@
 #include <string>
 #include <utility>
 
+#include "solver/core/cub_call.cuh"
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/device_shape.cuh"
 #include "solver/neighbor/contact_pairs_gpu.hpp"
 #include "solver/scene/initial_particles.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/contact_stage.hpp"
+#include "solver/step/cuda_step_kernels.cuh"
 #include "solver/step/host_step.hpp"
 #include "solver/step/wall_stage.hpp"
 
 namespace talus {
-
-namespace {
-
-constexpr int kBlock = 128;
-
-int blocks_for(long long n) {
-  return static_cast<int>((n + kBlock - 1) / kBlock);
-}
-
-double clock_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-// Grows `buffer` to at least `count` elements (contents are not kept): the contact lists change
-// length every step, and a cudaFree per step would synchronise and fragment.
-template <class T>
-void reserve(DeviceBuffer<T>& buffer, std::size_t count) {
-  if (buffer.size() < count) buffer.resize(count + count / 4 + 64);
-}
-
-// Flags the kernels raise (the lowest index wins: atomicMin), read after their stage.
-enum Flag { failed_rotation = 0, degenerate_pair = 1, degenerate_wall = 2, selected = 3, flags };
-
-// ---- Per-particle stages (particle_kernels.hpp) ----
-
-template <class Real>
-__global__ void integrate_begin_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                                       Real dt, int* flag) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= p.count) return;
-  if (!integrate_begin(p, bodies, i, dt)) atomicMin(flag + failed_rotation, i);
-}
-
-template <class Real>
-__global__ void clear_forces_kernel(ParticleView<Real> p) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) clear_forces(p, i);
-}
-
-template <class Real>
-__global__ void gravity_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                               Vec3<Real> g) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) add_gravity(p, bodies, i, g);
-}
-
-template <class Real>
-__global__ void drag_kernel(ParticleView<Real> p, Real alpha) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) add_drag(p, i, alpha);
-}
-
-template <class Real>
-__global__ void integrate_end_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                                     Real dt) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) integrate_end(p, bodies, i, dt);
-}
-
-// ---- Pair contacts (pair_kernels.hpp) ----
-
-// The workspace capacity of the ordered pair (ia, ib): 0 when its geometry needs none (linear
-// model, spheres), else overlap_capacity_for of the two templates' faces, as the host picks it.
-template <class Real>
-TALUS_HD int pair_capacity(const BodyProperties<Real>& a, const BodyProperties<Real>& b,
-                           bool volume_model) {
-  if (!volume_model || a.sphere || b.sphere) return 0;
-  return overlap_capacity_for(a.faces + b.faces);
-}
-
-struct HistoryIn {
-  const PairKey* keys;
-  int count;
-};
-
-// One thread per candidate pair; this launch computes only the pairs of workspace capacity
-// `Capacity` (another launch per capacity present in the scene computes the rest), so a
-// thread's local memory is the workspace of its own template pair.
-template <class Real, int Capacity>
-__global__ void pair_kernel(ParticleView<Real> p, PairLawTables<Real> t,
-                            const ContactPair* __restrict__ pairs, int count, Real spring_dt,
-                            HistoryIn old, const ContactHistoryData<Real>* __restrict__ histories,
-                            PairContactRecord<Real>* __restrict__ records, int* flag) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  int ia, ib;
-  order_pair(p, t, pairs[k].a, pairs[k].b, ia, ib);
-  const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
-  const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
-  if (pair_capacity(a, b, t.volume_model) != Capacity) return;
-  PairGeometryData<Real> g;
-  if constexpr (Capacity == 0) {
-    g = simple_pair_geometry(p, t, ia, ib);
-  } else {
-    const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
-    const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
-    OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
-    g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
-  }
-  const PairContactRecord<Real> r =
-      pair_contact_force(p, t, ia, ib, g, spring_dt, old.keys, histories, old.count);
-  records[k] = r;
-  if (r.degenerate) atomicMin(flag + degenerate_pair, k);
-}
-
-// The next history store from the touching contacts (sorted afterwards).
-template <class Record, class Real>
-__global__ void copy_histories(const Record* __restrict__ contacts, int count,
-                               PairKey* __restrict__ keys,
-                               ContactHistoryData<Real>* __restrict__ histories) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  keys[k] = contacts[k].key;
-  histories[k] = contacts[k].history;
-}
-
-// Two CSR entries per contact k: (a, k) and (b, k).
-template <class Real>
-__global__ void emit_entries(const PairContactRecord<Real>* __restrict__ contacts, int count,
-                             int* __restrict__ particle, int* __restrict__ contact) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  particle[2 * k] = contacts[k].a;
-  particle[2 * k + 1] = contacts[k].b;
-  contact[2 * k] = contact[2 * k + 1] = k;
-}
-
-// begin[i], end[i]: particle i's range of the sorted entries (both 0 when it has none).
-__global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int* begin, int* end) {
-  const int s = blockIdx.x * blockDim.x + threadIdx.x;
-  if (s >= n) return;
-  const int i = sorted_particle[s];
-  if (s == 0 || sorted_particle[s - 1] != i) begin[i] = s;
-  if (s == n - 1 || sorted_particle[s + 1] != i) end[i] = s + 1;
-}
-
-// ---- Wall contacts (wall_kernels.hpp) ----
-
-template <class Real>
-struct WallArgs {
-  const WallFacets<Real>* facets = nullptr;  // per wall, device corners
-  const WallMotionData<Real>* motions = nullptr;
-  const int* materials = nullptr;
-  int walls = 0;
-};
-
-// One thread per (particle, wall), wall-major: record w * count + i.
-template <class Real>
-__global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
-                            Real spring_dt, HistoryIn old,
-                            const ContactHistoryData<Real>* __restrict__ histories,
-                            WallContactRecord<Real>* __restrict__ records, int* flag) {
-  const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (k >= static_cast<long long>(p.count) * walls.walls) return;
-  const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
-  const WallContactRecord<Real> r =
-      wall_contact(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w], spring_dt,
-                   old.keys, histories, old.count);
-  records[k] = r;
-  if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
-}
-
-// ---- Accumulation: one thread per particle, its contacts in pair order, then its walls ----
-
-template <class Real>
-__global__ void accumulate_kernel(ParticleView<Real> p,
-                                  const PairContactRecord<Real>* __restrict__ contacts,
-                                  const int* __restrict__ sorted_contact,
-                                  const int* __restrict__ begin, const int* __restrict__ end,
-                                  const WallContactRecord<Real>* __restrict__ wall_records,
-                                  int walls) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= p.count) return;
-  // The same additions, in the same order, as add_pair_force and add_wall_force on the host.
-  Vec3<Real> f = p.force.get(i), t;
-  const bool torque = p.torque.present();
-  if (torque) t = p.torque.get(i);
-  const Vec3<Real> x = p.position.get(i);
-  if (contacts) {
-    for (int s = begin[i]; s < end[i]; ++s) {
-      const PairContactRecord<Real>& c = contacts[sorted_contact[s]];
-      if (c.a == i) {
-        f = f + c.force_on_a;
-        if (torque) t = t + cross(c.point - x, c.force_on_a);
-      } else {
-        f = f - c.force_on_a;
-        if (torque) t = t + cross(c.point - x, -c.force_on_a);
-      }
-    }
-  }
-  for (int w = 0; w < walls; ++w) {
-    const WallContactRecord<Real>& c = wall_records[static_cast<long long>(w) * p.count + i];
-    if (!c.in_contact) continue;
-    f = f + c.force;
-    if (torque) t = t + cross(c.point - x, c.force);
-  }
-  p.force.set(i, f);
-  if (torque) p.torque.set(i, t);
-}
-
-struct InContact {
-  template <class Record>
-  __host__ __device__ bool operator()(const Record& r) const {
-    return r.in_contact;
-  }
-};
-
-struct KeyLess {
-  __host__ __device__ bool operator()(const PairKey& p, const PairKey& q) const {
-    return key_less(p, q);
-  }
-};
-
-template <class T>
-std::vector<T> download(const T* device, std::size_t count) {
-  std::vector<T> host(count);
-  if (count > 0) {
-    TALUS_CUDA_CHECK(cudaMemcpy(host.data(), device, count * sizeof(T), cudaMemcpyDeviceToHost));
-  }
-  return host;
-}
-
-// A sorted history store (keys and their histories) in device memory, double-buffered: the
-// pair stage reads the current one while the next is written into the other.
-template <class Real>
-struct DeviceHistory {
-  DeviceBuffer<PairKey> keys[2];
-  DeviceBuffer<ContactHistoryData<Real>> histories[2];
-  int current = 0, count = 0;
-  HistoryIn in() const { return {keys[current].data(), count}; }
-  const ContactHistoryData<Real>* values() const { return histories[current].data(); }
-  std::size_t bytes() const {
-    return (keys[0].size() + keys[1].size()) * sizeof(PairKey) +
-           (histories[0].size() + histories[1].size()) * sizeof(ContactHistoryData<Real>);
-  }
-};
-
-}  // namespace
 
 template <class Real>
 struct CudaStep<Real>::Impl {
@@ -315,15 +80,6 @@ struct CudaStep<Real>::Impl {
     return data;
   }
 
-  template <class Call>
-  void cub_call(Call&& call) {
-    std::size_t bytes = 0;
-    TALUS_CUDA_CHECK(call(nullptr, bytes));
-    reserve(temp, bytes);
-    bytes = temp.size();
-    TALUS_CUDA_CHECK(call(temp.data(), bytes));
-  }
-
   void reset_flags() {
     const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0};
     TALUS_CUDA_CHECK(cudaMemcpy(flag.data(), none, sizeof(none), cudaMemcpyHostToDevice));
@@ -346,9 +102,9 @@ struct CudaStep<Real>::Impl {
   template <class Record>
   int select_in_contact(const DeviceBuffer<Record>& in, long long n, DeviceBuffer<Record>& out) {
     if (n == 0) return 0;
-    reserve(out, n);
+    out.grow_to(n);
     int* selected_count = flag.data() + selected;
-    cub_call([&](void* t, std::size_t& b) {
+    cub_call(temp, [&](void* t, std::size_t& b) {
       return cub::DeviceSelect::If(t, b, in.data(), out.data(), selected_count, n, InContact());
     });
     return read_flag(selected);
@@ -358,13 +114,13 @@ struct CudaStep<Real>::Impl {
   template <class Record>
   void rebuild_history(DeviceHistory<Real>& h, const DeviceBuffer<Record>& touching, int n) {
     const int next = 1 - h.current;
-    reserve(h.keys[next], n);
-    reserve(h.histories[next], n);
+    h.keys[next].grow_to(n);
+    h.histories[next].grow_to(n);
     if (n > 0) {
       copy_histories<<<blocks_for(n), kBlock>>>(touching.data(), n, h.keys[next].data(),
                                                 h.histories[next].data());
       TALUS_CUDA_LAUNCH_CHECK();
-      cub_call([&](void* t, std::size_t& b) {
+      cub_call(temp, [&](void* t, std::size_t& b) {
         return cub::DeviceMergeSort::SortPairs(t, b, h.keys[next].data(), h.histories[next].data(),
                                                n, KeyLess());
       });
@@ -380,7 +136,7 @@ struct CudaStep<Real>::Impl {
   }
 
   void compute_pairs(Real spring_dt) {
-    reserve(records, candidates);
+    records.grow_to(candidates);
     if (candidates > 0) {
       for (const int capacity : capacities) {
         const auto launch = [&](auto kernel) {
@@ -432,7 +188,7 @@ struct CudaStep<Real>::Impl {
       offsets.push_back(all.size());
       all.insert(all.end(), c.begin(), c.end());
     }
-    reserve(corners, all.size());
+    corners.grow_to(all.size());
     if (!all.empty()) {
       TALUS_CUDA_CHECK(cudaMemcpy(corners.data(), all.data(), all.size() * sizeof(Vec3<Real>),
                                   cudaMemcpyHostToDevice));
@@ -449,7 +205,7 @@ struct CudaStep<Real>::Impl {
     args.materials = wall_materials.data();
     args.walls = walls;
     const long long n = static_cast<long long>(count) * walls;
-    reserve(wall_records, n);
+    wall_records.grow_to(n);
     if (n > 0) {
       wall_kernel<<<blocks_for(n), kBlock>>>(view, tables, args, spring_dt, wall_history.in(),
                                              wall_history.values(), wall_records.data(),
@@ -471,15 +227,15 @@ struct CudaStep<Real>::Impl {
   void accumulate() {
     const int entries = 2 * contact_count;
     if (contact_count > 0) {
-      reserve(entry_particle, entries), reserve(entry_contact, entries);
-      reserve(sorted_particle, entries), reserve(sorted_contact, entries);
+      entry_particle.grow_to(entries), entry_contact.grow_to(entries);
+      sorted_particle.grow_to(entries), sorted_contact.grow_to(entries);
       emit_entries<<<blocks_for(contact_count), kBlock>>>(
           contacts.data(), contact_count, entry_particle.data(), entry_contact.data());
       TALUS_CUDA_LAUNCH_CHECK();
       // Stable: each particle's entries stay in ascending contact (pair) order.
       int bits = 1;
       while (bits < 31 && (1 << bits) < count) ++bits;
-      cub_call([&](void* t, std::size_t& b) {
+      cub_call(temp, [&](void* t, std::size_t& b) {
         return cub::DeviceRadixSort::SortPairs(t, b, entry_particle.data(), sorted_particle.data(),
                                                entry_contact.data(), sorted_contact.data(), entries,
                                                0, bits);
@@ -644,7 +400,7 @@ CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scen
   // The initial state, made on the host as HostStep makes it, then uploaded array by array.
   std::vector<int> template_ids(n), material_ids(n);
   std::vector<long long> global_ids(n);
-  std::vector<std::vector<Real>> columns(17, std::vector<Real>(n));
+  std::vector<std::vector<Real>> columns(14, std::vector<Real>(n));
   for (int i = 0; i < n; ++i) {
     const ParticleState& p = initial[i];
     const BodyProperties<Real>& body = m.host_bodies.at(p.template_index);
@@ -679,24 +435,8 @@ CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scen
   v.global_id = m.global_ids.data();
 
   if (m.plan.contacts) {
-    // The law tables, in one device buffer, in the host tables' layout.
     const PairLawTables<Real>& h = m.host_tables->tables();
-    const int materials = h.materials, pairs = materials * materials;
-    std::vector<Real> values;
-    values.insert(values.end(), h.youngs_modulus, h.youngs_modulus + materials);
-    values.insert(values.end(), h.poisson_ratio, h.poisson_ratio + materials);
-    values.insert(values.end(), h.pair_friction, h.pair_friction + pairs);
-    values.insert(values.end(), h.pair_restitution, h.pair_restitution + pairs);
-    values.insert(values.end(), h.pair_damping_ratio, h.pair_damping_ratio + pairs);
-    m.table_values.upload(values);
-    m.tables = h;
-    const Real* d = m.table_values.data();
-    m.tables.bodies = m.bodies.data();
-    m.tables.youngs_modulus = d;
-    m.tables.poisson_ratio = d + materials;
-    m.tables.pair_friction = d + 2 * materials;
-    m.tables.pair_restitution = d + 2 * materials + pairs;
-    m.tables.pair_damping_ratio = d + 2 * materials + 2 * pairs;
+    m.tables = upload_law_tables(h, m.bodies.data(), m.table_values);
     // One pair launch per workspace capacity among the scene's template pairs.
     for (const BodyProperties<Real>& a : m.host_bodies) {
       for (const BodyProperties<Real>& b : m.host_bodies) {

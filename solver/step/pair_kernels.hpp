@@ -30,6 +30,30 @@ struct PairLawTables {
   LinearLawData<Real> linear;  // K_N, eta, gamma (friction filled per pair)
 };
 
+// The volume law's parameters for material pair `pair` (a * materials + b) and effective mass m.
+template <class Real>
+TALUS_HD inline VolumeLawData<Real> volume_law(const PairLawTables<Real>& t, int pair,
+                                               Real effective_mass) {
+  VolumeLawData<Real> law;
+  law.effective_mass = effective_mass;
+  law.restitution = t.pair_restitution[pair];
+  law.friction = t.pair_friction[pair];
+  law.damping_ratio = t.pair_damping_ratio[pair];
+  law.time_step = t.time_step;
+  law.with_friction = t.with_friction;
+  law.damping = t.damping;
+  return law;
+}
+
+// The linear law's parameters (K_N, eta, gamma of the scene) with material pair `pair`'s mu.
+template <class Real>
+TALUS_HD inline LinearLawData<Real> linear_law(const PairLawTables<Real>& t, int pair) {
+  LinearLawData<Real> law = t.linear;
+  law.friction = t.pair_friction[pair];
+  law.with_friction = t.with_friction;
+  return law;
+}
+
 template <class Real>
 struct PairContactRecord {
   bool in_contact = false;
@@ -118,14 +142,7 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(
     c.tangential_stiffness = shear * g.area;                                     // Eq. 19
     c.elastic = c.normal_stiffness * std::cbrt(g.volume);                        // Eq. 12
     c.area = g.area;
-    VolumeLawData<Real> law;
-    law.effective_mass = a.mass * b.mass / (a.mass + b.mass);
-    law.restitution = t.pair_restitution[pair];
-    law.friction = t.pair_friction[pair];
-    law.damping_ratio = t.pair_damping_ratio[pair];
-    law.time_step = t.time_step;
-    law.with_friction = t.with_friction;
-    law.damping = t.damping;
+    const VolumeLawData<Real> law = volume_law(t, pair, a.mass * b.mass / (a.mass + b.mass));
     const int found = find_pair_key(old_keys, old_count, r.key);
     ContactHistoryData<Real> history;
     if (found >= 0) history = old_histories[found];
@@ -137,10 +154,7 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(
     r.history = history;
   } else {
     c.elastic = t.linear.stiffness * g.depth;
-    LinearLawData<Real> law = t.linear;
-    law.friction = t.pair_friction[pair];
-    law.with_friction = t.with_friction;
-    f = linear_contact_force(c, law, v_r);
+    f = linear_contact_force(c, linear_law(t, pair), v_r);
   }
   r.in_contact = true;
   r.point = g.point;

@@ -54,24 +54,14 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   ContactForceData<Real> f;
   r.key = PairKey{p.global_id[i], wall};
   if (t.volume_model && !body.sphere) {
-    VolumeLawData<Real> law;
-    law.effective_mass = body.mass;  // 1 / m_wall = 0
-    law.restitution = t.pair_restitution[pair];
-    law.friction = t.pair_friction[pair];
-    law.damping_ratio = t.pair_damping_ratio[pair];
-    law.time_step = t.time_step;
-    law.with_friction = t.with_friction;
-    law.damping = t.damping;
+    const VolumeLawData<Real> law = volume_law(t, pair, body.mass);  // 1 / m_wall = 0
     const int found = find_pair_key(old_keys, old_count, r.key);
     ContactHistoryData<Real> history;
     if (found >= 0) history = old_histories[found];
     f = volume_contact_force(c, law, v_r, spring_dt, history);
     r.history = history;
   } else {
-    LinearLawData<Real> law = t.linear;
-    law.friction = t.pair_friction[pair];
-    law.with_friction = t.with_friction;
-    f = linear_contact_force(c, law, v_r);
+    f = linear_contact_force(c, linear_law(t, pair), v_r);
   }
   r.in_contact = true;
   r.point = g.point;

@@ -7,13 +7,13 @@
 #pragma once
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/scene/wall_motion.hpp"
+#include "solver/step/sorted_histories.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/wall_kernels.hpp"
 
@@ -92,18 +92,7 @@ class WallContactStage {
         if (r.in_contact) contacts_.push_back(r);
       }
     }
-    if (tables.volume_model) {
-      std::vector<int> order(contacts_.size());
-      std::iota(order.begin(), order.end(), 0);
-      std::sort(order.begin(), order.end(),
-                [&](int x, int y) { return key_less(contacts_[x].key, contacts_[y].key); });
-      keys_.resize(order.size());
-      histories_.resize(order.size());
-      for (std::size_t k = 0; k < order.size(); ++k) {
-        keys_[k] = contacts_[order[k]].key;
-        histories_[k] = contacts_[order[k]].history;
-      }
-    }
+    if (tables.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
   // The forces on the particles, and each wall's total force and torque about the origin (minus
