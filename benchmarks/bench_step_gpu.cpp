@@ -1,8 +1,11 @@
 // The production step on the GPU (solver/step/cuda_step): the dodecahedron bed of
-// dodecahedron_bed.hpp (about 3 pair contacts per particle, in a box wall, gravity, volume model,
-// friction, rotation, double) at 1e5 and 1e6 particles (side 46 and 100): polyhedron-steps per
-// second, contacts, time per stage and device bytes per particle. Each iteration is one step
-// (the stages synchronise at their ends; the time is the wall time of the step).
+// dodecahedron_bed.hpp (about 3 pair contacts per particle, i.e. 6 contacts per particle, in a
+// box wall, gravity, volume model, friction, rotation, double) at 1e5, 1e6 and 4e6 particles
+// (side 46, 100 and 159): polyhedron-steps per second, contacts, time per stage, pair-list builds
+// per step and device bytes per particle. The second argument is the mode: 0 the defaults
+// (deterministic sums, the default skin), 1 atomic sums (deterministic: false), 2 no skin (the
+// list rebuilt every step, the worst case of a fast flow). Each iteration is one step (the
+// stages synchronise at their ends; the time is the wall time of the step).
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -21,10 +24,14 @@ void gpu_step(benchmark::State& state) {
     return;
   }
   const int side = static_cast<int>(state.range(0));
-  const talus::Scene scene = talus_bench::dodecahedron_bed(side, talus_bench::kAllEffects, true);
+  talus::Scene scene = talus_bench::dodecahedron_bed(side, talus_bench::kAllEffects, true);
+  const int mode = static_cast<int>(state.range(1));
+  if (mode == 1) scene.deterministic = false;
+  if (mode == 2) scene.skin = 0.0;
   talus::CudaStep<double> step(scene);
   step.step();  // the first step evaluates the forces at t = 0 too
   const std::array<double, 9> before = step.stage_seconds();
+  const long long builds_before = step.pair_list_builds();
   long long steps = 0;
   double contacts = 0;
   for (auto _ : state) {
@@ -37,7 +44,13 @@ void gpu_step(benchmark::State& state) {
       benchmark::Counter(particles, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["particles"] = particles;
   state.counters["contacts_per_step"] = steps > 0 ? contacts / double(steps) : 0;
+  // Every device array of the step (particle state, pair list and slots, walls, CUB scratch);
+  // the overlap workspace is per-thread local memory and not among them.
   state.counters["bytes_per_particle"] = double(step.allocated_bytes()) / particles;
+  state.counters["list_bytes_per_particle"] = double(step.pair_list_bytes()) / particles;
+  state.counters["candidates"] = double(step.candidate_pair_count());
+  state.counters["list_builds_per_step"] =
+      steps > 0 ? double(step.pair_list_builds() - builds_before) / double(steps) : 0;
   const std::array<double, 9>& after = step.stage_seconds();
   for (int k = 0; k < 9; ++k) {
     if (after[k] > before[k] && steps > 0) {
@@ -48,8 +61,11 @@ void gpu_step(benchmark::State& state) {
 }
 BENCHMARK(gpu_step)
     ->Name("gpu_step/dodecahedron_bed")
-    ->Arg(46)
-    ->Arg(100)
+    ->Args({46, 0})
+    ->Args({100, 0})
+    ->Args({100, 1})
+    ->Args({100, 2})
+    ->Args({159, 0})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -57,18 +57,11 @@ TALUS_HD inline PairGeometryData<Real> sphere_lens_geometry(const Vec3<Real>& ce
   return g;
 }
 
-// Two polyhedra in the volume model: GJK decides touching (never calls an overlapping pair
-// separate), then the overlap in the caller's workspace (capacity from overlap_capacity_for).
-// n = S / |S|, A_n = |S|, point = the overlap's centroid (DESIGN.md, Physics).
-template <class Real, class Workspace>
-TALUS_HD inline PairGeometryData<Real> polyhedra_volume_geometry(const ConvexView<Real>& a,
-                                                                 const Pose<Real>& pose_a,
-                                                                 const ConvexView<Real>& b,
-                                                                 const Pose<Real>& pose_b,
-                                                                 Workspace& workspace) {
+// The contact geometry of an overlap result (polyhedra_volume_geometry's last part; the GPU's
+// phased pair stage computes the overlap in two kernels and finishes with this).
+template <class Real>
+TALUS_HD inline PairGeometryData<Real> volume_geometry_from(const OverlapResult<Real>& overlap) {
   PairGeometryData<Real> g;
-  if (!gjk_intersect(a, pose_a, b, pose_b).intersecting) return g;
-  const OverlapResult<Real> overlap = overlap_polyhedra(a, pose_a, b, pose_b, workspace);
   if (overlap.status == OverlapStatus::degenerate) {
     g.degenerate = true;
     return g;
@@ -83,6 +76,19 @@ TALUS_HD inline PairGeometryData<Real> polyhedra_volume_geometry(const ConvexVie
   g.normal = overlap.vector_area / area;
   g.point = overlap.centroid;
   return g;
+}
+
+// Two polyhedra in the volume model: GJK decides touching (never calls an overlapping pair
+// separate), then the overlap in the caller's workspace (capacity from overlap_capacity_for).
+// n = S / |S|, A_n = |S|, point = the overlap's centroid (DESIGN.md, Physics).
+template <class Real, class Workspace>
+TALUS_HD inline PairGeometryData<Real> polyhedra_volume_geometry(const ConvexView<Real>& a,
+                                                                 const Pose<Real>& pose_a,
+                                                                 const ConvexView<Real>& b,
+                                                                 const Pose<Real>& pose_b,
+                                                                 Workspace& workspace) {
+  if (!gjk_intersect(a, pose_a, b, pose_b).intersecting) return PairGeometryData<Real>();
+  return volume_geometry_from(overlap_polyhedra(a, pose_a, b, pose_b, workspace));
 }
 
 // The linear model's contact from a simple contact: only a positive depth pushes.

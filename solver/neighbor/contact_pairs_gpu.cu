@@ -255,6 +255,18 @@ const ContactPair* ContactPairsGpu<Real>::device_pairs() const {
   return impl_->pairs.data();
 }
 
+template <class Real>
+std::size_t ContactPairsGpu<Real>::allocated_bytes() const {
+  const Impl& m = *impl_;
+  return (m.x.size() + m.y.size() + m.z.size() + m.radius.size() + m.reduced.size()) *
+             sizeof(Real) +
+         (m.bucket_of.size() + m.sorted_bucket.size()) * sizeof(std::uint32_t) +
+         (m.index.size() + m.sorted.size() + m.begin.size() + m.end.size() + m.counts.size() +
+          m.first.size() + m.scratch_int.size()) *
+             sizeof(int) +
+         m.temp.size() + m.pairs.size() * sizeof(ContactPair);
+}
+
 template class ContactPairsGpu<float>;
 template class ContactPairsGpu<double>;
 

@@ -3,6 +3,7 @@
 // (no CUDA types); implemented in contact_pairs_gpu.cu, CUDA builds only.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -35,6 +36,8 @@ class ContactPairsGpu {
   // The list of the last build in device memory (pair_count() entries, sorted by (a, b)); valid
   // until the next build.
   const ContactPair* device_pairs() const;
+  // Device bytes held (the pair list, the binning and scan arrays, CUB's scratch).
+  std::size_t allocated_bytes() const;
 
  private:
   struct Impl;

@@ -249,6 +249,15 @@ struct Scene {
   std::uint64_t seed = 0;
   Backend backend = Backend::automatic;
   Precision precision = Precision::float64;
+  // Verlet skin of the pair list, m: the GPU backend keeps its candidate pairs (bounding spheres
+  // within r_a + r_b + skin) and their slots of contact history until some particle has moved
+  // skin / 2 since the list was built. Not given: a tenth of the largest bounding diameter. The
+  // contacts, and so the results, do not depend on it; only the work per step does.
+  std::optional<double> skin;
+  // The GPU backend sums each particle's forces in pair order, so a run does not depend on thread
+  // scheduling (the default); false: by atomic additions (faster, not bit-reproducible). The
+  // host backend is deterministic either way.
+  bool deterministic = true;
   std::vector<Material> materials;
   std::vector<MaterialPair> material_pairs;
   std::vector<ParticleTemplate> templates;

@@ -11,8 +11,9 @@ namespace talus {
 namespace {
 
 const std::vector<std::string> kTopLevelKeys = {
-    "time",      "seed",      "backend", "precision", "materials", "material_pairs",
-    "templates", "particles", "walls",   "effects",   "outputs"};
+    "time",          "seed",      "backend",        "precision", "skin",
+    "deterministic", "materials", "material_pairs", "templates", "particles",
+    "walls",         "effects",   "outputs"};
 
 void parse_time(const SceneNode& node, Scene& scene) {
   node.keys({"step", "end"}, "time: a map with keys step, end (in s)");
@@ -54,6 +55,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
     scene.precision = precision->choice({"double", "float"}, "a precision") == "float"
                           ? Precision::float32
                           : Precision::float64;
+  if (auto skin = root.find("skin")) scene.skin = skin->non_negative("m");
+  if (auto deterministic = root.find("deterministic"))
+    scene.deterministic = deterministic->boolean();
   parse_materials(root.at("materials", "a map from material names to their properties"), scene);
   if (auto pairs = root.find("material_pairs")) parse_material_pairs(*pairs, scene);
   parse_templates(root.at("templates", "a map from template names to shapes and materials"), scene);

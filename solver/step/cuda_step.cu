@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -46,12 +47,27 @@ struct CudaStep<Real>::Impl {
   DeviceBuffer<Real> table_values;
   PairLawTables<Real> tables;   // device pointers
   std::vector<int> capacities;  // the workspace capacities of the scene's template pairs
+  // The pair list (a Verlet list) and its slots: kept until some particle has moved skin / 2.
   std::unique_ptr<ContactPairsGpu<Real>> broad_phase;
+  Real skin = 0;
+  bool list_built = false;
+  long long list_builds = 0;
   int candidates = 0;
-  DeviceBuffer<PairContactRecord<Real>> records, contacts;
-  int contact_count = 0;
-  DeviceHistory<Real> pair_history;
-  DeviceBuffer<int> entry_particle, entry_contact, sorted_particle, sorted_contact;
+  DeviceBuffer<Real> built_x, built_y, built_z;   // positions when the list was built
+  DeviceBuffer<unsigned long long> largest_move;  // squared, as double bits
+  DeviceBuffer<unsigned char> slot_state;
+  DeviceBuffer<ContactHistoryData<Real>> slot_history;  // volume model
+  DeviceBuffer<SlotForce<Real>> slot_forces;            // deterministic mode
+  DeviceBuffer<KeyedHistory<Real>> keyed, store;        // carried over at a rebuild
+  mutable long long contact_count = 0;
+  mutable bool contact_count_ready = true;
+  // The phased pair stage (capacities 32 and 64): per slot a mask of kept planes and a key.
+  bool phased = false;
+  DeviceBuffer<unsigned long long> masks;
+  DeviceBuffer<unsigned char> keys, sorted_keys;
+  DeviceBuffer<int> order, sorted_order, deferred, histogram;
+  // Deterministic mode: each particle's slots (CSR over the list, built with it).
+  DeviceBuffer<int> entry_particle, entry_slot, sorted_particle, sorted_slot;
   DeviceBuffer<int> entry_begin, entry_end;
 
   // Wall contacts.
@@ -81,7 +97,7 @@ struct CudaStep<Real>::Impl {
   }
 
   void reset_flags() {
-    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0};
+    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0};
     TALUS_CUDA_CHECK(cudaMemcpy(flag.data(), none, sizeof(none), cudaMemcpyHostToDevice));
   }
   int read_flag(Flag which) const {
@@ -129,53 +145,203 @@ struct CudaStep<Real>::Impl {
     h.count = n;
   }
 
-  void find_candidates() {
-    const double ms = broad_phase->build();
-    (void)ms;
-    candidates = static_cast<int>(broad_phase->pair_count());
+  // True when some particle has moved more than (a little less than) skin / 2 since the list
+  // was built: a pair outside the list (centres beyond r_a + r_b + skin then) could now touch.
+  // The 10% margin covers the round-off of the distances the broad phase compared.
+  bool list_expired() {
+    if (!list_built || !(skin > 0)) return true;
+    TALUS_CUDA_CHECK(cudaMemset(largest_move.data(), 0, sizeof(unsigned long long)));
+    max_displacement_kernel<<<blocks_for(count), kBlock>>>(view, built_x.data(), built_y.data(),
+                                                           built_z.data(), largest_move.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+    unsigned long long bits = 0;
+    TALUS_CUDA_CHECK(cudaMemcpy(&bits, largest_move.data(), sizeof(bits), cudaMemcpyDeviceToHost));
+    double moved2 = 0;
+    std::memcpy(&moved2, &bits, sizeof(moved2));
+    const double limit = 0.45 * double(skin);
+    return moved2 > limit * limit;
   }
 
-  void compute_pairs(Real spring_dt) {
-    records.grow_to(candidates);
-    if (candidates > 0) {
-      for (const int capacity : capacities) {
-        const auto launch = [&](auto kernel) {
-          kernel<<<blocks_for(candidates), kBlock>>>(
-              view, tables, broad_phase->device_pairs(), candidates, spring_dt, pair_history.in(),
-              pair_history.values(), records.data(), flag.data());
-          TALUS_CUDA_LAUNCH_CHECK();
-        };
-        switch (capacity) {
-          case 0:
-            launch(pair_kernel<Real, 0>);
-            break;
-          case 32:
-            launch(pair_kernel<Real, 32>);
-            break;
-          case 64:
-            launch(pair_kernel<Real, 64>);
-            break;
-          case 128:
-            launch(pair_kernel<Real, 128>);
-            break;
-          default:
-            launch(pair_kernel<Real, 256>);
-            break;
-        }
-      }
-      const int bad = read_flag(degenerate_pair);
-      if (bad != INT_MAX) {
-        const PairContactRecord<Real> r = download(records.data() + bad, 1)[0];
-        const std::vector<long long> ids = download(global_ids.data(), count);
-        throw std::runtime_error(
-            scene.file + ": particles " + std::to_string(ids[r.a]) + " and " +
-            std::to_string(ids[r.b]) +
-            ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
-            "workspace cannot hold)");
+  // Stage candidate_pairs: rebuilds the list when it has expired, carrying the touching slots'
+  // histories over to the new slots of the same pairs (by global ids).
+  void find_candidates() {
+    if (!list_expired()) return;
+    const int old = list_built ? candidates : 0;
+    int stored = 0;
+    if (tables.volume_model && old > 0) {
+      keyed.grow_to(old), store.grow_to(old);
+      key_histories<<<blocks_for(old), kBlock>>>(global_ids.data(), broad_phase->device_pairs(),
+                                                 old, slot_state.data(), slot_history.data(),
+                                                 keyed.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      int* selected_count = flag.data() + selected;
+      cub_call(temp, [&](void* t, std::size_t& b) {
+        return cub::DeviceSelect::If(t, b, keyed.data(), store.data(), selected_count, old,
+                                     Touching());
+      });
+      stored = read_flag(selected);
+      if (stored > 0) {
+        cub_call(temp, [&](void* t, std::size_t& b) {
+          return cub::DeviceMergeSort::SortKeys(t, b, store.data(), stored, KeyLess());
+        });
       }
     }
-    contact_count = select_in_contact(records, candidates, contacts);
-    if (tables.volume_model) rebuild_history(pair_history, contacts, contact_count);
+    broad_phase->build();
+    candidates = static_cast<int>(broad_phase->pair_count());
+    ++list_builds;
+    list_built = true;
+    const ContactPair* pairs = broad_phase->device_pairs();
+    slot_state.grow_to(candidates);
+    if (tables.volume_model) slot_history.grow_to(candidates);
+    if (candidates > 0) {
+      carry_histories<<<blocks_for(candidates), kBlock>>>(
+          global_ids.data(), pairs, candidates, store.data(), stored,
+          tables.volume_model ? slot_history.data() : nullptr, slot_state.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+    }
+    if (scene.deterministic && candidates > 0) {
+      // Each particle's slots, in ascending slot (pair) order: the radix sort is stable.
+      const int entries = 2 * candidates;
+      slot_forces.grow_to(candidates);
+      entry_particle.grow_to(entries), entry_slot.grow_to(entries);
+      sorted_particle.grow_to(entries), sorted_slot.grow_to(entries);
+      emit_entries<<<blocks_for(candidates), kBlock>>>(pairs, candidates, entry_particle.data(),
+                                                       entry_slot.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      int bits = 1;
+      while (bits < 31 && (1 << bits) < count) ++bits;
+      cub_call(temp, [&](void* t, std::size_t& b) {
+        return cub::DeviceRadixSort::SortPairs(t, b, entry_particle.data(), sorted_particle.data(),
+                                               entry_slot.data(), sorted_slot.data(), entries, 0,
+                                               bits);
+      });
+      TALUS_CUDA_CHECK(cudaMemset(entry_begin.data(), 0, count * sizeof(int)));
+      TALUS_CUDA_CHECK(cudaMemset(entry_end.data(), 0, count * sizeof(int)));
+      entry_ranges<<<blocks_for(entries), kBlock>>>(sorted_particle.data(), entries,
+                                                    entry_begin.data(), entry_end.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+    }
+    if (skin > 0) {  // the positions the next steps' displacements are measured from
+      const std::size_t bytes = count * sizeof(Real);
+      TALUS_CUDA_CHECK(
+          cudaMemcpy(built_x.data(), view.position.x, bytes, cudaMemcpyDeviceToDevice));
+      TALUS_CUDA_CHECK(
+          cudaMemcpy(built_y.data(), view.position.y, bytes, cudaMemcpyDeviceToDevice));
+      TALUS_CUDA_CHECK(
+          cudaMemcpy(built_z.data(), view.position.z, bytes, cudaMemcpyDeviceToDevice));
+    }
+  }
+
+  SlotArgs<Real> slot_args(Real spring_dt) {
+    SlotArgs<Real> a;
+    a.pairs = broad_phase->device_pairs();
+    a.spring_dt = spring_dt;
+    a.histories = tables.volume_model ? slot_history.data() : nullptr;
+    a.forces = scene.deterministic ? slot_forces.data() : nullptr;
+    a.slot_state = slot_state.data();
+    a.flag = flag.data();
+    a.touching = flag.data() + touching_pairs;
+    return a;
+  }
+
+  // pair_kernel for the pairs of capacity Capacity among `slots` (all slots when null).
+  template <int Capacity>
+  void launch_pairs(const SlotArgs<Real>& args, const int* slots, int n) {
+    if (n <= 0) return;
+    if (scene.deterministic) {
+      pair_kernel<Real, Capacity, false><<<blocks_for(n), kBlock>>>(view, tables, args, slots, n);
+    } else {
+      pair_kernel<Real, Capacity, true><<<blocks_for(n), kBlock>>>(view, tables, args, slots, n);
+    }
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+
+  void launch_pairs(int capacity, const SlotArgs<Real>& args, const int* slots, int n) {
+    switch (capacity) {
+      case 0:
+        return launch_pairs<0>(args, slots, n);
+      case 32:
+        return launch_pairs<32>(args, slots, n);
+      case 64:
+        return launch_pairs<64>(args, slots, n);
+      case 128:
+        return launch_pairs<128>(args, slots, n);
+      default:
+        return launch_pairs<256>(args, slots, n);
+    }
+  }
+
+  // Phase 2 for the workspace sizes Cap, 2 Cap, ... up to 64: each over the sorted slots whose
+  // kept planes fit it and not the size before (keys below + 2 .. Cap + 1).
+  template <int Cap>
+  void launch_polytopes(const SlotArgs<Real>& args, const std::vector<int>& counts, int begin,
+                        int below) {
+    int end = begin;
+    for (int m = below + 1; m <= Cap; ++m) end += counts[m + 1];
+    const int n = end - begin;
+    if (n > 0) {
+      const auto launch = [&](auto kernel) {
+        kernel<<<blocks_for(n), kBlock>>>(view, tables, args, sorted_order.data(), begin, n,
+                                          masks.data(), deferred.data(),
+                                          flag.data() + deferred_pairs);
+        TALUS_CUDA_LAUNCH_CHECK();
+      };
+      if (scene.deterministic) {
+        launch(polytope_pair_kernel<Real, Cap, false>);
+      } else {
+        launch(polytope_pair_kernel<Real, Cap, true>);
+      }
+    }
+    if constexpr (Cap < kMaxMaskPlanes) launch_polytopes<Cap * 2>(args, counts, end, Cap);
+  }
+
+  // The phased stage over every slot: cull, sort by kept planes, polytopes, deferred pairs.
+  void compute_phased(const SlotArgs<Real>& args) {
+    const int n = candidates;
+    masks.grow_to(n), keys.grow_to(n), sorted_keys.grow_to(n);
+    order.grow_to(n), sorted_order.grow_to(n);
+    histogram.grow_to(kMaxMaskPlanes + 2);
+    TALUS_CUDA_CHECK(cudaMemset(histogram.data(), 0, histogram.size() * sizeof(int)));
+    cull_pair_kernel<<<blocks_for(n), kBlock>>>(view, tables, args, n, masks.data(), keys.data(),
+                                                order.data(), histogram.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+    // Stable: slots of one key stay in slot order. kOtherPath (255) sorts last.
+    cub_call(temp, [&](void* t, std::size_t& b) {
+      return cub::DeviceRadixSort::SortPairs(t, b, keys.data(), sorted_keys.data(), order.data(),
+                                             sorted_order.data(), n, 0, 8);
+    });
+    const std::vector<int> counts = download(histogram.data(), kMaxMaskPlanes + 2);
+    deferred.grow_to(n);
+    launch_polytopes<8>(args, counts, counts[0], -1);
+    const int late = read_flag(deferred_pairs);
+    for (const int capacity : capacities) {
+      if (capacity > 0 && capacity <= kMaxMaskPlanes)
+        launch_pairs(capacity, args, deferred.data(), late);
+    }
+  }
+
+  // Stage pair_contacts: every slot of the list.
+  void compute_pairs(Real spring_dt) {
+    contact_count = 0;
+    contact_count_ready = true;
+    if (candidates == 0) return;
+    const SlotArgs<Real> args = slot_args(spring_dt);
+    if (phased) compute_phased(args);
+    for (const int capacity : capacities) {
+      if (!phased || capacity == 0 || capacity > kMaxMaskPlanes)
+        launch_pairs(capacity, args, nullptr, candidates);
+    }
+    const int bad = read_flag(degenerate_pair);
+    if (bad != INT_MAX) {
+      const ContactPair pair = download(broad_phase->device_pairs() + bad, 1)[0];
+      const std::vector<long long> ids = download(global_ids.data(), count);
+      throw std::runtime_error(
+          scene.file + ": particles " + std::to_string(ids[pair.a]) + " and " +
+          std::to_string(ids[pair.b]) +
+          ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
+          "workspace cannot hold)");
+    }
+    contact_count_ready = false;  // flag[touching_pairs], read when asked
   }
 
   void compute_walls(Real spring_dt) {
@@ -225,32 +391,21 @@ struct CudaStep<Real>::Impl {
   }
 
   void accumulate() {
-    const int entries = 2 * contact_count;
-    if (contact_count > 0) {
-      entry_particle.grow_to(entries), entry_contact.grow_to(entries);
-      sorted_particle.grow_to(entries), sorted_contact.grow_to(entries);
-      emit_entries<<<blocks_for(contact_count), kBlock>>>(
-          contacts.data(), contact_count, entry_particle.data(), entry_contact.data());
-      TALUS_CUDA_LAUNCH_CHECK();
-      // Stable: each particle's entries stay in ascending contact (pair) order.
-      int bits = 1;
-      while (bits < 31 && (1 << bits) < count) ++bits;
-      cub_call(temp, [&](void* t, std::size_t& b) {
-        return cub::DeviceRadixSort::SortPairs(t, b, entry_particle.data(), sorted_particle.data(),
-                                               entry_contact.data(), sorted_contact.data(), entries,
-                                               0, bits);
-      });
-      TALUS_CUDA_CHECK(cudaMemset(entry_begin.data(), 0, count * sizeof(int)));
-      TALUS_CUDA_CHECK(cudaMemset(entry_end.data(), 0, count * sizeof(int)));
-      entry_ranges<<<blocks_for(entries), kBlock>>>(sorted_particle.data(), entries,
-                                                    entry_begin.data(), entry_end.data());
-      TALUS_CUDA_LAUNCH_CHECK();
-    }
     const int walls = host_walls ? static_cast<int>(scene.walls.size()) : 0;
+    const bool slots = scene.deterministic && candidates > 0;
     accumulate_kernel<<<blocks_for(count), kBlock>>>(
-        view, contact_count > 0 ? contacts.data() : nullptr, sorted_contact.data(),
-        entry_begin.data(), entry_end.data(), wall_records.data(), walls);
+        view, slots ? broad_phase->device_pairs() : nullptr, slot_state.data(),
+        slots ? slot_forces.data() : nullptr, sorted_slot.data(), entry_begin.data(),
+        entry_end.data(), wall_records.data(), walls);
     TALUS_CUDA_LAUNCH_CHECK();
+  }
+
+  long long touching_count() const {
+    if (!contact_count_ready) {
+      contact_count = read_flag(touching_pairs);
+      contact_count_ready = true;
+    }
+    return contact_count;
   }
 
   void run_force_stages(Real spring_dt) {
@@ -447,13 +602,24 @@ CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scen
       }
     }
     std::sort(m.capacities.begin(), m.capacities.end());
+    // The phased stage when some template pair has at most 64 planes: its capacity is then 32
+    // or 64 (a pair with more goes to pair_kernel with its own capacity).
+    for (const int capacity : m.capacities)
+      m.phased = m.phased || (capacity > 0 && capacity <= kMaxMaskPlanes);
     m.broad_phase = std::make_unique<ContactPairsGpu<Real>>();
+    double largest_radius = 0;
+    for (const BodyProperties<Real>& b : m.host_bodies)
+      largest_radius = std::max(largest_radius, double(b.bounding_radius));
+    m.skin = Real(scene.skin ? *scene.skin : 0.2 * largest_radius);  // default: 0.1 diameter
     NeighborInput<Real> in;
     in.x = v.position.x, in.y = v.position.y, in.z = v.position.z;
     in.radius = v.bounding_radius;
     in.count = n;
+    in.skin = m.skin;
     m.broad_phase->set_device_particles(in);
-    m.entry_begin.resize(n), m.entry_end.resize(n);
+    if (scene.deterministic) m.entry_begin.resize(n), m.entry_end.resize(n);
+    if (m.skin > 0) m.built_x.resize(n), m.built_y.resize(n), m.built_z.resize(n);
+    m.largest_move.resize(1);
   }
   if (m.host_walls) {
     m.motions.upload(m.host_walls->motions());
@@ -527,7 +693,17 @@ const std::array<double, 9>& CudaStep<Real>::stage_seconds() const {
 }
 template <class Real>
 std::size_t CudaStep<Real>::pair_contact_count() const {
-  return impl_->contact_count;
+  return static_cast<std::size_t>(impl_->touching_count());
+}
+
+template <class Real>
+long long CudaStep<Real>::pair_list_builds() const {
+  return impl_->list_builds;
+}
+
+template <class Real>
+std::size_t CudaStep<Real>::candidate_pair_count() const {
+  return static_cast<std::size_t>(impl_->candidates);
 }
 template <class Real>
 std::size_t CudaStep<Real>::wall_contact_count() const {
@@ -547,14 +723,26 @@ std::size_t CudaStep<Real>::allocated_bytes() const {
   const Impl& m = *impl_;
   std::size_t bytes = m.count * (2 * sizeof(int) + sizeof(long long));
   for (const auto& entry : m.storage) bytes += entry.second.size() * sizeof(Real);
-  bytes += m.records.size() * sizeof(PairContactRecord<Real>) +
-           m.contacts.size() * sizeof(PairContactRecord<Real>) + m.pair_history.bytes() +
-           m.wall_history.bytes() +
+  bytes += pair_list_bytes() + m.wall_history.bytes() +
            (m.wall_records.size() + m.wall_contacts.size()) * sizeof(WallContactRecord<Real>) +
-           (m.entry_particle.size() + m.entry_contact.size() + m.sorted_particle.size() +
-            m.sorted_contact.size() + m.entry_begin.size() + m.entry_end.size()) *
-               sizeof(int) +
            m.temp.size() + m.corners.size() * sizeof(Vec3<Real>);
+  return bytes;
+}
+
+template <class Real>
+std::size_t CudaStep<Real>::pair_list_bytes() const {
+  const Impl& m = *impl_;
+  std::size_t bytes =
+      m.slot_state.size() + m.slot_history.size() * sizeof(ContactHistoryData<Real>) +
+      m.slot_forces.size() * sizeof(SlotForce<Real>) +
+      (m.keyed.size() + m.store.size()) * sizeof(KeyedHistory<Real>) +
+      (m.built_x.size() + m.built_y.size() + m.built_z.size()) * sizeof(Real) +
+      (m.entry_particle.size() + m.entry_slot.size() + m.sorted_particle.size() +
+       m.sorted_slot.size() + m.entry_begin.size() + m.entry_end.size() + m.order.size() +
+       m.sorted_order.size() + m.deferred.size() + m.histogram.size()) *
+          sizeof(int) +
+      m.masks.size() * sizeof(unsigned long long) + m.keys.size() + m.sorted_keys.size();
+  if (m.broad_phase) bytes += m.broad_phase->allocated_bytes();
   return bytes;
 }
 

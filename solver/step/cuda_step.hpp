@@ -1,13 +1,21 @@
 // The production step on the CUDA backend: the host step's stages (host_step.hpp) as kernels
 // over device arrays, one thread per particle, per candidate pair or per (particle, wall), each
 // calling the same TALUS_HD functions (particle_kernels.hpp, pair_kernels.hpp,
-// wall_kernels.hpp). The broad phase is ContactPairsGpu on the step's own position arrays; the
-// volume model's overlap runs with the workspace of each template pair's capacity (one launch
-// per capacity the scene has); the tangential history lives on the device keyed by global ids
-// (sorted keys, binary search, rebuilt from the touching pairs as on the host). Accumulation is
-// deterministic, with no atomics: each contact is written to its own slot, then one thread per
-// particle sums its contacts in pair order (a CSR of the sorted list), then its wall contacts
-// in wall order, as the host does, so both backends agree to round-off.
+// wall_kernels.hpp). The broad phase is ContactPairsGpu on the step's own position arrays, with
+// a Verlet skin (Scene::skin): the candidate list is kept, and each candidate keeps its slot,
+// until some particle has moved skin / 2, so most steps skip the broad phase. Polyhedron pairs
+// of the volume model with at most 64 faces together go through the phased stage: a culling
+// kernel (GJK, the kept planes as a 64-bit mask), the slots sorted by their number of kept
+// planes, and one polytope kernel per workspace size (8, 16, 32, 64 planes), so that a warp's
+// pairs do similar work in little local memory; other pairs (spheres, the linear model, larger
+// templates) run whole in one thread with the workspace of their templates' capacity (one
+// launch per capacity the scene has). The tangential history lives in the slots, read and replaced
+// in place; a rebuild carries the touching slots' histories to the new list by global ids (sorted
+// keys, binary search). Accumulation (Scene::deterministic, the default) uses no atomics: each
+// contact is written to its slot, then one thread per particle sums its touching slots in pair
+// order (a CSR over the list, built with it), then its wall contacts in wall order, as the host
+// does, so both backends agree to round-off; with deterministic: false the pair kernel adds the
+// forces to the particles by atomics instead.
 //
 // Host-facing: no CUDA types; the implementation (cuda_step.cu) exists only in CUDA builds
 // (talus_cuda), where TALUS_HAVE_CUDA is defined.
@@ -51,6 +59,11 @@ class CudaStep {
   const std::array<double, 9>& stage_seconds() const;
   std::size_t pair_contact_count() const;
   std::size_t wall_contact_count() const;
+  // The pair list: how many times it was built, its length, and the device bytes of the list
+  // and its slots (the broad phase's arrays, histories, forces, the CSR, the built positions).
+  long long pair_list_builds() const;
+  std::size_t candidate_pair_count() const;
+  std::size_t pair_list_bytes() const;
   // Wall w's force and torque about the origin at the last evaluation (the wall contacts are
   // downloaded and summed in double, in order, on the first call after an evaluation).
   Vec3d wall_force(int w) const;

@@ -32,7 +32,15 @@ double clock_seconds() {
 }
 
 // Flags the kernels raise (the lowest index wins: atomicMin), read after their stage.
-enum Flag { failed_rotation = 0, degenerate_pair = 1, degenerate_wall = 2, selected = 3, flags };
+enum Flag {
+  failed_rotation = 0,
+  degenerate_pair = 1,
+  degenerate_wall = 2,
+  selected = 3,
+  touching_pairs = 4,
+  deferred_pairs = 5,
+  flags
+};
 
 // ---- Per-particle stages (particle_kernels.hpp) ----
 
@@ -86,34 +94,278 @@ struct HistoryIn {
   int count;
 };
 
-// One thread per candidate pair; this launch computes only the pairs of workspace capacity
-// `Capacity` (another launch per capacity present in the scene computes the rest), so a
-// thread's local memory is the workspace of its own template pair.
-template <class Real, int Capacity>
-__global__ void pair_kernel(ParticleView<Real> p, PairLawTables<Real> t,
-                            const ContactPair* __restrict__ pairs, int count, Real spring_dt,
-                            HistoryIn old, const ContactHistoryData<Real>* __restrict__ histories,
-                            PairContactRecord<Real>* __restrict__ records, int* flag) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  int ia, ib;
-  order_pair(p, t, pairs[k].a, pairs[k].b, ia, ib);
-  const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
-  const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
-  if (pair_capacity(a, b, t.volume_model) != Capacity) return;
-  PairGeometryData<Real> g;
-  if constexpr (Capacity == 0) {
-    g = simple_pair_geometry(p, t, ia, ib);
+// What a touching candidate slot k holds for the accumulation (deterministic mode): the force on
+// its ordered A and the contact point; slot_state[k] says whether it touches and which of
+// pairs[k].a, pairs[k].b is A.
+template <class Real>
+struct SlotForce {
+  Vec3<Real> force_on_a;  // N; B gets the opposite
+  Vec3<Real> point;       // m
+};
+enum SlotState : unsigned char { slot_apart = 0, slot_a_first = 1, slot_b_first = 2 };
+
+template <class Real>
+__device__ void atomic_add(const Soa3<Real>& s, int i, const Vec3<Real>& v) {
+  atomicAdd(s.x + i, v.x);
+  atomicAdd(s.y + i, v.y);
+  atomicAdd(s.z + i, v.z);
+}
+
+// The rest of slot k's work once its geometry g is known: the force law with the slot's history
+// (read and replaced in place: the list, and with it every pair's slot, stays until the next
+// rebuild, which carries the histories over), the slot's state, and the force: added to the
+// two particles at once by atomics (Atomic, deterministic: false) or kept in the slot for
+// accumulate_kernel. Returns whether the pair touches.
+template <class Real, bool Atomic>
+__device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Real>& t,
+                            const ContactPair& pair, int ia, int ib, int k,
+                            const PairGeometryData<Real>& g, Real spring_dt,
+                            ContactHistoryData<Real>* __restrict__ histories,
+                            SlotForce<Real>* __restrict__ forces,
+                            unsigned char* __restrict__ slot_state, int* flag) {
+  ContactHistoryData<Real> previous;
+  if (histories && g.in_contact) previous = histories[k];
+  const PairContactRecord<Real> r = pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
+  if (histories) histories[k] = r.in_contact ? r.history : ContactHistoryData<Real>();
+  slot_state[k] = !r.in_contact ? slot_apart : (ia == pair.a ? slot_a_first : slot_b_first);
+  if (r.degenerate) atomicMin(flag + degenerate_pair, k);
+  if (!r.in_contact) return false;
+  if constexpr (Atomic) {
+    atomic_add(p.force, ia, r.force_on_a);
+    atomic_add(p.force, ib, -r.force_on_a);
+    if (p.torque.present()) {
+      atomic_add(p.torque, ia, cross(r.point - p.position.get(ia), r.force_on_a));
+      atomic_add(p.torque, ib, cross(r.point - p.position.get(ib), -r.force_on_a));
+    }
   } else {
+    forces[k] = SlotForce<Real>{r.force_on_a, r.point};
+  }
+  return true;
+}
+
+// Adds the block's touching slots to *touching (one atomic per block). Every thread calls it.
+__device__ void count_touching(bool in_contact, int* touching) {
+  const int block_touching = __syncthreads_count(in_contact);
+  if (threadIdx.x == 0 && block_touching > 0) atomicAdd(touching, block_touching);
+}
+
+// What each slot needs besides the list and its own arrays.
+template <class Real>
+struct SlotArgs {
+  const ContactPair* pairs = nullptr;
+  Real spring_dt = 0;
+  ContactHistoryData<Real>* histories = nullptr;  // volume model
+  SlotForce<Real>* forces = nullptr;              // deterministic mode
+  unsigned char* slot_state = nullptr;
+  int* flag = nullptr;
+  int* touching = nullptr;
+};
+
+// One thread per slot of the pair list (or of the given `slots`), the whole pair in one thread;
+// this launch computes only the pairs of workspace capacity `Capacity` (another launch per
+// capacity present in the scene computes the rest), so a thread's local memory is the
+// workspace of its own template pair. Used for the linear model and spheres (Capacity 0), for
+// template pairs with more than 64 faces together, and for the few pairs the phased kernels
+// defer.
+template <class Real, int Capacity, bool Atomic>
+__global__ void __launch_bounds__(kBlock)
+    pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, const int* slots,
+                int count) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  bool in_contact = false;
+  if (j < count) {
+    const int k = slots ? slots[j] : j;
+    const ContactPair pair = s.pairs[k];
+    int ia, ib;
+    order_pair(p, t, pair.a, pair.b, ia, ib);
+    const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+    const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+    if (pair_capacity(a, b, t.volume_model) == Capacity) {
+      PairGeometryData<Real> g;
+      if constexpr (Capacity == 0) {
+        g = simple_pair_geometry(p, t, ia, ib);
+      } else {
+        const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
+        const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
+        OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+        g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
+      }
+      in_contact = finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories,
+                                             s.forces, s.slot_state, s.flag);
+    }
+  }
+  count_touching(in_contact, s.touching);
+}
+
+// ---- The phased pair stage: polyhedron pairs of at most 64 faces together ----
+// A thread's overlap workspace is sized for every face plane of its two templates (3.7 KB in
+// double for two dodecahedra), but a shallow contact keeps only a few planes after culling.
+// Phase 1 culls (GJK, then overlap_cull_mask: a 64-bit mask of the kept planes); the slots are
+// then sorted by their number of kept planes, and phase 2 builds the polytope with a workspace
+// of 8, 16, 32 or 64 planes, one launch per size over its range of the sorted slots, so a warp's
+// pairs do similar work in little local memory (the overlap batch's phased_sorted kernel,
+// benchmarks/README.md). The result is overlap_polyhedra's bit for bit (overlap_from_mask).
+constexpr int kMaxMaskPlanes = 64;
+constexpr unsigned char kOtherPath = 255;  // a slot phase 1 leaves to pair_kernel
+
+// Phase 1. key[k]: 0 when the slot is settled here (GJK or the culling decides it apart),
+// m + 1 with m kept planes, kOtherPath when the pair is not a phased one (a sphere, the linear
+// model, more than 64 faces). `histogram` counts the keys 0 .. 65 (one atomic per block and key).
+// Register-bound: 164 registers a thread left 6 warps per SM; capped for 4 blocks (16 warps)
+// the kernel ran 1.2x faster in the step (H100, the 1e6 bed: pair stage 23.4 -> 21.5 ms), while
+// the polytope kernel's caps (6 or 8 blocks) spilled and lost 1.2-1.5x.
+template <class Real>
+__global__ void __launch_bounds__(kBlock, 4)
+    cull_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, int count,
+                     unsigned long long* __restrict__ masks, unsigned char* __restrict__ keys,
+                     int* __restrict__ order, int* __restrict__ histogram) {
+  __shared__ int block_histogram[kMaxMaskPlanes + 2];
+  for (int b = threadIdx.x; b < kMaxMaskPlanes + 2; b += blockDim.x) block_histogram[b] = 0;
+  __syncthreads();
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k < count) {
+    const ContactPair pair = s.pairs[k];
+    int ia, ib;
+    order_pair(p, t, pair.a, pair.b, ia, ib);
+    const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+    const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+    unsigned char key = kOtherPath;
+    if (pair_capacity(a, b, t.volume_model) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
+      const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
+      const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
+      // As polyhedra_volume_geometry: GJK first, then the overlap's own culling.
+      PairGeometryData<Real> g;
+      int kept = -1;
+      if (gjk_intersect(a.shape, pose_a, b.shape, pose_b).intersecting) {
+        OverlapResult<Real> result;
+        unsigned long long mask = 0;
+        kept = overlap_cull_mask(a.shape, pose_a, b.shape, pose_b, OverlapOptions(), mask, result);
+        if (kept >= 0)
+          masks[k] = mask;
+        else
+          g = volume_geometry_from(result);  // separate, touching or degenerate: no contact
+      }
+      if (kept < 0) {
+        finish_slot<Real, false>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories, s.forces,
+                                 s.slot_state, s.flag);
+        key = 0;
+      } else {
+        key = static_cast<unsigned char>(kept + 1);
+      }
+      atomicAdd(&block_histogram[key], 1);
+    }
+    keys[k] = key;
+    order[k] = k;
+  }
+  __syncthreads();
+  for (int b = threadIdx.x; b < kMaxMaskPlanes + 2; b += blockDim.x)
+    if (block_histogram[b] > 0) atomicAdd(&histogram[b], block_histogram[b]);
+}
+
+// Phase 2 over the sorted slots order[begin .. begin + count): the polytope from the slot's mask
+// in a workspace of Cap planes, then the force. A pair the workspace cannot hold (the hull
+// needs more room than its planes suggest; rare) is appended to `deferred` for pair_kernel.
+template <class Real, int Cap, bool Atomic>
+__global__ void __launch_bounds__(kBlock)
+    polytope_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s,
+                         const int* __restrict__ order, int begin, int count,
+                         const unsigned long long* __restrict__ masks, int* deferred,
+                         int* deferred_count) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  bool in_contact = false;
+  if (j < count) {
+    const int k = order[begin + j];
+    const ContactPair pair = s.pairs[k];
+    int ia, ib;
+    order_pair(p, t, pair.a, pair.b, ia, ib);
+    const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+    const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
     const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
     const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
-    OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
-    g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
+    OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
+    const OverlapResult<Real> overlap =
+        overlap_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], workspace);
+    if (overlap.workspace_overrun) {
+      deferred[atomicAdd(deferred_count, 1)] = k;
+    } else {
+      in_contact =
+          finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, volume_geometry_from(overlap),
+                                    s.spring_dt, s.histories, s.forces, s.slot_state, s.flag);
+    }
   }
-  const PairContactRecord<Real> r =
-      pair_contact_force(p, t, ia, ib, g, spring_dt, old.keys, histories, old.count);
-  records[k] = r;
-  if (r.degenerate) atomicMin(flag + degenerate_pair, k);
+  count_touching(in_contact, s.touching);
+}
+
+// ---- The pair list's rebuild (a Verlet list: kept while no particle has moved skin / 2) ----
+
+// The largest squared displacement since the list was built, as the bits of a non-negative
+// double (their integer order is their numeric order): one atomicMax per block.
+template <class Real>
+__global__ void max_displacement_kernel(ParticleView<Real> p, const Real* __restrict__ x0,
+                                        const Real* __restrict__ y0, const Real* __restrict__ z0,
+                                        unsigned long long* largest) {
+  using BlockReduce = cub::BlockReduce<double, kBlock>;
+  __shared__ typename BlockReduce::TempStorage temp;
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  double d2 = 0;
+  if (i < p.count) {
+    const double dx = double(p.position.x[i]) - double(x0[i]);
+    const double dy = double(p.position.y[i]) - double(y0[i]);
+    const double dz = double(p.position.z[i]) - double(z0[i]);
+    d2 = dx * dx + dy * dy + dz * dz;
+  }
+  const double block_max =
+      BlockReduce(temp).Reduce(d2, [](double u, double v) { return u < v ? v : u; });
+  if (threadIdx.x == 0)
+    atomicMax(largest, static_cast<unsigned long long>(__double_as_longlong(block_max)));
+}
+
+// A touching slot's history, keyed by the pair's global ids, for the next list.
+template <class Real>
+struct KeyedHistory {
+  PairKey key;
+  ContactHistoryData<Real> history;
+  bool touching = false;
+};
+
+template <class Real>
+__global__ void key_histories(const long long* __restrict__ global_id,
+                              const ContactPair* __restrict__ pairs, int count,
+                              const unsigned char* __restrict__ slot_state,
+                              const ContactHistoryData<Real>* __restrict__ histories,
+                              KeyedHistory<Real>* __restrict__ keyed) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  KeyedHistory<Real> h;
+  h.touching = slot_state[k] != slot_apart;
+  h.key = make_pair_key(global_id[pairs[k].a], global_id[pairs[k].b]);
+  h.history = histories[k];
+  keyed[k] = h;
+}
+
+// Each slot of the new list takes its pair's history from the store (sorted by key; the default
+// for a pair that was not touching), and starts apart.
+template <class Real>
+__global__ void carry_histories(const long long* __restrict__ global_id,
+                                const ContactPair* __restrict__ pairs, int count,
+                                const KeyedHistory<Real>* __restrict__ store, int stored,
+                                ContactHistoryData<Real>* __restrict__ histories,
+                                unsigned char* __restrict__ slot_state) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const PairKey key = make_pair_key(global_id[pairs[k].a], global_id[pairs[k].b]);
+  int lo = 0, hi = stored;
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (key_less(store[mid].key, key)) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  const bool found = lo < stored && store[lo].key.low == key.low && store[lo].key.high == key.high;
+  if (histories) histories[k] = found ? store[lo].history : ContactHistoryData<Real>();
+  slot_state[k] = slot_apart;
 }
 
 // The next history store from the touching contacts (sorted afterwards).
@@ -127,15 +379,14 @@ __global__ void copy_histories(const Record* __restrict__ contacts, int count,
   histories[k] = contacts[k].history;
 }
 
-// Two CSR entries per contact k: (a, k) and (b, k).
-template <class Real>
-__global__ void emit_entries(const PairContactRecord<Real>* __restrict__ contacts, int count,
-                             int* __restrict__ particle, int* __restrict__ contact) {
+// Two CSR entries per candidate slot k: (a, k) and (b, k).
+__global__ void emit_entries(const ContactPair* __restrict__ pairs, int count,
+                             int* __restrict__ particle, int* __restrict__ slot) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= count) return;
-  particle[2 * k] = contacts[k].a;
-  particle[2 * k + 1] = contacts[k].b;
-  contact[2 * k] = contact[2 * k + 1] = k;
+  particle[2 * k] = pairs[k].a;
+  particle[2 * k + 1] = pairs[k].b;
+  slot[2 * k] = slot[2 * k + 1] = k;
 }
 
 // begin[i], end[i]: particle i's range of the sorted entries (both 0 when it has none).
@@ -173,26 +424,32 @@ __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArg
   if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
 }
 
-// ---- Accumulation: one thread per particle, its contacts in pair order, then its walls ----
+// ---- Accumulation: one thread per particle, its touching slots in pair order, then its walls ----
 
 template <class Real>
-__global__ void accumulate_kernel(ParticleView<Real> p,
-                                  const PairContactRecord<Real>* __restrict__ contacts,
-                                  const int* __restrict__ sorted_contact,
+__global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __restrict__ pairs,
+                                  const unsigned char* __restrict__ slot_state,
+                                  const SlotForce<Real>* __restrict__ forces,
+                                  const int* __restrict__ sorted_slot,
                                   const int* __restrict__ begin, const int* __restrict__ end,
                                   const WallContactRecord<Real>* __restrict__ wall_records,
                                   int walls) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= p.count) return;
-  // The same additions, in the same order, as add_pair_force and add_wall_force on the host.
+  // The same additions, in the same order, as add_pair_force and add_wall_force on the host: the
+  // list is sorted by (a, b), so a particle's touching slots come in the host's contact order.
   Vec3<Real> f = p.force.get(i), t;
   const bool torque = p.torque.present();
   if (torque) t = p.torque.get(i);
   const Vec3<Real> x = p.position.get(i);
-  if (contacts) {
+  if (forces) {
     for (int s = begin[i]; s < end[i]; ++s) {
-      const PairContactRecord<Real>& c = contacts[sorted_contact[s]];
-      if (c.a == i) {
+      const int k = sorted_slot[s];
+      const unsigned char state = slot_state[k];
+      if (state == slot_apart) continue;
+      const SlotForce<Real> c = forces[k];
+      const int a = state == slot_a_first ? pairs[k].a : pairs[k].b;
+      if (a == i) {
         f = f + c.force_on_a;
         if (torque) t = t + cross(c.point - x, c.force_on_a);
       } else {
@@ -221,6 +478,18 @@ struct InContact {
 struct KeyLess {
   __host__ __device__ bool operator()(const PairKey& p, const PairKey& q) const {
     return key_less(p, q);
+  }
+  template <class Real>
+  __host__ __device__ bool operator()(const KeyedHistory<Real>& p,
+                                      const KeyedHistory<Real>& q) const {
+    return key_less(p.key, q.key);
+  }
+};
+
+struct Touching {
+  template <class Real>
+  __host__ __device__ bool operator()(const KeyedHistory<Real>& h) const {
+    return h.touching;
   }
 };
 

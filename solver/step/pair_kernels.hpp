@@ -109,14 +109,16 @@ TALUS_HD inline PairGeometryData<Real> simple_pair_geometry(const ParticleView<R
   return from_simple_contact(polyhedron_polyhedron_contact(a.shape, pose_a, b.shape, pose_b));
 }
 
-// The force of the ordered pair (ia, ib) with geometry g; the previous history is found among
-// old_keys[0 .. old_count) (sorted). `spring_dt` is the time the spring advances by (0 for the
-// evaluation before the first step).
+// The force of the ordered pair (ia, ib) with geometry g and `previous`, the pair's history from
+// the step before (stored as seen from the lower global id as A; the default when the pair was
+// not touching). `spring_dt` is the time the spring advances by (0 for the evaluation before the
+// first step). The record's history is the one to keep for the next step.
 template <class Real>
-TALUS_HD inline PairContactRecord<Real> pair_contact_force(
-    const ParticleView<Real>& p, const PairLawTables<Real>& t, int ia, int ib,
-    const PairGeometryData<Real>& g, Real spring_dt, const PairKey* old_keys,
-    const ContactHistoryData<Real>* old_histories, int old_count) {
+TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Real>& p,
+                                                           const PairLawTables<Real>& t, int ia,
+                                                           int ib, const PairGeometryData<Real>& g,
+                                                           Real spring_dt,
+                                                           ContactHistoryData<Real> previous) {
   PairContactRecord<Real> r;
   r.a = ia;
   r.b = ib;
@@ -143,9 +145,7 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(
     c.elastic = c.normal_stiffness * std::cbrt(g.volume);                        // Eq. 12
     c.area = g.area;
     const VolumeLawData<Real> law = volume_law(t, pair, a.mass * b.mass / (a.mass + b.mass));
-    const int found = find_pair_key(old_keys, old_count, r.key);
-    ContactHistoryData<Real> history;
-    if (found >= 0) history = old_histories[found];
+    ContactHistoryData<Real> history = previous;
     // The spring is stored as seen from the lower id as A.
     const Real sign = p.global_id[ia] == r.key.low ? Real(1) : Real(-1);
     history.spring *= sign;
@@ -160,6 +160,21 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(
   r.point = g.point;
   r.force_on_a = f.total();
   return r;
+}
+
+// The same, with the previous history found among old_keys[0 .. old_count) (sorted by key).
+template <class Real>
+TALUS_HD inline PairContactRecord<Real> pair_contact_force(
+    const ParticleView<Real>& p, const PairLawTables<Real>& t, int ia, int ib,
+    const PairGeometryData<Real>& g, Real spring_dt, const PairKey* old_keys,
+    const ContactHistoryData<Real>* old_histories, int old_count) {
+  ContactHistoryData<Real> previous;
+  if (g.in_contact && t.volume_model) {
+    const int found =
+        find_pair_key(old_keys, old_count, make_pair_key(p.global_id[ia], p.global_id[ib]));
+    if (found >= 0) previous = old_histories[found];
+  }
+  return pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
 }
 
 // Adds one contact's force and torques (Eqs. 21-22) to its two particles. The host calls it for

@@ -162,6 +162,7 @@ effects:
 
 struct Agreement {
   long long steps = 0, contact_steps = 0, mismatches = 0;
+  long long list_builds = 0;  // the GPU step's pair-list builds (evaluate_forces' included)
   double position_error = 0;  // max |x_gpu - x_host| / max(|x_host|, length)
   bool finite = true;
 };
@@ -193,8 +194,10 @@ Agreement compare_steps(const Scene& scene, double length) {
                                                         std::max(norm(h[i].position), length));
     }
   }
-  std::printf("steps %lld  contact steps %lld  mismatches %lld  position error %.3g\n", a.steps,
-              a.contact_steps, a.mismatches, a.position_error);
+  a.list_builds = gpu.pair_list_builds();
+  std::printf(
+      "steps %lld  contact steps %lld  mismatches %lld  position error %.3g  list builds %lld\n",
+      a.steps, a.contact_steps, a.mismatches, a.position_error, a.list_builds);
   return a;
 }
 
@@ -261,26 +264,83 @@ TEST(GpuStep, MixedWorkspaceCapacitiesMatchHost) {
 
 // 20 cubes and icosahedra crowded in a box, volume model, gravity, friction, rotation: 2 to 35
 // touching pairs and 7 wall contacts at the start (the host step says so), both workspace
-// capacities, histories for pairs and walls; 300 steps.
-TEST(GpuStep, CrowdInABoxVolumeMatchesHost) {
-  SKIP_WITHOUT_GPU();
-  const Scene scene = scene_from(std::string("time: {step: 2.0e-6, end: 6.0e-4}\n") + kGlass + R"(
+// capacities, histories for pairs and walls; 300 steps. `settings`: top-level keys (skin,
+// deterministic).
+Scene crowd_in_a_box(const std::string& settings = "") {
+  return scene_from(std::string("time: {step: 2.0e-6, end: 6.0e-4}\n") + settings + kGlass + R"(
 templates:
   cube: {shape: "cube:0.008", material: glass}
   ico: {shape: "icosahedron:0.009", material: glass}
 walls:
   - box: {min: [-0.0115, -0.0115, -0.0115], max: [0.0115, 0.0115, 0.0115], material: glass}
 )" + cloud(20, 0.0075, 3.0, {"cube", "ico"}, 9) +
-                                 R"(
+                    R"(
 effects:
   gravity: [0, 0, -9.81]
   contact: volume
   friction: true
   rotation: true
 )");
-  const Agreement a = compare_steps<double>(scene, 0.01);
+}
+
+// The default skin (a tenth of the largest bounding diameter, 0.9 mm here): particles move at
+// most 3 m/s x 6e-4 s = 1.8 mm, so the list is kept for many steps, yet the contacts and
+// positions are the host's (which builds its list every step with no skin).
+TEST(GpuStep, CrowdInABoxVolumeMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  const Agreement a = compare_steps<double>(crowd_in_a_box(), 0.01);
   expect_agreement(a, 300);
   EXPECT_EQ(a.steps, 300);
+  // Kept while no particle has moved 0.45 skin = 0.41 mm: about 1.8 / 0.41 + 1 builds at most
+  // (speeds fall in the box); 1 + 300 would mean the skin is ignored.
+  if (max_steps() <= 0) EXPECT_LE(a.list_builds, 10);
+  EXPECT_GE(a.list_builds, 1);
+}
+
+// No skin: the list is built at every evaluation (301: evaluate_forces and 300 steps), with the
+// same results.
+TEST(GpuStep, NoSkinBuildsTheListEveryStep) {
+  SKIP_WITHOUT_GPU();
+  const Agreement a = compare_steps<double>(crowd_in_a_box("skin: 0\n"), 0.01);
+  expect_agreement(a, 300);
+  EXPECT_EQ(a.list_builds, a.steps + 1);
+}
+
+// A skin as wide as the particles: many more candidates that never touch, the same contacts.
+TEST(GpuStep, WideSkinMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  const Agreement a = compare_steps<double>(crowd_in_a_box("skin: 0.008\n"), 0.01);
+  expect_agreement(a, 300);
+  EXPECT_EQ(a.list_builds, 1);  // nothing moves 3.6 mm within 6e-4 s at <= 3 m/s
+}
+
+// deterministic: false adds the pair forces by atomics, in whatever order threads arrive: the
+// sums round differently (~1e-16 relative per addition), which stays within the tolerance of
+// the comparison above.
+TEST(GpuStep, AtomicAccumulationMatchesHost) {
+  SKIP_WITHOUT_GPU();
+  const Agreement a = compare_steps<double>(crowd_in_a_box("deterministic: false\n"), 0.01);
+  expect_agreement(a, 300);
+}
+
+// Deterministic mode repeats bit for bit: two runs of the crowd give the same positions and
+// velocities exactly.
+TEST(GpuStep, DeterministicRunsRepeatExactly) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = crowd_in_a_box();
+  CudaStep<double> first(scene), second(scene);
+  const long long steps = max_steps() > 0 ? std::min(max_steps(), 300LL) : 300;
+  for (long long k = 0; k < steps; ++k) first.step(), second.step();
+  const std::vector<TrajectoryRow> a = first.trajectory_rows(), b = second.trajectory_rows();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].position.x, b[i].position.x);
+    EXPECT_EQ(a[i].position.y, b[i].position.y);
+    EXPECT_EQ(a[i].position.z, b[i].position.z);
+    EXPECT_EQ(a[i].velocity.x, b[i].velocity.x);
+    EXPECT_EQ(a[i].velocity.z, b[i].velocity.z);
+  }
+  EXPECT_GT(first.pair_contact_count(), 0u);
 }
 
 // Float: finite, and close to the host's float run. The two round differently (fused

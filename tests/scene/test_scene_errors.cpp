@@ -61,8 +61,8 @@ TEST(SceneErrors, UnknownKeyListsTheAllowedKeysAndTheLikelyOne) {
                "youngs_modulus, poisson_ratio, friction, restitution (did you mean 'density'?)");
   EXPECT_STREQ(error_with("seed: 3", "sed: 3").what(),
                "errors.yaml:2:1: sed: unknown key; expected one of time, seed, backend, precision, "
-               "materials, material_pairs, templates, particles, walls, effects, outputs (did you "
-               "mean 'seed'?)");
+               "skin, deterministic, materials, material_pairs, templates, particles, walls, "
+               "effects, outputs (did you mean 'seed'?)");
   EXPECT_STREQ(error_with("seed: 3", "seed: 3\nseed: 4").what(),
                "errors.yaml:3:1: seed: duplicate key; first given on line 2");
 }
@@ -97,6 +97,10 @@ TEST(SceneErrors, OutOfRangeValuesSayTheRange) {
       {"restitution: 0.8", "restitution: 1.01",
        "errors.yaml:9:18: materials.glass.restitution: expected a number in (0, 1] (coefficient "
        "of restitution), got '1.01'"},
+      {"seed: 3", "seed: 3\nskin: -1e-3",
+       "errors.yaml:3:7: skin: expected a non-negative number in m, got '-1e-3'"},
+      {"seed: 3", "seed: 3\ndeterministic: maybe",
+       "errors.yaml:3:16: deterministic: expected true or false, got 'maybe'"},
       {"step: 1.0e-5", "step: 0",
        "errors.yaml:1:14: time.step: expected a positive number in s, got '0'"},
       {"end: 0.1", "end: -1",
@@ -188,12 +192,13 @@ TEST(SceneErrors, YamlSyntaxErrorsGiveThePosition) {
 
 TEST(SceneErrors, EmptyOrNonMapDocument) {
   EXPECT_EQ(scene_error("").message(),
-            "expected a scene: a map with keys time, seed, backend, precision, materials, "
-            "material_pairs, templates, particles, walls, effects, outputs, got nothing");
+            "expected a scene: a map with keys time, seed, backend, precision, skin, "
+            "deterministic, materials, material_pairs, templates, particles, walls, effects, "
+            "outputs, got nothing");
   EXPECT_STREQ(scene_error("- 1\n- 2\n").what(),
                "errors.yaml:1:1: expected a scene: a map with keys time, seed, backend, precision, "
-               "materials, material_pairs, templates, particles, walls, effects, outputs, got "
-               "[1, 2]");
+               "skin, deterministic, materials, material_pairs, templates, particles, walls, "
+               "effects, outputs, got [1, 2]");
 }
 
 }  // namespace

@@ -21,6 +21,8 @@ TEST(SceneValues, DefaultsOfKeysLeftOut) {
   EXPECT_EQ(scene.seed, 3u);
   EXPECT_EQ(scene.backend, Backend::automatic);
   EXPECT_EQ(scene.precision, Precision::float64);
+  EXPECT_FALSE(scene.skin.has_value());
+  EXPECT_TRUE(scene.deterministic);
   EXPECT_TRUE(scene.material_pairs.empty());
   const ParticleState& particle = scene.particles.at(0);
   EXPECT_EQ(particle.orientation.w, 1);
@@ -43,13 +45,17 @@ TEST(SceneValues, DefaultsOfKeysLeftOut) {
 }
 
 TEST(SceneValues, ChoicesAndSpellings) {
-  const Scene scene = with({{"seed: 3", "seed: 3\nbackend: cuda\nprecision: float"},
+  const Scene scene = with({{"seed: 3",
+                             "seed: 3\nbackend: cuda\nprecision: float\nskin: 2.5e-4\n"
+                             "deterministic: false"},
                             {"friction: true", "friction: off\n  rotation: yes"},
                             {"contact: volume",
                              "contact: {model: linear, stiffness: 2.5e3, "
                              "damping: 0.25}"}});
   EXPECT_EQ(scene.backend, Backend::cuda);
   EXPECT_EQ(scene.precision, Precision::float32);
+  EXPECT_EQ(scene.skin, 2.5e-4);
+  EXPECT_FALSE(scene.deterministic);
   EXPECT_FALSE(scene.effects.friction);
   EXPECT_TRUE(scene.effects.rotation);
   EXPECT_EQ(scene.effects.contact, ContactModel::linear);
