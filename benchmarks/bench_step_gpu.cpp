@@ -4,7 +4,8 @@
 // (side 46, 100 and 159): polyhedron-steps per second, contacts, time per stage, pair-list builds
 // per step and device bytes per particle. The second argument is the mode: 0 the defaults
 // (deterministic sums, the default skin), 1 atomic sums (deterministic: false), 2 no skin (the
-// list rebuilt every step, the worst case of a fast flow). Each iteration is one step (the
+// list rebuilt every step, the worst case of a fast flow), 3 the templates read from global
+// memory instead of constant memory. Each iteration is one step (the
 // stages synchronise at their ends; the time is the wall time of the step).
 #include <benchmark/benchmark.h>
 
@@ -28,7 +29,9 @@ void gpu_step(benchmark::State& state) {
   const int mode = static_cast<int>(state.range(1));
   if (mode == 1) scene.deterministic = false;
   if (mode == 2) scene.skin = 0.0;
-  talus::CudaStep<double> step(scene);
+  talus::CudaStepOptions options;
+  options.constant_templates = mode != 3;
+  talus::CudaStep<double> step(scene, options);
   step.step();  // the first step evaluates the forces at t = 0 too
   const std::array<double, 9> before = step.stage_seconds();
   const long long builds_before = step.pair_list_builds();
@@ -43,6 +46,7 @@ void gpu_step(benchmark::State& state) {
   state.counters["polyhedron_steps/s"] =
       benchmark::Counter(particles, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["particles"] = particles;
+  state.counters["constant_templates"] = step.templates_in_constant_memory() ? 1 : 0;
   state.counters["contacts_per_step"] = steps > 0 ? contacts / double(steps) : 0;
   // Every device array of the step (particle state, pair list and slots, walls, CUB scratch);
   // the overlap workspace is per-thread local memory and not among them.
@@ -65,6 +69,7 @@ BENCHMARK(gpu_step)
     ->Args({100, 0})
     ->Args({100, 1})
     ->Args({100, 2})
+    ->Args({100, 3})
     ->Args({159, 0})
     ->Unit(benchmark::kMillisecond);
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <climits>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -24,6 +25,32 @@
 #include "solver/step/wall_stage.hpp"
 
 namespace talus {
+
+namespace {
+
+// Which regions of the constant bank's template share (template_table.hpp) CudaStep instances
+// hold, so that two steps alive at once never read each other's templates.
+std::mutex region_mutex;
+std::array<bool, kTemplateRegions> region_in_use{};
+
+int claim_template_region() {
+  const std::lock_guard<std::mutex> lock(region_mutex);
+  for (int r = 0; r < kTemplateRegions; ++r) {
+    if (!region_in_use[r]) {
+      region_in_use[r] = true;
+      return r;
+    }
+  }
+  return -1;
+}
+
+void release_template_region(int r) {
+  if (r < 0) return;
+  const std::lock_guard<std::mutex> lock(region_mutex);
+  region_in_use[r] = false;
+}
+
+}  // namespace
 
 template <class Real>
 struct CudaStep<Real>::Impl {
@@ -87,7 +114,12 @@ struct CudaStep<Real>::Impl {
   long long steps = 0;
   bool forces_ready = false;
 
+  int constant_region = -1;  // the templates' region of constant memory; -1: global memory
+
   explicit Impl(const Scene& s) : scene(s), plan(plan_step(s)), dt(Real(s.time_step)) {}
+  ~Impl() { release_template_region(constant_region); }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
 
   Real* allocate(const std::string& name) {
     storage.emplace_back(name, DeviceBuffer<Real>(count));
@@ -501,7 +533,8 @@ struct CudaStep<Real>::Impl {
 };
 
 template <class Real>
-CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {
+CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
+    : impl_(std::make_unique<Impl>(scene)) {
   Impl& m = *impl_;
   for (const ParticleTemplate& t : scene.templates) {
     m.host_shapes.push_back(t.kind == ParticleShapeKind::polyhedron
@@ -523,6 +556,16 @@ CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scen
     }
   }
   m.bodies.upload(device_bodies);
+  if (options.constant_templates &&
+      device_bodies.size() <= static_cast<std::size_t>(templates_per_region<Real>())) {
+    m.constant_region = claim_template_region();
+    if (m.constant_region >= 0) {
+      TALUS_CUDA_CHECK(
+          cudaMemcpyToSymbol(template_table_detail::constant_templates, device_bodies.data(),
+                             device_bodies.size() * sizeof(BodyProperties<Real>),
+                             static_cast<std::size_t>(m.constant_region) * kTemplateRegionBytes));
+    }
+  }
   m.flag.resize(flags);
 
   const std::vector<ParticleState> initial = initial_particles(scene);
@@ -592,6 +635,7 @@ CudaStep<Real>::CudaStep(const Scene& scene) : impl_(std::make_unique<Impl>(scen
   if (m.plan.contacts) {
     const PairLawTables<Real>& h = m.host_tables->tables();
     m.tables = upload_law_tables(h, m.bodies.data(), m.table_values);
+    m.tables.bodies.constant_region = m.constant_region;
     // One pair launch per workspace capacity among the scene's template pairs.
     for (const BodyProperties<Real>& a : m.host_bodies) {
       for (const BodyProperties<Real>& b : m.host_bodies) {
@@ -727,6 +771,11 @@ std::size_t CudaStep<Real>::allocated_bytes() const {
            (m.wall_records.size() + m.wall_contacts.size()) * sizeof(WallContactRecord<Real>) +
            m.temp.size() + m.corners.size() * sizeof(Vec3<Real>);
   return bytes;
+}
+
+template <class Real>
+bool CudaStep<Real>::templates_in_constant_memory() const {
+  return impl_->constant_region >= 0;
 }
 
 template <class Real>

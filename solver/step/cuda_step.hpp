@@ -33,12 +33,18 @@
 
 namespace talus {
 
+struct CudaStepOptions {
+  // The templates' properties in constant memory when they fit and a region is free
+  // (template_table.hpp); false: always global memory (the benchmark compares the two).
+  bool constant_templates = true;
+};
+
 template <class Real>
 class CudaStep {
  public:
   // As HostStep: the scene's initial particles (global id = index), copied to the device.
   // Throws StepNotSupported for what the step cannot simulate, std::runtime_error from CUDA.
-  explicit CudaStep(const Scene& scene);
+  explicit CudaStep(const Scene& scene, CudaStepOptions options = CudaStepOptions());
   ~CudaStep();
   CudaStep(const CudaStep&) = delete;
   CudaStep& operator=(const CudaStep&) = delete;
@@ -62,6 +68,7 @@ class CudaStep {
   // The pair list: how many times it was built, its length, and the device bytes of the list
   // and its slots (the broad phase's arrays, histories, forces, the CSR, the built positions).
   long long pair_list_builds() const;
+  bool templates_in_constant_memory() const;
   std::size_t candidate_pair_count() const;
   std::size_t pair_list_bytes() const;
   // Wall w's force and torque about the origin at the last evaluation (the wall contacts are

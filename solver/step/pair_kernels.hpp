@@ -9,15 +9,16 @@
 #include "solver/contact/pair_geometry.hpp"
 #include "solver/contact/tangential_history.hpp"
 #include "solver/step/particle_kernels.hpp"
+#include "solver/step/template_table.hpp"
 
 namespace talus {
 
 // The per-material and per-model constants every pair reads (device-copyable: raw pointers).
 template <class Real>
 struct PairLawTables {
-  const BodyProperties<Real>* bodies = nullptr;  // per template
-  const Real* youngs_modulus = nullptr;          // per material, Pa
-  const Real* poisson_ratio = nullptr;           // per material
+  TemplateTable<Real> bodies;            // per template
+  const Real* youngs_modulus = nullptr;  // per material, Pa
+  const Real* poisson_ratio = nullptr;   // per material
   // Per material pair (a * materials + b): mu, eps and the calibrated beta(eps).
   const Real* pair_friction = nullptr;
   const Real* pair_restitution = nullptr;

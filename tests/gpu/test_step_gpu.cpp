@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
@@ -24,6 +25,7 @@
 #include "solver/scene/scene_loader.hpp"
 #include "solver/step/cuda_step.hpp"
 #include "solver/step/host_step.hpp"
+#include "solver/step/template_table.hpp"
 
 namespace talus {
 namespace {
@@ -341,6 +343,53 @@ TEST(GpuStep, DeterministicRunsRepeatExactly) {
     EXPECT_EQ(a[i].velocity.z, b[i].velocity.z);
   }
   EXPECT_GT(first.pair_contact_count(), 0u);
+}
+
+double max_position_error(const std::vector<TrajectoryRow>& gpu,
+                          const std::vector<TrajectoryRow>& host, double length) {
+  double error = gpu.size() == host.size() ? 0 : HUGE_VAL;
+  for (std::size_t i = 0; i < std::min(gpu.size(), host.size()); ++i) {
+    error = std::max(
+        error, norm(gpu[i].position - host[i].position) / std::max(norm(host[i].position), length));
+  }
+  return error;
+}
+
+// Templates in constant memory (template_table.hpp): each step alive holds its own region.
+// Two scenes whose second templates differ (icosahedra, octahedra) stepped in turn, each
+// against its host run: had two steps shared a region, one would collide with the other's
+// shapes and masses. One step more than there are regions reads global memory instead, with
+// the same results; the regions come back when their steps go.
+TEST(GpuStep, StepsAliveTogetherReadTheirOwnTemplates) {
+  SKIP_WITHOUT_GPU();
+  const Scene crowd = crowd_in_a_box(), twenty = twenty_polyhedra_volume();
+  HostStep<double> host_crowd(crowd), host_twenty(twenty);
+  {
+    std::vector<std::unique_ptr<CudaStep<double>>> gpu;
+    for (int k = 0; k <= kTemplateRegions; ++k)
+      gpu.push_back(std::make_unique<CudaStep<double>>(k % 2 ? twenty : crowd));
+    for (int k = 0; k < kTemplateRegions; ++k) EXPECT_TRUE(gpu[k]->templates_in_constant_memory());
+    EXPECT_FALSE(gpu.back()->templates_in_constant_memory());
+    const long long steps = max_steps() > 0 ? std::min(max_steps(), 200LL) : 200;
+    for (long long n = 0; n < steps; ++n) {
+      host_crowd.step();
+      host_twenty.step();
+      for (auto& step : gpu) step->step();
+    }
+    EXPECT_GT(host_crowd.pair_contact_count(), 0u);
+    for (int k = 0; k <= kTemplateRegions; ++k) {
+      SCOPED_TRACE(k);
+      const HostStep<double>& host = k % 2 ? host_twenty : host_crowd;
+      EXPECT_EQ(gpu[k]->pair_contact_count(), host.pair_contact_count());
+      EXPECT_LT(max_position_error(gpu[k]->trajectory_rows(), host.trajectory_rows(), 0.01),
+                kDoubleTolerance);
+    }
+  }
+  const CudaStep<double> again(crowd);
+  EXPECT_TRUE(again.templates_in_constant_memory());
+  CudaStepOptions global;
+  global.constant_templates = false;
+  EXPECT_FALSE(CudaStep<double>(crowd, global).templates_in_constant_memory());
 }
 
 // Float: finite, and close to the host's float run. The two round differently (fused
