@@ -22,6 +22,7 @@
 #include "solver/scene/scene.hpp"
 #include "solver/step/any_step.hpp"
 #include "solver/step/step_plan.hpp"
+#include "solver/walls/facet_grid.hpp"
 
 namespace talus {
 
@@ -30,7 +31,8 @@ class CudaStep {
  public:
   // As HostStep: the scene's initial particles (global id = index), copied to the device.
   // Throws StepNotSupported for what the step cannot simulate, std::runtime_error from CUDA.
-  explicit CudaStep(const Scene& scene);
+  // `wall_search`: the facet grid, or brute force (the same results; for the benchmarks).
+  explicit CudaStep(const Scene& scene, WallSearch wall_search = WallSearch::grid);
   ~CudaStep();
   CudaStep(const CudaStep&) = delete;
   CudaStep& operator=(const CudaStep&) = delete;
