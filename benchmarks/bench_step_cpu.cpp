@@ -34,7 +34,7 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
 
 const std::string& kAll = talus_bench::kAllEffects;
 
-// drum_bed.hpp with radius 60 mm and 4 layers each side of the middle (1,318 dodecahedra, a third
+// drum_bed.hpp with radius 60 mm and 4 layers each side of the middle (1,305 dodecahedra, about 300
 // of them touching the drum), range(0) segments: 4 x segments facets. Each iteration is a whole
 // step; ms_wall_contacts is the wall stage's share (the drum's corners placed, then every
 // particle against the drum), the figure that compares the searches.

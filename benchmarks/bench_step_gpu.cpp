@@ -54,7 +54,7 @@ BENCHMARK(gpu_step)
     ->Arg(100)
     ->Unit(benchmark::kMillisecond);
 
-// drum_bed.hpp with radius 200 mm and 12 layers each side of the middle (about 45,000
+// drum_bed.hpp with radius 200 mm and 12 layers each side of the middle (44,725
 // dodecahedra), range(0) segments: 4 x segments facets. ms_wall_contacts: the wall stage per step
 // (the drum's corners placed by a kernel, the wall kernel, compaction and history).
 void gpu_wall_stage(benchmark::State& state, talus::WallSearch search) {
