@@ -14,7 +14,8 @@
 // outlet's plate is the mesh's last triangles). The wall stage still applies its exact test
 // (closest point farther than the bounding radius) to each, so the grid only prunes facets that
 // test would skip, and the area-weighted sums run over the same facets in the same order as
-// brute force: the same bits (tests/walls/test_facet_grid.cpp).
+// brute force: the same bits (tests/walls/test_facet_grid.cpp tests the query against brute
+// force, tests/step/test_wall_grid_step.cpp the step with it).
 #pragma once
 
 #include "solver/core/hd.hpp"
@@ -33,9 +34,9 @@ enum class WallSearch { grid, brute_force };
 // moved in double, then rounded), the grid on the mesh-frame triangles, with the centre mapped
 // back in Real; the inverse rotation and translation, the corners' rounding, the cell index and
 // closest_point_on_triangle each err by a few units of round-off of the coordinates (the last
-// more on thin triangles: about |p - a| |p - c| / (2 area) units; a fan facet of a 1000-segment
-// cap reaches ~100). 1024 units is generous and still far below a cell: 2.3e-13 scale in double,
-// 1.2e-4 scale in float.
+// more on thin triangles: roughly |p - a| |p - c| / (2 area) units, which for a fan facet of a
+// 1000-segment cap is about a hundred). 1024 units is generous and still far below a cell:
+// 2.3e-13 scale in double, 1.2e-4 scale in float.
 template <class Real>
 TALUS_HD inline Real facet_grid_margin(Real scale) {
   return Real(1024) * Eps<Real>::value * scale;
