@@ -2,12 +2,14 @@
 // with each effect taken away in turn, so that what an effect costs is the difference (DESIGN.md:
 // an absent effect has no stage). The bed: a 10 x 10 x 10 cubic lattice of 10 mm dodecahedra at
 // a spacing of 8.2 mm with random orientations (particles overlap neighbours from the first
-// step), in a closed box wall.
+// step), in a closed box wall. And the wall stage on a rotating drum of many facets, with the
+// facet grid and by brute force.
 #include <benchmark/benchmark.h>
 
 #include <string>
 
 #include "benchmarks/dodecahedron_bed.hpp"
+#include "benchmarks/drum_bed.hpp"
 #include "solver/step/host_step.hpp"
 
 namespace {
@@ -32,6 +34,31 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
 
 const std::string& kAll = talus_bench::kAllEffects;
 
+// drum_bed.hpp with radius 60 mm and 4 layers each side of the middle (1,305 dodecahedra, about 300
+// of them touching the drum), range(0) segments: 4 x segments facets. Each iteration is a whole
+// step; ms_wall_contacts is the wall stage's share (the drum's corners placed, then every
+// particle against the drum), the figure that compares the searches.
+void host_wall_stage(benchmark::State& state, talus::WallSearch search) {
+  const int segments = static_cast<int>(state.range(0));
+  const talus::Scene scene = talus_bench::drum_bed(segments, 0.06, 4);
+  talus::HostStep<double> step(scene, search);
+  step.step();
+  const int stage = static_cast<int>(talus::Stage::wall_contacts);
+  const double before = step.stage_seconds()[stage];
+  double wall_contacts = 0;
+  long long steps = 0;
+  for (auto _ : state) {
+    step.step();
+    wall_contacts += double(step.wall_contact_count());
+    ++steps;
+  }
+  const double per_step = steps > 0 ? 1.0 / double(steps) : 0;
+  state.counters["ms_wall_contacts"] = 1e3 * (step.stage_seconds()[stage] - before) * per_step;
+  state.counters["wall_contacts_per_step"] = wall_contacts * per_step;
+  state.counters["facets"] = 4.0 * segments;
+  state.counters["particles"] = step.particle_count();
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(host_step, all_effects, kAll, true)->Unit(benchmark::kMillisecond);
@@ -50,6 +77,17 @@ BENCHMARK_CAPTURE(host_step, linear_model,
                   true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(host_step, gravity_only, "  gravity: [0, 0, -9.81]\n", false)
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(host_wall_stage, grid, talus::WallSearch::grid)
+    ->Arg(64)
+    ->Arg(256)
+    ->Arg(1024)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(host_wall_stage, brute_force, talus::WallSearch::brute_force)
+    ->Arg(64)
+    ->Arg(256)
+    ->Arg(1024)
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -7,12 +7,15 @@
 // list rebuilt every step, the worst case of a fast flow), 3 the templates read from global
 // memory instead of constant memory. Each iteration is one step (the
 // stages synchronise at their ends; the time is the wall time of the step).
+// And the wall stage on a rotating drum of many facets (drum_bed.hpp), with the facet grid and
+// by brute force.
 #include <benchmark/benchmark.h>
 
 #include <array>
 #include <string>
 
 #include "benchmarks/dodecahedron_bed.hpp"
+#include "benchmarks/drum_bed.hpp"
 #include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
 #include "solver/step/cuda_step.hpp"
 
@@ -71,6 +74,47 @@ BENCHMARK(gpu_step)
     ->Args({100, 2})
     ->Args({100, 3})
     ->Args({159, 0})
+    ->Unit(benchmark::kMillisecond);
+
+// drum_bed.hpp with radius 200 mm and 12 layers each side of the middle (44,725
+// dodecahedra), range(0) segments: 4 x segments facets. ms_wall_contacts: the wall stage per step
+// (the drum's corners placed by a kernel, the wall kernel, compaction and history).
+void gpu_wall_stage(benchmark::State& state, talus::WallSearch search) {
+  std::string why;
+  if (!talus::cuda_device_available(&why)) {
+    state.SkipWithError(why.c_str());
+    return;
+  }
+  const int segments = static_cast<int>(state.range(0));
+  const talus::Scene scene = talus_bench::drum_bed(segments, 0.2, 12);
+  talus::CudaStepOptions options;
+  options.wall_search = search;
+  talus::CudaStep<double> step(scene, options);
+  step.step();
+  const int stage = static_cast<int>(talus::Stage::wall_contacts);
+  const double before = step.stage_seconds()[stage];
+  double wall_contacts = 0;
+  long long steps = 0;
+  for (auto _ : state) {
+    step.step();
+    wall_contacts += double(step.wall_contact_count());
+    ++steps;
+  }
+  const double per_step = steps > 0 ? 1.0 / double(steps) : 0;
+  state.counters["ms_wall_contacts"] = 1e3 * (step.stage_seconds()[stage] - before) * per_step;
+  state.counters["wall_contacts_per_step"] = wall_contacts * per_step;
+  state.counters["facets"] = 4.0 * segments;
+  state.counters["particles"] = step.particle_count();
+}
+BENCHMARK_CAPTURE(gpu_wall_stage, grid, talus::WallSearch::grid)
+    ->Arg(256)
+    ->Arg(1024)
+    ->Arg(4096)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(gpu_wall_stage, brute_force, talus::WallSearch::brute_force)
+    ->Arg(256)
+    ->Arg(1024)
+    ->Arg(4096)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -97,9 +97,15 @@ struct CudaStep<Real>::Impl {
   DeviceBuffer<int> entry_particle, entry_slot, sorted_particle, sorted_slot;
   DeviceBuffer<int> entry_begin, entry_end;
 
-  // Wall contacts.
-  std::unique_ptr<WallContactStage<Real>> host_walls;  // placement on the host, then uploaded
-  DeviceBuffer<Vec3<Real>> corners;
+  // Wall contacts. The host stage locates the walls (present facets, transforms); the device
+  // holds each wall's grid and corners, uploaded once: a static wall's corners never change, a
+  // moving wall's are placed each step by a kernel from its mesh-frame corners (place_walls).
+  std::unique_ptr<WallContactStage<Real>> host_walls;
+  DeviceBuffer<Vec3<Real>> corners;           // all walls', wall after wall, 3 per triangle
+  DeviceBuffer<Vec3d> mesh_corners;           // the moving walls' corners in their mesh frames
+  DeviceBuffer<int> grid_cells, grid_facets;  // all walls' grids (CSR), wall after wall
+  std::vector<long long> corner_at, mesh_corner_at;  // per wall, offsets into those
+  std::vector<WallFacets<Real>> wall_views;  // per wall, device pointers: a copy of `facets`
   DeviceBuffer<WallFacets<Real>> facets;
   DeviceBuffer<WallMotionData<Real>> motions;
   DeviceBuffer<int> wall_materials;
@@ -376,27 +382,86 @@ struct CudaStep<Real>::Impl {
     contact_count_ready = false;  // flag[touching_pairs], read when asked
   }
 
-  void compute_walls(Real spring_dt) {
-    host_walls->place(time);
-    const std::vector<std::vector<Vec3<Real>>>& placed = host_walls->corners();
-    const int walls = static_cast<int>(placed.size());
+  // Once, at construction: the grids and the static walls' corners (placed on the host at t = 0
+  // by the host stage), and the moving walls' mesh-frame corners.
+  void upload_walls() {
+    WallContactStage<Real>& hw = *host_walls;
+    hw.place(time);
+    const int walls = static_cast<int>(scene.walls.size());
     std::vector<Vec3<Real>> all;
-    std::vector<std::size_t> offsets;
-    for (const auto& c : placed) {
-      offsets.push_back(all.size());
-      all.insert(all.end(), c.begin(), c.end());
-    }
-    corners.grow_to(all.size());
-    if (!all.empty()) {
-      TALUS_CUDA_CHECK(cudaMemcpy(corners.data(), all.data(), all.size() * sizeof(Vec3<Real>),
-                                  cudaMemcpyHostToDevice));
-    }
-    std::vector<WallFacets<Real>> wall_facets(walls);
+    std::vector<Vec3d> moving;
+    std::vector<int> cells, entries;
+    std::vector<std::size_t> cell_at(walls), entry_at(walls);
+    corner_at.assign(walls, 0);
+    mesh_corner_at.assign(walls, -1);
     for (int w = 0; w < walls; ++w) {
-      wall_facets[w].corners = corners.data() + offsets[w];
-      wall_facets[w].count = static_cast<int>(placed[w].size() / 3);
+      const TriangleMesh& mesh = hw.mesh(w);
+      corner_at[w] = static_cast<long long>(all.size());
+      if (hw.moves(w)) {
+        mesh_corner_at[w] = static_cast<long long>(moving.size());
+        for (const std::array<int, 3>& t : mesh.triangles) {
+          for (const int k : t) moving.push_back(mesh.vertices[k]);
+        }
+        all.resize(all.size() + 3 * mesh.triangles.size());  // placed each step
+      } else {
+        all.insert(all.end(), hw.corners(w).begin(), hw.corners(w).end());
+      }
+      cell_at[w] = cells.size();
+      entry_at[w] = entries.size();
+      if (const FacetGrid<Real>* g = hw.grid(w)) {
+        cells.insert(cells.end(), g->cell_start().begin(), g->cell_start().end());
+        entries.insert(entries.end(), g->cell_facets().begin(), g->cell_facets().end());
+      }
     }
-    facets.upload(wall_facets);
+    corners.upload(all);
+    mesh_corners.upload(moving);
+    grid_cells.upload(cells);
+    grid_facets.upload(entries);
+    wall_views.resize(walls);
+    for (int w = 0; w < walls; ++w) {
+      wall_views[w] = hw.facets(w);
+      wall_views[w].corners = corners.data() + corner_at[w];
+      if (const FacetGrid<Real>* g = hw.grid(w)) {
+        wall_views[w].grid =
+            g->view_of(grid_cells.data() + cell_at[w], grid_facets.data() + entry_at[w]);
+      }
+    }
+    facets.upload(wall_views);
+  }
+
+  // The walls at the current time: each moving wall's present corners placed by a kernel (one
+  // thread per corner) with the transform computed here, in double as on the host; the per-wall
+  // views uploaded again only when a count or a transform changed (a few hundred bytes).
+  void place_walls() {
+    host_walls->locate(time);
+    bool changed = false;
+    for (std::size_t w = 0; w < wall_views.size(); ++w) {
+      const WallFacets<Real>& now = host_walls->facets(static_cast<int>(w));
+      WallFacets<Real>& view = wall_views[w];
+      if (mesh_corner_at[w] >= 0) {
+        const RigidTransform transform = wall_transform(scene.walls[w].motion, time);
+        const int n = 3 * now.count;
+        if (n > 0) {
+          place_wall_kernel<<<blocks_for(n), kBlock>>>(mesh_corners.data() + mesh_corner_at[w], n,
+                                                       transform.rotation, transform.translation,
+                                                       corners.data() + corner_at[w]);
+          TALUS_CUDA_LAUNCH_CHECK();
+        }
+        view.rotation = now.rotation;
+        view.translation = now.translation;
+        changed = true;
+      }
+      if (view.count != now.count) {
+        view.count = now.count;
+        changed = true;
+      }
+    }
+    if (changed) facets.upload(wall_views);
+  }
+
+  void compute_walls(Real spring_dt) {
+    place_walls();
+    const int walls = static_cast<int>(wall_views.size());
     WallArgs<Real> args;
     args.facets = facets.data();
     args.motions = motions.data();
@@ -517,6 +582,12 @@ struct CudaStep<Real>::Impl {
     return c;
   }
 
+  std::size_t wall_bytes() const {
+    return corners.size() * sizeof(Vec3<Real>) + mesh_corners.size() * sizeof(Vec3d) +
+           (grid_cells.size() + grid_facets.size()) * sizeof(int) +
+           facets.size() * sizeof(WallFacets<Real>);
+  }
+
   void sum_walls() const {
     if (wall_sums_ready) return;
     wall_force.assign(scene.walls.size(), Vec3d());
@@ -545,7 +616,10 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
   // The scene's checks first (StepNotSupported), as the host step makes them.
   if (m.plan.contacts)
     m.host_tables = std::make_unique<PairContactStage<Real>>(scene, m.host_bodies);
-  if (m.plan.walls) m.host_walls = std::make_unique<WallContactStage<Real>>(scene, m.host_bodies);
+  if (m.plan.walls) {
+    m.host_walls =
+        std::make_unique<WallContactStage<Real>>(scene, m.host_bodies, options.wall_search);
+  }
 
   std::vector<BodyProperties<Real>> device_bodies = m.host_bodies;
   for (std::size_t k = 0; k < device_bodies.size(); ++k) {
@@ -670,6 +744,7 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
     std::vector<int> materials;
     for (const auto& w : scene.walls) materials.push_back(w.material);
     m.wall_materials.upload(materials);
+    m.upload_walls();
   }
 }
 
@@ -769,7 +844,7 @@ std::size_t CudaStep<Real>::allocated_bytes() const {
   for (const auto& entry : m.storage) bytes += entry.second.size() * sizeof(Real);
   bytes += pair_list_bytes() + m.wall_history.bytes() +
            (m.wall_records.size() + m.wall_contacts.size()) * sizeof(WallContactRecord<Real>) +
-           m.temp.size() + m.corners.size() * sizeof(Vec3<Real>);
+           m.temp.size() + m.wall_bytes();
   return bytes;
 }
 

@@ -30,6 +30,7 @@
 #include "solver/scene/scene.hpp"
 #include "solver/step/any_step.hpp"
 #include "solver/step/step_plan.hpp"
+#include "solver/walls/facet_grid.hpp"
 
 namespace talus {
 
@@ -37,6 +38,8 @@ struct CudaStepOptions {
   // The templates' properties in constant memory when they fit and a region is free
   // (template_table.hpp); false: always global memory (the benchmark compares the two).
   bool constant_templates = true;
+  // The facet grid, or brute force (the same results; for the benchmarks).
+  WallSearch wall_search = WallSearch::grid;
 };
 
 template <class Real>

@@ -402,7 +402,7 @@ __global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int
 
 template <class Real>
 struct WallArgs {
-  const WallFacets<Real>* facets = nullptr;  // per wall, device corners
+  const WallFacets<Real>* facets = nullptr;  // per wall: device corners and grid
   const WallMotionData<Real>* motions = nullptr;
   const int* materials = nullptr;
   int walls = 0;
@@ -422,6 +422,19 @@ __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArg
                    old.keys, histories, old.count);
   records[k] = r;
   if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
+}
+
+// A moving wall's corners where it is now (one thread per corner): the mesh-frame corner moved
+// in double by the transform the host computed (wall_transform), then rounded to Real, as
+// WallContactStage::place does on the host (the same arithmetic, but for nvcc's fused
+// multiply-adds). Placing here rather than on the host saves the host's loop over every corner
+// and the upload of all of them each step; only the transform crosses.
+template <class Real>
+__global__ void place_wall_kernel(const Vec3d* __restrict__ mesh_corners, int n, Quatd rotation,
+                                  Vec3d translation, Vec3<Real>* __restrict__ corners) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  corners[k] = Vec3<Real>(rotate(rotation, mesh_corners[k]) + translation);
 }
 
 // ---- Accumulation: one thread per particle, its touching slots in pair order, then its walls ----

@@ -56,7 +56,7 @@ template BodyProperties<float> body_properties(const Scene&, const ParticleTempl
                                                const ShapeArrays<float>*);
 
 template <class Real>
-HostStep<Real>::HostStep(const Scene& scene)
+HostStep<Real>::HostStep(const Scene& scene, WallSearch wall_search)
     : scene_(scene), plan_(plan_step(scene)), dt_(Real(scene.time_step)) {
   for (const ParticleTemplate& t : scene.templates) {
     shapes_.push_back(t.kind == ParticleShapeKind::polyhedron
@@ -112,7 +112,9 @@ HostStep<Real>::HostStep(const Scene& scene)
     if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
   }
   if (plan_.contacts) contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_);
-  if (plan_.walls) walls_ = std::make_unique<WallContactStage<Real>>(scene, bodies_);
+  if (plan_.walls) {
+    walls_ = std::make_unique<WallContactStage<Real>>(scene, bodies_, wall_search);
+  }
 }
 
 template <class Real>

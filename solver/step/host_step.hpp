@@ -14,6 +14,7 @@
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/particle_kernels.hpp"
 #include "solver/step/step_plan.hpp"
+#include "solver/walls/facet_grid.hpp"
 
 namespace talus {
 
@@ -45,7 +46,8 @@ class HostStep {
  public:
   // The scene's initial particles (global id = index), its templates and effects. Throws
   // StepNotSupported naming the scene item for what the production step cannot simulate.
-  explicit HostStep(const Scene& scene);
+  // `wall_search`: the facet grid, or brute force (the same results; for the benchmarks).
+  explicit HostStep(const Scene& scene, WallSearch wall_search = WallSearch::grid);
   ~HostStep();
   HostStep(const HostStep&) = delete;
   HostStep& operator=(const HostStep&) = delete;

@@ -1,9 +1,12 @@
-// Host driver of the wall contacts (paper §2.4): each wall's triangles placed at the current time
-// by its rigid motion (scene/wall_motion.hpp; a closed outlet's plate dropped when it opens), then
-// per particle and wall, in wall-major order, one area-weighted contact (wall_kernels.hpp); the
-// volume model's histories keyed by {global id, wall}; the contacts added to the particles after
-// the pair contacts, in order. Facets are found by brute force (every facet of the wall is
-// tested against the particle's bounding sphere); a bin grid over the facets comes later.
+// Host driver of the wall contacts (paper §2.4): each wall located at the current time by its
+// rigid motion (scene/wall_motion.hpp; a closed outlet's plate dropped when it opens) and its
+// triangles placed (a moving wall's every step, a static wall's once), then per particle and
+// wall, in wall-major order, one area-weighted contact (wall_kernels.hpp); the volume model's
+// histories keyed by {global id, wall}; the contacts added to the particles after the pair
+// contacts, in order. A particle's facets come from the wall's bin grid (walls/facet_grid.hpp,
+// built once in the mesh's frame at construction), or, with WallSearch::brute_force, from
+// testing every facet: the same contacts to the bit, at a cost that no longer grows with the
+// wall's facets (benchmarks/bench_step_cpu.cpp measures both).
 #pragma once
 
 #include <algorithm>
@@ -16,21 +19,25 @@
 #include "solver/step/sorted_histories.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/wall_kernels.hpp"
+#include "solver/walls/facet_grid_build.hpp"
 
 namespace talus {
 
 template <class Real>
 class WallContactStage {
  public:
-  WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies)
+  WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
+                   WallSearch search = WallSearch::grid)
       : scene_(scene), meshes_(make_wall_meshes(scene)) {
     const bool volume = *scene.effects.contact == ContactModel::volume;
+    double max_radius = 0;  // the grid's cell size follows the largest bounding sphere
     for (const BodyProperties<Real>& b : bodies) {
       if (volume && b.sphere) {
         throw StepNotSupported(scene.file +
                                ": effects.contact: the volume model has no sphere-wall overlap; "
                                "use contact: linear for spheres with walls");
       }
+      max_radius = std::max(max_radius, double(b.bounding_radius));
     }
     for (std::size_t w = 0; w < scene.walls.size(); ++w) {
       const WallMotion& m = scene.walls[w].motion;
@@ -46,8 +53,14 @@ class WallContactStage {
       }
       motion_.push_back(d);
       plate_.push_back(meshes_[w].plate_triangles);
+      if (search == WallSearch::grid) {
+        const TriangleMesh& mesh = meshes_[w].mesh;
+        grids_.emplace_back(mesh.vertices, mesh.triangles, max_radius);
+      }
     }
     corners_.resize(scene.walls.size());
+    placed_.assign(scene.walls.size(), false);
+    facets_.resize(scene.walls.size());
     wall_force_.assign(scene.walls.size(), Vec3d());
     wall_torque_.assign(scene.walls.size(), Vec3d());
   }
@@ -59,30 +72,49 @@ class WallContactStage {
     }
   }
 
-  // The triangles where the walls are at `time` (s).
+  // Where the walls are at `time` (s): each wall's present facets and rigid transform (facets()),
+  // without placing corners (the CUDA step places them on the device).
+  void locate(double time) {
+    for (std::size_t w = 0; w < meshes_.size(); ++w) {
+      const RigidTransform transform = wall_transform(scene_.walls[w].motion, time);
+      WallFacets<Real>& f = facets_[w];
+      f.corners = corners_[w].data();
+      f.count = static_cast<int>(meshes_[w].mesh.triangles.size()) -
+                (plate_[w] > 0 ? 0 : meshes_[w].plate_triangles);
+      f.grid = grids_.empty() ? FacetGridView<Real>() : grids_[w].view();
+      f.rotation = Quat<Real>(transform.rotation);
+      f.translation = Vec3<Real>(transform.translation);
+    }
+  }
+
+  // locate(), and the triangles where the walls are at `time` (s): a moving wall's present ones
+  // each call, a static wall's all once (they stay put; only its present count changes).
   void place(double time) {
     for (std::size_t w = 0; w < meshes_.size(); ++w) {
+      if (placed_[w] && !moves(static_cast<int>(w))) continue;
       const TriangleMesh& mesh = meshes_[w].mesh;
       const int present = static_cast<int>(mesh.triangles.size()) -
                           (plate_[w] > 0 ? 0 : meshes_[w].plate_triangles);
+      const int count = moves(static_cast<int>(w)) ? present : int(mesh.triangles.size());
       const RigidTransform transform = wall_transform(scene_.walls[w].motion, time);
       corners_[w].clear();
-      for (int t = 0; t < present; ++t) {
+      for (int t = 0; t < count; ++t) {
         for (int k = 0; k < 3; ++k) {
           corners_[w].push_back(Vec3<Real>(transform.apply(mesh.vertices[mesh.triangles[t][k]])));
         }
       }
+      placed_[w] = true;
     }
+    locate(time);
   }
 
   void compute(const ParticleView<Real>& p, const PairLawTables<Real>& tables, Real spring_dt) {
     contacts_.clear();
     const int old_count = static_cast<int>(keys_.size());
-    for (std::size_t w = 0; w < corners_.size(); ++w) {
-      const WallFacets<Real> facets{corners_[w].data(), static_cast<int>(corners_[w].size() / 3)};
+    for (std::size_t w = 0; w < facets_.size(); ++w) {
       for (int i = 0; i < p.count; ++i) {
         const WallContactRecord<Real> r =
-            wall_contact(p, tables, i, static_cast<int>(w), scene_.walls[w].material, facets,
+            wall_contact(p, tables, i, static_cast<int>(w), scene_.walls[w].material, facets_[w],
                          motion_[w], spring_dt, keys_.data(), histories_.data(), old_count);
         if (r.degenerate) {
           throw std::runtime_error(scene_.file + ": particle " + std::to_string(p.global_id[i]) +
@@ -108,9 +140,15 @@ class WallContactStage {
   }
 
   std::size_t contact_count() const { return contacts_.size(); }
-  // Per wall: its triangles' corners as place() left them, and its rigid motion (the CUDA step
-  // places the walls here and uploads them).
-  const std::vector<std::vector<Vec3<Real>>>& corners() const { return corners_; }
+  // Per wall, for the CUDA step (which uploads the grids and static corners once and places the
+  // moving walls itself): its facets as locate() or place() left them (host pointers), its mesh
+  // (the mesh frame = the world at t = 0), its grid (null with WallSearch::brute_force), whether
+  // it moves, and its rigid motion.
+  const WallFacets<Real>& facets(int w) const { return facets_.at(w); }
+  const std::vector<Vec3<Real>>& corners(int w) const { return corners_.at(w); }
+  const TriangleMesh& mesh(int w) const { return meshes_.at(w).mesh; }
+  const FacetGrid<Real>* grid(int w) const { return grids_.empty() ? nullptr : &grids_.at(w); }
+  bool moves(int w) const { return scene_.walls.at(w).motion.kind != WallMotion::Kind::none; }
   const std::vector<WallMotionData<Real>>& motions() const { return motion_; }
   const Vec3d& wall_force(int w) const { return wall_force_.at(w); }
   const Vec3d& wall_torque(int w) const { return wall_torque_.at(w); }
@@ -119,6 +157,7 @@ class WallContactStage {
                         keys_.capacity() * sizeof(PairKey) +
                         histories_.capacity() * sizeof(ContactHistoryData<Real>);
     for (const auto& c : corners_) bytes += c.capacity() * sizeof(Vec3<Real>);
+    for (const FacetGrid<Real>& g : grids_) bytes += g.bytes();
     return bytes;
   }
 
@@ -127,7 +166,10 @@ class WallContactStage {
   std::vector<WallMesh> meshes_;
   std::vector<WallMotionData<Real>> motion_;
   std::vector<int> plate_;  // per wall: its closed plate's triangles while present, else 0
+  std::vector<FacetGrid<Real>> grids_;  // per wall, in its mesh frame; empty: brute force
   std::vector<std::vector<Vec3<Real>>> corners_;
+  std::vector<bool> placed_;  // whether a static wall's corners are placed
+  std::vector<WallFacets<Real>> facets_;
   std::vector<WallContactRecord<Real>> contacts_;
   std::vector<PairKey> keys_;
   std::vector<ContactHistoryData<Real>> histories_;

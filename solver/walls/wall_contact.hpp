@@ -1,5 +1,7 @@
 // One particle against one wall (paper §2.4), as TALUS_HD functions (one thread per particle and
-// wall on the GPU): the wall's facets reached by the particle, each clipped by Sutherland-Hodgman
+// wall on the GPU): the wall's facets reached by the particle (those its bounding sphere meets,
+// found through the wall's facet grid, facet_grid.hpp, or by testing each), each clipped by
+// Sutherland-Hodgman
 // (geometry/wall_clip.hpp, Algorithm VII), combined into ONE contact per particle and wall with
 // the area weights w = overlap area / section area, so that a section spread over several
 // coplanar facets (an edge, a vertex) counts once. The wall is rigid and infinitely large: its
@@ -17,6 +19,7 @@
 
 #include "solver/geometry/simple_contact.hpp"
 #include "solver/geometry/wall_clip.hpp"
+#include "solver/walls/facet_grid.hpp"
 
 namespace talus {
 
@@ -36,11 +39,24 @@ struct WallMotionData {
   }
 };
 
-// The facets of one wall where they are now: triangle t has corners corners[3 t .. 3 t + 2].
+// The facets of one wall where they are now: triangle t has corners corners[3 t .. 3 t + 2],
+// for t < count (the present facets: a closed outlet's plate, the mesh's last triangles, is gone
+// once the outlet opens). With a grid (facet_grid.hpp, in the mesh's frame, which sits at
+// world = rotate(rotation, mesh) + translation) a particle visits only the facets listed near
+// it; without one, every facet (brute force). Both give the same bits.
 template <class Real>
 struct WallFacets {
   const Vec3<Real>* corners = nullptr;
   int count = 0;
+  FacetGridView<Real> grid;
+  Quat<Real> rotation;
+  Vec3<Real> translation;
+
+  // The facets that the sphere (centre, radius) may reach, ascending.
+  TALUS_HD FacetCursor<Real> near(const Vec3<Real>& centre, Real radius) const {
+    if (!grid.present()) return FacetCursor<Real>(count);
+    return FacetCursor<Real>(grid, count, rotation, translation, centre, radius);
+  }
 };
 
 // The geometry of one particle-wall contact, before the force law.
@@ -67,7 +83,8 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
   WallContactGeometry<Real> g;
   Vec3<Real> elastic, moment;
   Real area_sum = 0;
-  for (int t = 0; t < facets.count; ++t) {
+  FacetCursor<Real> near = facets.near(pose.position, shape.bounding_radius);
+  for (int t = near.next(); t >= 0; t = near.next()) {
     const Vec3<Real>& a = facets.corners[3 * t];
     const Vec3<Real>& b = facets.corners[3 * t + 1];
     const Vec3<Real>& c = facets.corners[3 * t + 2];
@@ -118,7 +135,10 @@ TALUS_HD inline WallContactGeometry<Real> sphere_wall_geometry(const Vec3<Real>&
   Real best = Real(0);
   bool any = false;
   Vec3<Real> q = centre;
-  for (int t = 0; t < facets.count; ++t) {
+  // Only the facets within the radius can decide a contact: the grid's pruning keeps the
+  // nearest one (and ties, in order) whenever it is.
+  FacetCursor<Real> near = facets.near(centre, radius);
+  for (int t = near.next(); t >= 0; t = near.next()) {
     const Vec3<Real> x = closest_point_on_triangle(
         centre, facets.corners[3 * t], facets.corners[3 * t + 1], facets.corners[3 * t + 2]);
     const Real d = norm(x - centre);

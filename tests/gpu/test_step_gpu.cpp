@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -26,6 +27,7 @@
 #include "solver/step/cuda_step.hpp"
 #include "solver/step/host_step.hpp"
 #include "solver/step/template_table.hpp"
+#include "tests/support/walled_scene.hpp"
 
 namespace talus {
 namespace {
@@ -390,6 +392,53 @@ TEST(GpuStep, StepsAliveTogetherReadTheirOwnTemplates) {
   CudaStepOptions global;
   global.constant_templates = false;
   EXPECT_FALSE(CudaStep<double>(crowd, global).templates_in_constant_memory());
+}
+
+// The scene of the host's grid test (tests/support/walled_scene.hpp) with a drum of 400 segments
+// (1600 facets) turning at 3000 rpm about an axis off the origin, so that the device places its
+// corners each step and maps particles back through a rotation and a translation; a translating
+// plate; a hopper (a static wall, 180 facets, uploaded once) whose outlet opens at step 50, when
+// its present count drops; cubes and icosahedra resting on all of them; volume model, gravity,
+// friction, rotation; 200 steps. The facet grid on both sides.
+Scene drum_and_hopper_volume() {
+  return talus_test::walled_scene("double", "volume", {"cube", "ico"}, 400);
+}
+
+TEST(GpuStep, ManyFacetDrumAndOpeningOutletMatchHost) {
+  SKIP_WITHOUT_GPU();
+  const Agreement a = compare_steps<double>(drum_and_hopper_volume(), 0.01);
+  expect_agreement(a, 200);
+  EXPECT_EQ(a.steps, 200);
+}
+
+// On the device, the facet grid against brute force (WallSearch::brute_force): the same kernel
+// arithmetic over the same facets in the same order, so the same bits, as on the host
+// (tests/step/test_wall_grid_step.cpp).
+TEST(GpuStep, WallGridMatchesBruteForceOnDevice) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = drum_and_hopper_volume();
+  CudaStepOptions grid_search, brute_search;
+  brute_search.wall_search = WallSearch::brute_force;
+  CudaStep<double> grid(scene, grid_search), brute(scene, brute_search);
+  long long total = std::llround(scene.end_time / scene.time_step);
+  if (max_steps() > 0) total = std::min(total, max_steps());
+  long long differing = 0, wall_contact_steps = 0;
+  for (long long k = 0; k < total; ++k) {
+    grid.step();
+    brute.step();
+    const std::vector<TrajectoryRow> g = grid.trajectory_rows(), b = brute.trajectory_rows();
+    bool same = g.size() == b.size() && grid.wall_contact_count() == brute.wall_contact_count();
+    for (std::size_t i = 0; same && i < g.size(); ++i) {
+      same = std::memcmp(&g[i].position, &b[i].position, sizeof(Vec3d)) == 0 &&
+             std::memcmp(&g[i].velocity, &b[i].velocity, sizeof(Vec3d)) == 0 &&
+             std::memcmp(&g[i].orientation, &b[i].orientation, sizeof(Quatd)) == 0 &&
+             std::memcmp(&g[i].angular_velocity, &b[i].angular_velocity, sizeof(Vec3d)) == 0;
+    }
+    differing += same ? 0 : 1;
+    wall_contact_steps += grid.wall_contact_count() > 0 ? 1 : 0;
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_EQ(wall_contact_steps, total);
 }
 
 // Float: finite, and close to the host's float run. The two round differently (fused

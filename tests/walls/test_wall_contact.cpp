@@ -22,8 +22,12 @@ std::vector<Vec3d> square_fan(double s) {
   return {o, a, b, o, b, c, o, c, d, o, d, a};
 }
 
+// Without a grid: every facet is tested (brute force).
 WallFacets<double> facets_of(const std::vector<Vec3d>& corners) {
-  return {corners.data(), static_cast<int>(corners.size() / 3)};
+  WallFacets<double> f;
+  f.corners = corners.data();
+  f.count = static_cast<int>(corners.size() / 3);
+  return f;
 }
 
 // "cube:D" has circumscribed diameter D: half its edge is D / (2 sqrt 3).
