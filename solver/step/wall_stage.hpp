@@ -4,6 +4,12 @@
 // volume model's histories keyed by {global id, wall}; the contacts added to the particles after
 // the pair contacts, in order. Facets are found by brute force (every facet of the wall is
 // tested against the particle's bounding sphere); a bin grid over the facets comes later.
+//
+// Threads (core/host_parallel.hpp): the (particle, wall) records are computed on all of them, each
+// into its own slot of a wall-major array, then compacted serially in that order; the forces are
+// added per particle (threads), its walls in wall order, after its pair contacts: the serial
+// additions in the serial order, so the same bits for any thread count. The walls' totals are
+// summed serially over the compacted contacts, in double.
 #pragma once
 
 #include <algorithm>
@@ -11,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/core/host_parallel.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/scene/wall_motion.hpp"
 #include "solver/step/sorted_histories.hpp"
@@ -22,8 +29,10 @@ namespace talus {
 template <class Real>
 class WallContactStage {
  public:
-  WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies)
-      : scene_(scene), meshes_(make_wall_meshes(scene)) {
+  // `threads`: how many the host loops use (>= 1; HostStep resolves the default).
+  WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
+                   int threads = 1)
+      : scene_(scene), meshes_(make_wall_meshes(scene)), threads_(threads > 0 ? threads : 1) {
     const bool volume = *scene.effects.contact == ContactModel::volume;
     for (const BodyProperties<Real>& b : bodies) {
       if (volume && b.sphere) {
@@ -75,39 +84,59 @@ class WallContactStage {
     }
   }
 
+  // Record w * count + i for particle i and wall w; the touching ones compacted in that order. A
+  // failed clipping throws after the loop, the lowest record first, as the serial loop did.
   void compute(const ParticleView<Real>& p, const PairLawTables<Real>& tables, Real spring_dt) {
-    contacts_.clear();
     const int old_count = static_cast<int>(keys_.size());
-    for (std::size_t w = 0; w < corners_.size(); ++w) {
-      const WallFacets<Real> facets{corners_[w].data(), static_cast<int>(corners_[w].size() / 3)};
-      for (int i = 0; i < p.count; ++i) {
-        const WallContactRecord<Real> r =
-            wall_contact(p, tables, i, static_cast<int>(w), scene_.walls[w].material, facets,
-                         motion_[w], spring_dt, keys_.data(), histories_.data(), old_count);
-        if (r.degenerate) {
-          throw std::runtime_error(scene_.file + ": particle " + std::to_string(p.global_id[i]) +
-                                   " against wall '" + scene_.walls[w].name +
-                                   "': a facet's clipping failed (section capacity)");
-        }
-        if (r.in_contact) contacts_.push_back(r);
+    std::vector<WallFacets<Real>> facets;
+    for (const std::vector<Vec3<Real>>& c : corners_) {
+      facets.push_back(WallFacets<Real>{c.data(), static_cast<int>(c.size() / 3)});
+    }
+    const long long count = p.count;
+    records_.resize(corners_.size() * static_cast<std::size_t>(count));
+    // Dynamic chunks: a particle near a wall clips facets, one far from it only tests spheres
+    // (about a microsecond for the 12 triangles of a box).
+    parallel_for_dynamic(threads_, static_cast<long long>(records_.size()), 64, [&](long long k) {
+      const int w = static_cast<int>(k / count), i = static_cast<int>(k % count);
+      records_[k] = wall_contact(p, tables, i, w, scene_.walls[w].material, facets[w], motion_[w],
+                                 spring_dt, keys_.data(), histories_.data(), old_count);
+    });
+    contacts_.clear();
+    for (const WallContactRecord<Real>& r : records_) {
+      if (r.degenerate) {
+        throw std::runtime_error(scene_.file + ": particle " +
+                                 std::to_string(p.global_id[r.particle]) + " against wall '" +
+                                 scene_.walls[r.wall].name +
+                                 "': a facet's clipping failed (section capacity)");
       }
+      if (r.in_contact) contacts_.push_back(r);
     }
     if (tables.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
-  // The forces on the particles, and each wall's total force and torque about the origin (minus
-  // what its contacts gave the particles).
+  // The forces on the particles (per particle, its walls in order: add_wall_force's additions),
+  // and each wall's total force and torque about the origin (minus what its contacts gave the
+  // particles), summed over the contacts in order.
   void accumulate(const ParticleView<Real>& p) {
+    const int walls = static_cast<int>(corners_.size());
+    parallel_for(threads_, p.count, [&](long long index) {
+      const int i = static_cast<int>(index);
+      for (int w = 0; w < walls; ++w) {
+        const WallContactRecord<Real>& c = records_[static_cast<std::size_t>(w) * p.count + i];
+        if (c.in_contact) add_wall_force(p, c);
+      }
+    });
     std::fill(wall_force_.begin(), wall_force_.end(), Vec3d());
     std::fill(wall_torque_.begin(), wall_torque_.end(), Vec3d());
     for (const WallContactRecord<Real>& c : contacts_) {
-      add_wall_force(p, c);
       wall_force_[c.wall] -= Vec3d(c.force);
       wall_torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
     }
   }
 
   std::size_t contact_count() const { return contacts_.size(); }
+  // The touching records of the last compute, wall-major (the serial order).
+  const std::vector<WallContactRecord<Real>>& contacts() const { return contacts_; }
   // Per wall: its triangles' corners as place() left them, and its rigid motion (the CUDA step
   // places the walls here and uploads them).
   const std::vector<std::vector<Vec3<Real>>>& corners() const { return corners_; }
@@ -115,9 +144,10 @@ class WallContactStage {
   const Vec3d& wall_force(int w) const { return wall_force_.at(w); }
   const Vec3d& wall_torque(int w) const { return wall_torque_.at(w); }
   std::size_t allocated_bytes() const {
-    std::size_t bytes = contacts_.capacity() * sizeof(WallContactRecord<Real>) +
-                        keys_.capacity() * sizeof(PairKey) +
-                        histories_.capacity() * sizeof(ContactHistoryData<Real>);
+    std::size_t bytes =
+        (records_.capacity() + contacts_.capacity()) * sizeof(WallContactRecord<Real>) +
+        keys_.capacity() * sizeof(PairKey) +
+        histories_.capacity() * sizeof(ContactHistoryData<Real>);
     for (const auto& c : corners_) bytes += c.capacity() * sizeof(Vec3<Real>);
     return bytes;
   }
@@ -127,8 +157,9 @@ class WallContactStage {
   std::vector<WallMesh> meshes_;
   std::vector<WallMotionData<Real>> motion_;
   std::vector<int> plate_;  // per wall: its closed plate's triangles while present, else 0
+  int threads_;
   std::vector<std::vector<Vec3<Real>>> corners_;
-  std::vector<WallContactRecord<Real>> contacts_;
+  std::vector<WallContactRecord<Real>> records_, contacts_;  // per (wall, particle); touching
   std::vector<PairKey> keys_;
   std::vector<ContactHistoryData<Real>> histories_;
   std::vector<Vec3d> wall_force_, wall_torque_;
