@@ -1,11 +1,13 @@
 // The production step on the host backend (solver/step/host_step): the same bed of dodecahedra
 // with each effect taken away in turn, so that what an effect costs is the difference (DESIGN.md:
-// an absent effect has no stage). The bed: a 10 x 10 x 10 cubic lattice of 10 mm dodecahedra at
-// a spacing of 8.2 mm with random orientations (particles overlap neighbours from the first
-// step), in a closed box wall. And the wall stage on a rotating drum of many facets, with the
-// facet grid and by brute force.
+// an absent effect has no stage), each on 1 and 2 threads (the argument `threads`; wall-clock
+// time, as the step's threads run beside the timing one). The bed: a 10 x 10 x 10 cubic lattice
+// of 10 mm dodecahedra at a spacing of 8.2 mm with random orientations (particles overlap
+// neighbours from the first step), in a closed box wall. And the wall stage on a rotating drum of
+// many facets, with the facet grid and by brute force.
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <string>
 
 #include "benchmarks/dodecahedron_bed.hpp"
@@ -16,8 +18,9 @@ namespace {
 
 void host_step(benchmark::State& state, const std::string& effects, bool walls) {
   const talus::Scene scene = talus_bench::dodecahedron_bed(10, effects, walls);
-  talus::HostStep<double> step(scene);
+  talus::HostStep<double> step(scene, static_cast<int>(state.range(0)));
   step.step();  // the first step evaluates the forces at t = 0 too
+  const std::array<double, 9> before = step.stage_seconds();
   double contacts = 0;
   long long steps = 0;
   for (auto _ : state) {
@@ -30,6 +33,20 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
       benchmark::Counter(particles, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["contacts_per_step"] = steps > 0 ? contacts / double(steps) : 0;
   state.counters["particles"] = particles;
+  // Milliseconds per step in the contact stages (HostStep's stage timers), to see which scale.
+  for (const talus::Stage s : {talus::Stage::candidate_pairs, talus::Stage::pair_contacts,
+                               talus::Stage::wall_contacts, talus::Stage::accumulate}) {
+    const int k = static_cast<int>(s);
+    if (steps > 0 && step.stage_seconds()[k] > before[k]) {
+      state.counters[std::string("ms_") + talus::to_string(s)] =
+          1e3 * (step.stage_seconds()[k] - before[k]) / double(steps);
+    }
+  }
+}
+
+// Each case on 1 and 2 threads (this development host has 2 cores), in wall-clock time.
+void threads_1_2(benchmark::internal::Benchmark* b) {
+  b->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 }
 
 const std::string& kAll = talus_bench::kAllEffects;
@@ -41,7 +58,7 @@ const std::string& kAll = talus_bench::kAllEffects;
 void host_wall_stage(benchmark::State& state, talus::WallSearch search) {
   const int segments = static_cast<int>(state.range(0));
   const talus::Scene scene = talus_bench::drum_bed(segments, 0.06, 4);
-  talus::HostStep<double> step(scene, search);
+  talus::HostStep<double> step(scene, 1, search);  // one thread, as measured
   step.step();
   const int stage = static_cast<int>(talus::Stage::wall_contacts);
   const double before = step.stage_seconds()[stage];
@@ -61,23 +78,22 @@ void host_wall_stage(benchmark::State& state, talus::WallSearch search) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(host_step, all_effects, kAll, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(host_step, no_walls, kAll, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(host_step, all_effects, kAll, true)->Apply(threads_1_2);
+BENCHMARK_CAPTURE(host_step, no_walls, kAll, false)->Apply(threads_1_2);
 BENCHMARK_CAPTURE(host_step, no_friction,
                   "  gravity: [0, 0, -9.81]\n  contact: volume\n  rotation: true\n", true)
-    ->Unit(benchmark::kMillisecond);
+    ->Apply(threads_1_2);
 BENCHMARK_CAPTURE(host_step, no_rotation,
                   "  gravity: [0, 0, -9.81]\n  contact: volume\n  friction: true\n", true)
-    ->Unit(benchmark::kMillisecond);
+    ->Apply(threads_1_2);
 BENCHMARK_CAPTURE(host_step, with_drag, kAll + "  drag: {alpha: 1.0e-4}\n", true)
-    ->Unit(benchmark::kMillisecond);
+    ->Apply(threads_1_2);
 BENCHMARK_CAPTURE(host_step, linear_model,
                   "  gravity: [0, 0, -9.81]\n  contact: {model: linear, stiffness: 1.0e4, "
                   "damping: 0.5, tangential_damping: 1.0}\n  friction: true\n  rotation: true\n",
                   true)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(host_step, gravity_only, "  gravity: [0, 0, -9.81]\n", false)
-    ->Unit(benchmark::kMillisecond);
+    ->Apply(threads_1_2);
+BENCHMARK_CAPTURE(host_step, gravity_only, "  gravity: [0, 0, -9.81]\n", false)->Apply(threads_1_2);
 
 BENCHMARK_CAPTURE(host_wall_stage, grid, talus::WallSearch::grid)
     ->Arg(64)

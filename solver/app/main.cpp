@@ -39,6 +39,8 @@ const char* const kUsage =
     "  --backend auto|cpu|cuda         overrides the scene's backend\n"
     "  --precision double|float        overrides the scene's precision\n"
     "  --output DIR                    relative output paths of the scene go inside DIR\n"
+    "  --threads N                     the host backend's threads (N >= 1; default: all\n"
+    "                                  cores, or OMP_NUM_THREADS)\n"
     "  --quiet                         no progress lines on stderr\n";
 
 // The example run by `talus` alone: two 10 mm dodecahedra, centres 7.07 mm apart (less than

@@ -20,6 +20,9 @@ struct RunArguments {
   // --output DIR: relative output paths of the scene (trajectories, probes) are taken inside DIR
   // instead of the working directory. Empty: the working directory.
   std::string output_root;
+  // --threads N: the host backend's threads (N >= 1). 0: OpenMP's default (all cores, or
+  // OMP_NUM_THREADS).
+  int threads = 0;
   bool quiet = false;  // --quiet: no progress lines on stderr
 };
 

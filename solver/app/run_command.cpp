@@ -2,7 +2,9 @@
 // reference solver is linked in where CMake found CGAL and Eigen (TALUS_HAVE_REFERENCE); the
 // production solver runs on the host backend (solver/step/host_step.hpp) or, in CUDA builds
 // (TALUS_HAVE_CUDA), on the CUDA backend (solver/step/cuda_step.hpp): `--backend cuda` asks for
-// it, `auto` takes it where a device is usable.
+// it, `auto` takes it where a device is usable. `--threads N` sets the host backend's threads
+// (default: OpenMP's, all cores or OMP_NUM_THREADS); the summary and the notice of `auto` name
+// the count when the host runs the scene.
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -11,6 +13,7 @@
 #include "solver/app/commands.hpp"
 #include "solver/app/json_writer.hpp"
 #include "solver/app/run_arguments.hpp"
+#include "solver/core/host_parallel.hpp"
 #include "solver/scene/scene_loader.hpp"
 #include "solver/step/production_run.hpp"
 
@@ -49,6 +52,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
                                 StepFactory make_step) {
   ProductionSettings settings;
   settings.make_step = std::move(make_step);
+  settings.host_threads = args.threads;
   settings.output_root = args.output_root;
   if (!args.quiet) settings.progress = print_production_progress;
   ProductionReport report;
@@ -62,6 +66,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   json.begin_object();
   json.member("solver", "talus");
   json.member("backend", report.backend);
+  if (report.host_threads > 0) json.member("host_threads", report.host_threads);
   json.member("precision", to_string(scene.precision));
   json.member("scene", args.scene_path);
   json.member("steps", static_cast<double>(report.steps));
@@ -100,6 +105,7 @@ std::string run_json(const RunArguments& args) {
 
   if (args.solver == SolverKind::production) {
     StepFactory make_step;  // empty: the host
+    const int host_threads = host_thread_count(args.threads);
 #if TALUS_HAVE_CUDA
     std::string why;
     if (scene.backend != Backend::cpu) {
@@ -112,8 +118,10 @@ std::string run_json(const RunArguments& args) {
       }
     }
     if (scene.backend == Backend::automatic && !make_step && !args.quiet) {
-      std::fprintf(stderr, "talus run: no usable GPU backend (%s); running on the host (cpu)\n",
-                   why.c_str());
+      std::fprintf(stderr,
+                   "talus run: no usable GPU backend (%s); running on the host (cpu, %d "
+                   "thread%s)\n",
+                   why.c_str(), host_threads, host_threads == 1 ? "" : "s");
     }
 #else
     if (scene.backend == Backend::cuda) {
@@ -124,10 +132,16 @@ std::string run_json(const RunArguments& args) {
     if (scene.backend == Backend::automatic && !args.quiet) {
       std::fprintf(stderr,
                    "talus run: no usable GPU backend (this talus was built without CUDA); running "
-                   "on the host (cpu)\n");
+                   "on the host (cpu, %d thread%s)\n",
+                   host_threads, host_threads == 1 ? "" : "s");
     }
 #endif
     return run_production_json(args, scene, std::move(make_step));
+  }
+  if (args.threads > 0) {
+    throw RunError(
+        "--threads sets the production solver's host threads; the reference solver "
+        "runs on one thread (drop --threads)");
   }
 #if TALUS_HAVE_REFERENCE
   if (scene.precision != Precision::float64) {

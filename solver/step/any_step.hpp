@@ -33,11 +33,14 @@ class AnyStep {
   virtual std::size_t bytes() const = 0;
 };
 
-// AnyStep over a step class with HostStep's interface (HostStep<Real>, CudaStep<Real>).
+// AnyStep over a step class with HostStep's interface (HostStep<Real>, CudaStep<Real>); `args`
+// follow the scene in the step's constructor (HostStep: its threads).
 template <class Step>
 class StepAdapter : public AnyStep {
  public:
-  StepAdapter(const Scene& scene, const char* backend) : step_(scene), backend_(backend) {}
+  template <class... Args>
+  StepAdapter(const Scene& scene, const char* backend, Args... args)
+      : step_(scene, args...), backend_(backend) {}
   const char* backend() const override { return backend_; }
   void step() override { step_.step(); }
   void evaluate_forces() override { step_.evaluate_forces(); }
@@ -59,7 +62,7 @@ class StepAdapter : public AnyStep {
   const char* backend_;
 };
 
-// The host step in the scene's precision.
-std::unique_ptr<AnyStep> make_host_step(const Scene& scene);
+// The host step in the scene's precision on `threads` threads (<= 0: OpenMP's default).
+std::unique_ptr<AnyStep> make_host_step(const Scene& scene, int threads = 0);
 
 }  // namespace talus

@@ -3,6 +3,13 @@
 // (pair_kernels.hpp) into the pair's own record, compaction of the touching pairs, the history
 // store rebuilt from them (sorted global-id keys), and the deterministic accumulation in pair
 // order. Host code: std::vector and exceptions allowed here, not in the per-pair functions.
+//
+// Threads (core/host_parallel.hpp): the pairs run on all of them, each with its own overlap
+// workspaces, and the accumulation runs per particle, each particle adding its contacts in pair
+// order (as the CUDA step's accumulate_kernel does): the additions of the serial loop over the
+// contacts, in the same order per particle, so the forces are the same bits for any thread count.
+// The compaction, the history sort and the lists of each particle's contacts stay serial (a few
+// percent of the stage; benchmarks/README.md).
 #pragma once
 
 #include <algorithm>
@@ -12,6 +19,7 @@
 #include <vector>
 
 #include "solver/contact/damping_calibration.hpp"
+#include "solver/core/host_parallel.hpp"
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/pair_kernels.hpp"
@@ -23,8 +31,10 @@ namespace talus {
 template <class Real>
 class PairContactStage {
  public:
-  PairContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies)
-      : scene_(scene), bodies_(bodies) {
+  // `threads`: how many the host loops use (>= 1; HostStep resolves the default).
+  PairContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
+                   int threads = 1)
+      : scene_(scene), bodies_(bodies), threads_(threads > 0 ? threads : 1), workspaces_(threads_) {
     const Effects& fx = scene.effects;
     const int n = static_cast<int>(scene.materials.size());
     for (const Material& m : scene.materials) {
@@ -82,23 +92,29 @@ class PairContactStage {
     input.z = p.position.z;
     input.radius = p.bounding_radius;
     input.count = p.count;
-    candidates_ = build_candidate_pairs(input);
+    candidates_ = build_candidate_pairs(input, nullptr, Real(0), threads_);
   }
 
   // Narrow phase, overlap and force law per candidate; compaction; the next history store.
+  // A degenerate pair throws after the loop, the lowest pair index first, as the serial loop did.
   void compute(const ParticleView<Real>& p, Real spring_dt) {
+    const long long count = static_cast<long long>(candidates_.size());
     records_.resize(candidates_.size());
     const int old_count = static_cast<int>(keys_.size());
-    for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    // Chunks of 64 pairs: a touching pair costs an overlap, a distant one little (dynamic
+    // scheduling balances them; each record has its own slot, so the order does not matter).
+    parallel_for_dynamic(threads_, count, 64, [&](long long k) {
       int ia, ib;
       order_pair(p, tables_, candidates_[k].a, candidates_[k].b, ia, ib);
-      const PairGeometryData<Real> g = geometry(p, ia, ib);
+      const PairGeometryData<Real> g = geometry(p, ia, ib, workspaces_[host_thread_index()]);
       records_[k] = pair_contact_force(p, tables_, ia, ib, g, spring_dt, keys_.data(),
                                        histories_.data(), old_count);
-      if (records_[k].degenerate) {
+    });
+    for (const PairContactRecord<Real>& r : records_) {
+      if (r.degenerate) {
         throw std::runtime_error(
-            scene_.file + ": particles " + std::to_string(p.global_id[ia]) + " and " +
-            std::to_string(p.global_id[ib]) +
+            scene_.file + ": particles " + std::to_string(p.global_id[r.a]) + " and " +
+            std::to_string(p.global_id[r.b]) +
             ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
             "workspace cannot hold)");
       }
@@ -110,24 +126,75 @@ class PairContactStage {
     if (tables_.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
-  // Per-particle sums in pair order (deterministic).
-  void accumulate(const ParticleView<Real>& p) const {
-    for (const PairContactRecord<Real>& c : contacts_) add_pair_force(p, c);
+  // Per-particle sums in pair order (deterministic): each particle's contacts listed in pair
+  // order (serial), then one particle per index (threads) adding them as add_pair_force would.
+  void accumulate(const ParticleView<Real>& p) {
+    entry_begin_.assign(p.count + 1, 0);
+    for (const PairContactRecord<Real>& c : contacts_) {
+      ++entry_begin_[c.a + 1];
+      ++entry_begin_[c.b + 1];
+    }
+    for (int i = 0; i < p.count; ++i) entry_begin_[i + 1] += entry_begin_[i];
+    entry_fill_.assign(entry_begin_.begin(), entry_begin_.end() - 1);
+    entry_contact_.resize(2 * contacts_.size());
+    for (std::size_t k = 0; k < contacts_.size(); ++k) {
+      entry_contact_[entry_fill_[contacts_[k].a]++] = static_cast<int>(k);
+      entry_contact_[entry_fill_[contacts_[k].b]++] = static_cast<int>(k);
+    }
+    parallel_for(threads_, p.count, [&](long long index) {
+      const int i = static_cast<int>(index);
+      if (entry_begin_[i] == entry_begin_[i + 1]) return;
+      // add_pair_force's additions for particle i, in its order: f + F_a or f - F_a, and
+      // t + (x_c - x) x (+-F_a).
+      Vec3<Real> f = p.force.get(i), t;
+      const bool torque = p.torque.present();
+      if (torque) t = p.torque.get(i);
+      const Vec3<Real> x = p.position.get(i);
+      for (int s = entry_begin_[i]; s < entry_begin_[i + 1]; ++s) {
+        const PairContactRecord<Real>& c = contacts_[entry_contact_[s]];
+        if (c.a == i) {
+          f = f + c.force_on_a;
+          if (torque) t = t + cross(c.point - x, c.force_on_a);
+        } else {
+          f = f - c.force_on_a;
+          if (torque) t = t + cross(c.point - x, -c.force_on_a);
+        }
+      }
+      p.force.set(i, f);
+      if (torque) p.torque.set(i, t);
+    });
   }
 
   std::size_t contact_count() const { return contacts_.size(); }
   const PairLawTables<Real>& tables() const { return tables_; }
   const std::vector<PairContactRecord<Real>>& contacts() const { return contacts_; }
   std::size_t history_count() const { return keys_.size(); }
+  int threads() const { return threads_; }
   std::size_t allocated_bytes() const {
-    return candidates_.capacity() * sizeof(ContactPair) +
-           (records_.capacity() + contacts_.capacity()) * sizeof(PairContactRecord<Real>) +
-           keys_.capacity() * sizeof(PairKey) +
-           histories_.capacity() * sizeof(ContactHistoryData<Real>) + workspace_bytes_;
+    std::size_t bytes =
+        candidates_.capacity() * sizeof(ContactPair) +
+        (records_.capacity() + contacts_.capacity()) * sizeof(PairContactRecord<Real>) +
+        keys_.capacity() * sizeof(PairKey) +
+        histories_.capacity() * sizeof(ContactHistoryData<Real>) +
+        (entry_begin_.capacity() + entry_fill_.capacity() + entry_contact_.capacity()) *
+            sizeof(int);
+    for (const Workspaces& w : workspaces_) bytes += w.bytes;
+    return bytes;
   }
 
  private:
-  PairGeometryData<Real> geometry(const ParticleView<Real>& p, int ia, int ib) {
+  // One overlap workspace per capacity, made on first use (a scene of spheres allocates none);
+  // one set per thread, each touched only by its thread.
+  struct Workspaces {
+    std::unique_ptr<OverlapWorkspace<Real, 32>> ws32;
+    std::unique_ptr<OverlapWorkspace<Real, 64>> ws64;
+    std::unique_ptr<OverlapWorkspace<Real, 128>> ws128;
+    std::unique_ptr<OverlapWorkspace<Real, 256>> ws256;
+    std::size_t bytes = 0;
+  };
+
+  PairGeometryData<Real> geometry(const ParticleView<Real>& p, int ia, int ib,
+                                  Workspaces& ws) const {
     const BodyProperties<Real>& a = bodies_[p.template_id[ia]];
     const BodyProperties<Real>& b = bodies_[p.template_id[ib]];
     if (!tables_.volume_model || a.sphere || b.sphere) {
@@ -137,39 +204,38 @@ class PairContactStage {
     const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
     switch (overlap_capacity_for(a.faces + b.faces)) {
       case 32:
-        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws32_));
+        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws, ws.ws32));
       case 64:
-        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws64_));
+        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws, ws.ws64));
       case 128:
-        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws128_));
+        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws, ws.ws128));
       default:
-        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws256_));
+        return polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace(ws, ws.ws256));
     }
   }
 
-  // One workspace per capacity, made on first use (a scene of spheres allocates none).
   template <class Workspace>
-  Workspace& workspace(std::unique_ptr<Workspace>& slot) {
+  static Workspace& workspace(Workspaces& set, std::unique_ptr<Workspace>& slot) {
     if (!slot) {
       slot = std::make_unique<Workspace>();
-      workspace_bytes_ += sizeof(Workspace);
+      set.bytes += sizeof(Workspace);
     }
     return *slot;
   }
 
   const Scene& scene_;
   const std::vector<BodyProperties<Real>>& bodies_;
+  int threads_;
+  std::vector<Workspaces> workspaces_;  // per thread
   std::vector<Real> youngs_, poisson_, friction_, restitution_, damping_ratio_;
   PairLawTables<Real> tables_;
   std::vector<ContactPair> candidates_;
   std::vector<PairContactRecord<Real>> records_, contacts_;
   std::vector<PairKey> keys_;  // sorted
   std::vector<ContactHistoryData<Real>> histories_;
-  std::unique_ptr<OverlapWorkspace<Real, 32>> ws32_;
-  std::unique_ptr<OverlapWorkspace<Real, 64>> ws64_;
-  std::unique_ptr<OverlapWorkspace<Real, 128>> ws128_;
-  std::unique_ptr<OverlapWorkspace<Real, 256>> ws256_;
-  std::size_t workspace_bytes_ = 0;
+  // Particle i's contacts: contacts_[entry_contact_[s]] for s in [entry_begin_[i],
+  // entry_begin_[i + 1]), ascending (pair order); entry_fill_ is the scratch of the fill.
+  std::vector<int> entry_begin_, entry_fill_, entry_contact_;
 };
 
 }  // namespace talus

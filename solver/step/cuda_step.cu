@@ -618,7 +618,7 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
     m.host_tables = std::make_unique<PairContactStage<Real>>(scene, m.host_bodies);
   if (m.plan.walls) {
     m.host_walls =
-        std::make_unique<WallContactStage<Real>>(scene, m.host_bodies, options.wall_search);
+        std::make_unique<WallContactStage<Real>>(scene, m.host_bodies, 1, options.wall_search);
   }
 
   std::vector<BodyProperties<Real>> device_bodies = m.host_bodies;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "solver/core/host_parallel.hpp"
 #include "solver/scene/initial_particles.hpp"
 #include "solver/step/contact_stage.hpp"
 #include "solver/step/wall_stage.hpp"
@@ -56,8 +57,11 @@ template BodyProperties<float> body_properties(const Scene&, const ParticleTempl
                                                const ShapeArrays<float>*);
 
 template <class Real>
-HostStep<Real>::HostStep(const Scene& scene, WallSearch wall_search)
-    : scene_(scene), plan_(plan_step(scene)), dt_(Real(scene.time_step)) {
+HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search)
+    : scene_(scene),
+      plan_(plan_step(scene)),
+      dt_(Real(scene.time_step)),
+      threads_(host_thread_count(threads)) {
   for (const ParticleTemplate& t : scene.templates) {
     shapes_.push_back(t.kind == ParticleShapeKind::polyhedron
                           ? std::make_unique<ShapeArrays<Real>>(t.shape)
@@ -111,10 +115,11 @@ HostStep<Real>::HostStep(const Scene& scene, WallSearch wall_search)
     }
     if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
   }
-  if (plan_.contacts) contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_);
-  if (plan_.walls) {
-    walls_ = std::make_unique<WallContactStage<Real>>(scene, bodies_, wall_search);
+  if (plan_.contacts) {
+    contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_, threads_);
   }
+  if (plan_.walls)
+    walls_ = std::make_unique<WallContactStage<Real>>(scene, bodies_, threads_, wall_search);
 }
 
 template <class Real>
@@ -175,23 +180,25 @@ template <class Real>
 void HostStep<Real>::run_force_stages(Real spring_dt) {
   const ParticleView<Real> p = view_;
   const BodyProperties<Real>* bodies = bodies_.data();
+  // The per-particle stages touch particle i only: any split over threads gives the same bits.
+  const auto each_particle = [&](auto&& body) {
+    parallel_for(threads_, count_, [&](long long i) { body(static_cast<int>(i)); });
+  };
   for (const Stage stage : plan_.stages) {
     switch (stage) {
       case Stage::clear_forces:
-        timed(stage, [&] {
-          for (int i = 0; i < count_; ++i) clear_forces(p, i);
-        });
+        timed(stage, [&] { each_particle([&](int i) { clear_forces(p, i); }); });
         break;
       case Stage::gravity:
         timed(stage, [&] {
           const Vec3<Real> g(*scene_.effects.gravity);
-          for (int i = 0; i < count_; ++i) add_gravity(p, bodies, i, g);
+          each_particle([&](int i) { add_gravity(p, bodies, i, g); });
         });
         break;
       case Stage::drag:
         timed(stage, [&] {
           const Real alpha = Real(*scene_.effects.drag_alpha);
-          for (int i = 0; i < count_; ++i) add_drag(p, i, alpha);
+          each_particle([&](int i) { add_drag(p, i, alpha); });
         });
         break;
       case Stage::candidate_pairs:
@@ -230,20 +237,24 @@ void HostStep<Real>::step() {
   if (!forces_ready_) evaluate_forces();  // F_0, T_0 for the first half-step
   if (walls_) walls_->open_outlets(time_);
   const ParticleView<Real> p = view_;
+  const BodyProperties<Real>* bodies = bodies_.data();
   timed(Stage::integrate_begin, [&] {
-    for (int i = 0; i < count_; ++i) {
-      if (!integrate_begin(p, bodies_.data(), i, dt_)) {
-        throw std::runtime_error(
-            scene_.file + ": particle " + std::to_string(global_ids_[i]) +
-            " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
-      }
+    // Every particle is integrated; the lowest failing index is reported (the serial loop's).
+    const long long failed = parallel_first_failure(threads_, count_, [&](long long i) {
+      return !integrate_begin(p, bodies, static_cast<int>(i), dt_);
+    });
+    if (failed < count_) {
+      throw std::runtime_error(
+          scene_.file + ": particle " + std::to_string(global_ids_[failed]) +
+          " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
     }
   });
   time_ += scene_.time_step;
   ++steps_;
   run_force_stages(dt_);
   timed(Stage::integrate_end, [&] {
-    for (int i = 0; i < count_; ++i) integrate_end(p, bodies_.data(), i, dt_);
+    parallel_for(threads_, count_,
+                 [&](long long i) { integrate_end(p, bodies, static_cast<int>(i), dt_); });
   });
 }
 

@@ -1,7 +1,8 @@
 // The production step on the host backend: the scene's particles in a structure of arrays, the
 // stages of its plan (step_plan.hpp) run as loops over the per-particle and per-pair functions
-// that the CUDA backend launches as kernels. Serial and deterministic: contact forces are summed
-// per particle in pair order.
+// that the CUDA backend launches as kernels, on several threads with OpenMP
+// (core/host_parallel.hpp). Deterministic, the same bits for any thread count: every loop writes
+// per-index slots, and contact forces are summed per particle in pair order, then its walls.
 #pragma once
 
 #include <array>
@@ -44,17 +45,20 @@ double particle_bed_height(const ParticleView<Real>& view,
 template <class Real>
 class HostStep {
  public:
-  // The scene's initial particles (global id = index), its templates and effects. Throws
-  // StepNotSupported naming the scene item for what the production step cannot simulate.
-  // `wall_search`: the facet grid, or brute force (the same results; for the benchmarks).
-  explicit HostStep(const Scene& scene, WallSearch wall_search = WallSearch::grid);
+  // The scene's initial particles (global id = index), its templates and effects; the loops run
+  // on `threads` threads (<= 0: OpenMP's default, all cores or OMP_NUM_THREADS; 1 in a build
+  // without OpenMP). `wall_search`: the facet grid, or brute force (the same results; for the
+  // benchmarks). Throws StepNotSupported naming the scene item for what the production step
+  // cannot simulate.
+  explicit HostStep(const Scene& scene, int threads = 0, WallSearch wall_search = WallSearch::grid);
   ~HostStep();
   HostStep(const HostStep&) = delete;
   HostStep& operator=(const HostStep&) = delete;
 
   // One step of dt: integrate_begin, the force stages at the new state, integrate_end. The
   // first call evaluates the forces at t = 0 first (springs do not grow then). Throws
-  // std::runtime_error when a particle's rotation does not converge (|w| dt too large).
+  // std::runtime_error when a particle's rotation does not converge (|w| dt too large), naming the
+  // lowest such index whatever the thread count.
   void step();
   // The force stages alone at the current state (as the first step does): for step 0's outputs.
   void evaluate_forces();
@@ -62,6 +66,7 @@ class HostStep {
   double time() const { return time_; }
   long long steps() const { return steps_; }
   const StepPlan& plan() const { return plan_; }
+  int threads() const { return threads_; }
   int particle_count() const { return count_; }
   const ParticleView<Real>& particles() const { return view_; }
   const std::vector<BodyProperties<Real>>& bodies() const { return bodies_; }
@@ -94,6 +99,7 @@ class HostStep {
   const Scene& scene_;
   StepPlan plan_;
   Real dt_;
+  int threads_;
   int count_ = 0;
   std::vector<std::unique_ptr<ShapeArrays<Real>>> shapes_;  // per template (polyhedra)
   std::vector<BodyProperties<Real>> bodies_;                // per template

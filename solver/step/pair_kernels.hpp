@@ -178,8 +178,9 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(
   return pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
 }
 
-// Adds one contact's force and torques (Eqs. 21-22) to its two particles. The host calls it for
-// the contacts in pair order, which makes the sums independent of scheduling.
+// Adds one contact's force and torques (Eqs. 21-22) to its two particles. Called over the
+// contacts in pair order, it defines the sums' order; the host's and the CUDA step's per-particle
+// accumulations make the same additions in that order (tests/step/test_host_threads.cpp).
 template <class Real>
 TALUS_HD inline void add_pair_force(const ParticleView<Real>& p, const PairContactRecord<Real>& c) {
   p.force.set(c.a, p.force.get(c.a) + c.force_on_a);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "solver/core/host_parallel.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
 #include "solver/step/any_step.hpp"
@@ -32,17 +33,18 @@ long long peak_resident_bytes() {
 
 }  // namespace
 
-std::unique_ptr<AnyStep> make_host_step(const Scene& scene) {
+std::unique_ptr<AnyStep> make_host_step(const Scene& scene, int threads) {
   if (scene.precision == Precision::float32) {
-    return std::make_unique<StepAdapter<HostStep<float>>>(scene, "cpu");
+    return std::make_unique<StepAdapter<HostStep<float>>>(scene, "cpu", threads);
   }
-  return std::make_unique<StepAdapter<HostStep<double>>>(scene, "cpu");
+  return std::make_unique<StepAdapter<HostStep<double>>>(scene, "cpu", threads);
 }
 
 struct ProductionRunner::Impl {
   const Scene& scene;
   ProductionSettings settings;
   std::unique_ptr<AnyStep> step;
+  int host_threads = 0;  // the host step's, 0 for another backend
   long long step_index = 0, total_steps = 0;
   std::string trajectory_dir;
   std::unique_ptr<ProbeWriter> probes;
@@ -101,7 +103,12 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
       }
     }
   }
-  m.step = m.settings.make_step ? m.settings.make_step(scene) : make_host_step(scene);
+  if (m.settings.make_step) {
+    m.step = m.settings.make_step(scene);
+  } else {
+    m.host_threads = host_thread_count(m.settings.host_threads);
+    m.step = make_host_step(scene, m.host_threads);
+  }
   m.total_steps = std::llround(scene.end_time / scene.time_step);
   if (scene.outputs.trajectories) {
     if (scene.outputs.trajectories->format != TrajectoryFormat::csv) {
@@ -177,6 +184,7 @@ ProductionReport ProductionRunner::report() const {
   const Impl& m = *impl_;
   ProductionReport r;
   r.backend = m.step->backend();
+  r.host_threads = m.host_threads;
   r.steps = m.step_index;
   r.simulated_time = m.step->time();
   r.wall_seconds = clock_seconds() - m.started;

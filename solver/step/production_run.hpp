@@ -33,12 +33,15 @@ struct ProductionSettings {
   // builds); empty: the host step. The host library cannot name the CUDA one itself (talus_cuda
   // links talus_solver), so the caller that links both passes it.
   StepFactory make_step;  // relative output paths of the scene are taken inside it
+  // The host step's threads (<= 0: OpenMP's default, all cores or OMP_NUM_THREADS).
+  int host_threads = 0;
   std::function<void(const ProductionProgress&)> progress;
   double progress_interval = 1.0;  // s of wall time
 };
 
 struct ProductionReport {
   std::string backend = "cpu";  // the step's: "cpu" or "cuda"
+  int host_threads = 0;         // the host step's threads (backend "cpu"); 0 for another backend
   long long steps = 0;
   double simulated_time = 0;  // s
   double wall_seconds = 0;

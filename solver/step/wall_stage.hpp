@@ -7,6 +7,12 @@
 // built once in the mesh's frame at construction), or, with WallSearch::brute_force, from
 // testing every facet: the same contacts to the bit, at a cost that no longer grows with the
 // wall's facets (benchmarks/bench_step_cpu.cpp measures both).
+//
+// Threads (core/host_parallel.hpp): the (particle, wall) records are computed on all of them, each
+// into its own slot of a wall-major array, then compacted serially in that order; the forces are
+// added per particle (threads), its walls in wall order, after its pair contacts: the serial
+// additions in the serial order, so the same bits for any thread count. The walls' totals are
+// summed serially over the compacted contacts, in double.
 #pragma once
 
 #include <algorithm>
@@ -14,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/core/host_parallel.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/scene/wall_motion.hpp"
 #include "solver/step/sorted_histories.hpp"
@@ -26,9 +33,10 @@ namespace talus {
 template <class Real>
 class WallContactStage {
  public:
+  // `threads`: how many the host loops use (>= 1; HostStep resolves the default).
   WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
-                   WallSearch search = WallSearch::grid)
-      : scene_(scene), meshes_(make_wall_meshes(scene)) {
+                   int threads = 1, WallSearch search = WallSearch::grid)
+      : scene_(scene), meshes_(make_wall_meshes(scene)), threads_(threads > 0 ? threads : 1) {
     const bool volume = *scene.effects.contact == ContactModel::volume;
     double max_radius = 0;  // the grid's cell size follows the largest bounding sphere
     for (const BodyProperties<Real>& b : bodies) {
@@ -108,32 +116,46 @@ class WallContactStage {
     locate(time);
   }
 
+  // Record w * count + i for particle i and wall w; the touching ones compacted in that order. A
+  // failed clipping throws after the loop, the lowest record first, as the serial loop did.
   void compute(const ParticleView<Real>& p, const PairLawTables<Real>& tables, Real spring_dt) {
-    contacts_.clear();
     const int old_count = static_cast<int>(keys_.size());
-    for (std::size_t w = 0; w < facets_.size(); ++w) {
-      for (int i = 0; i < p.count; ++i) {
-        const WallContactRecord<Real> r =
-            wall_contact(p, tables, i, static_cast<int>(w), scene_.walls[w].material, facets_[w],
-                         motion_[w], spring_dt, keys_.data(), histories_.data(), old_count);
-        if (r.degenerate) {
-          throw std::runtime_error(scene_.file + ": particle " + std::to_string(p.global_id[i]) +
-                                   " against wall '" + scene_.walls[w].name +
-                                   "': a facet's clipping failed (section capacity)");
-        }
-        if (r.in_contact) contacts_.push_back(r);
+    const long long count = p.count;
+    records_.resize(facets_.size() * static_cast<std::size_t>(count));
+    // Dynamic chunks: a particle near a wall clips facets, one far from it only queries the grid.
+    parallel_for_dynamic(threads_, static_cast<long long>(records_.size()), 64, [&](long long k) {
+      const int w = static_cast<int>(k / count), i = static_cast<int>(k % count);
+      records_[k] = wall_contact(p, tables, i, w, scene_.walls[w].material, facets_[w], motion_[w],
+                                 spring_dt, keys_.data(), histories_.data(), old_count);
+    });
+    contacts_.clear();
+    for (const WallContactRecord<Real>& r : records_) {
+      if (r.degenerate) {
+        throw std::runtime_error(scene_.file + ": particle " +
+                                 std::to_string(p.global_id[r.particle]) + " against wall '" +
+                                 scene_.walls[r.wall].name +
+                                 "': a facet's clipping failed (section capacity)");
       }
+      if (r.in_contact) contacts_.push_back(r);
     }
     if (tables.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
-  // The forces on the particles, and each wall's total force and torque about the origin (minus
-  // what its contacts gave the particles).
+  // The forces on the particles (per particle, its walls in order: add_wall_force's additions),
+  // and each wall's total force and torque about the origin (minus what its contacts gave the
+  // particles), summed over the contacts in order.
   void accumulate(const ParticleView<Real>& p) {
+    const int walls = static_cast<int>(corners_.size());
+    parallel_for(threads_, p.count, [&](long long index) {
+      const int i = static_cast<int>(index);
+      for (int w = 0; w < walls; ++w) {
+        const WallContactRecord<Real>& c = records_[static_cast<std::size_t>(w) * p.count + i];
+        if (c.in_contact) add_wall_force(p, c);
+      }
+    });
     std::fill(wall_force_.begin(), wall_force_.end(), Vec3d());
     std::fill(wall_torque_.begin(), wall_torque_.end(), Vec3d());
     for (const WallContactRecord<Real>& c : contacts_) {
-      add_wall_force(p, c);
       wall_force_[c.wall] -= Vec3d(c.force);
       wall_torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
     }
@@ -149,13 +171,16 @@ class WallContactStage {
   const TriangleMesh& mesh(int w) const { return meshes_.at(w).mesh; }
   const FacetGrid<Real>* grid(int w) const { return grids_.empty() ? nullptr : &grids_.at(w); }
   bool moves(int w) const { return scene_.walls.at(w).motion.kind != WallMotion::Kind::none; }
+  // The touching records of the last compute, wall-major (the serial order).
+  const std::vector<WallContactRecord<Real>>& contacts() const { return contacts_; }
   const std::vector<WallMotionData<Real>>& motions() const { return motion_; }
   const Vec3d& wall_force(int w) const { return wall_force_.at(w); }
   const Vec3d& wall_torque(int w) const { return wall_torque_.at(w); }
   std::size_t allocated_bytes() const {
-    std::size_t bytes = contacts_.capacity() * sizeof(WallContactRecord<Real>) +
-                        keys_.capacity() * sizeof(PairKey) +
-                        histories_.capacity() * sizeof(ContactHistoryData<Real>);
+    std::size_t bytes =
+        (records_.capacity() + contacts_.capacity()) * sizeof(WallContactRecord<Real>) +
+        keys_.capacity() * sizeof(PairKey) +
+        histories_.capacity() * sizeof(ContactHistoryData<Real>);
     for (const auto& c : corners_) bytes += c.capacity() * sizeof(Vec3<Real>);
     for (const FacetGrid<Real>& g : grids_) bytes += g.bytes();
     return bytes;
@@ -166,11 +191,12 @@ class WallContactStage {
   std::vector<WallMesh> meshes_;
   std::vector<WallMotionData<Real>> motion_;
   std::vector<int> plate_;  // per wall: its closed plate's triangles while present, else 0
+  int threads_;
   std::vector<FacetGrid<Real>> grids_;  // per wall, in its mesh frame; empty: brute force
   std::vector<std::vector<Vec3<Real>>> corners_;
   std::vector<bool> placed_;  // whether a static wall's corners are placed
   std::vector<WallFacets<Real>> facets_;
-  std::vector<WallContactRecord<Real>> contacts_;
+  std::vector<WallContactRecord<Real>> records_, contacts_;  // per (wall, particle); touching
   std::vector<PairKey> keys_;
   std::vector<ContactHistoryData<Real>> histories_;
   std::vector<Vec3d> wall_force_, wall_torque_;

@@ -258,6 +258,12 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
       {{"run", "--backend=gpu", "a.yaml"}, "--backend 'gpu': expected one of auto, cpu, cuda"},
       {{"run", "--precision", "half", "a.yaml"}, "--precision 'half'"},
       {{"run", "a.yaml", "--output"}, "--output expects a value"},
+      {{"run", "--threads", "0", "a.yaml"}, "--threads '0': expected a whole number of at least 1"},
+      {{"run", "--threads=-2", "a.yaml"}, "--threads '-2': expected a whole number"},
+      {{"run", "--threads", "two", "a.yaml"}, "--threads 'two': expected a whole number"},
+      {{"run", "--threads", "2.5", "a.yaml"}, "--threads '2.5': expected a whole number"},
+      {{"run", "--threads", "99999999999", "a.yaml"}, "--threads '99999999999': too large"},
+      {{"run", "a.yaml", "--threads"}, "--threads expects a value"},
   };
   for (const BadCase& c : cases) {
     std::string joined;

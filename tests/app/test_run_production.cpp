@@ -1,10 +1,12 @@
 // `talus run` with the production solver (the default) through the built binary: the host
-// backend, the notice for `auto`, the summary with stage times, and the refusals.
+// backend and its threads, the notice for `auto`, the summary with stage times, and the
+// refusals.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "solver/io/trajectory.hpp"
 #include "tests/app/json_reader.hpp"
@@ -56,6 +58,7 @@ TEST(TalusRunProduction, CpuBackendRunsAndSummarises) {
   const Json summary = parse_or_fail(run.out);
   EXPECT_EQ(summary["solver"].text, "talus");
   EXPECT_EQ(summary["backend"].text, "cpu");
+  EXPECT_GE(summary["host_threads"].value, 1);  // OpenMP's default: this machine's cores
   EXPECT_EQ(summary["steps"].value, 2000);
   EXPECT_EQ(summary["particles"].value, 2);
   // The contact lasts pi sqrt(m_eff / K_N) = 0.8 ms of the 20 ms: about 80 of 2000 steps with one
@@ -91,10 +94,44 @@ TEST(TalusRunProduction, AutoBackendUsesTheGpuOrFallsBackWithANotice) {
     ASSERT_NE(at, std::string::npos) << run.err;
     const std::size_t line_end = run.err.find('\n', at);
     ASSERT_NE(line_end, std::string::npos);
-    EXPECT_NE(run.err.substr(at, line_end - at).find("); running on the host (cpu)"),
+    // The notice names the host's thread count, as the summary does.
+    const std::string threads = std::to_string(static_cast<int>(summary["host_threads"].value));
+    EXPECT_NE(run.err.substr(at, line_end - at).find("); running on the host (cpu, " + threads),
               std::string::npos)
         << run.err;
   }
+}
+
+// `--threads N` runs the host step on N threads: the summary says so, and the frames are the
+// same as on one thread (the step's bits do not depend on the thread count:
+// tests/step/test_host_threads.cpp checks that on a bed that uses the threads).
+TEST(TalusRunProduction, ThreadsOptionSetsTheHostThreads) {
+  const std::string dir = production_directory("threads");
+  const std::string scene = write_scene(dir, kTwoBalls);
+  std::vector<std::vector<talus::TrajectoryFrame>> frames;
+  for (const char* threads : {"1", "3"}) {
+    const ProcessResult run = run_talus({"run", "--quiet", "--backend", "cpu", "--threads", threads,
+                                         "--output", dir + "/t" + threads, scene});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+#ifdef _OPENMP
+    EXPECT_EQ(parse_or_fail(run.out)["host_threads"].value, std::stoi(threads));
+#else
+    EXPECT_EQ(parse_or_fail(run.out)["host_threads"].value, 1);  // a build without OpenMP
+#endif
+    frames.push_back(talus::read_trajectory(dir + "/t" + threads + "/frames"));
+  }
+  ASSERT_EQ(frames[0].size(), frames[1].size());
+  for (std::size_t f = 0; f < frames[0].size(); ++f) {
+    for (std::size_t i = 0; i < frames[0][f].rows.size(); ++i) {
+      EXPECT_EQ(frames[0][f].rows[i].position.x, frames[1][f].rows[i].position.x);
+      EXPECT_EQ(frames[0][f].rows[i].velocity.x, frames[1][f].rows[i].velocity.x);
+    }
+  }
+  // The reference solver is serial: --threads is refused rather than ignored.
+  const ProcessResult reference =
+      run_talus({"run", "--solver", "reference", "--threads", "2", scene});
+  EXPECT_EQ(reference.exit_code, 2) << reference.err;
+  EXPECT_NE(reference.err.find("--threads"), std::string::npos) << reference.err;
 }
 
 // `--backend cuda` runs on the GPU where it can, with the same outputs as the host (the same

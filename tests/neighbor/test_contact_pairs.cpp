@@ -1,6 +1,6 @@
 // The broad phase against its brute-force oracle: every pair of overlapping bounding spheres,
 // nothing else, each once, sorted — on random clouds, mixed sizes, crowds at one point, far-off
-// particles and tiny hash tables.
+// particles and tiny hash tables; and the same list on any number of threads.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -140,6 +140,22 @@ TEST(ContactPairs, CellSizeChangesWorkNotAnswer) {
   const std::vector<ContactPair> b = build_candidate_pairs(cloud.input(), &coarse, 0.1);
   expect_same_pairs(a, b);
   EXPECT_GT(coarse.candidates, fine.candidates);
+}
+
+// On several threads (the host step's) the list is the same, pair for pair: each particle's
+// count and segment are its own, and the binning and the scan stay serial. 5000 particles: more
+// than kParallelMinIndices, so the per-particle loops do run on several threads.
+TEST(ContactPairs, ThreadCountChangesNothing) {
+  const Cloud cloud = random_cloud(5000, 0.4, 0.002, 0.02, 31);
+  NeighborStats one;
+  const std::vector<ContactPair> serial = build_candidate_pairs(cloud.input(), &one, 0.0, 1);
+  EXPECT_GT(serial.size(), 5000u);
+  for (const int threads : {2, 3, 8}) {
+    NeighborStats many;
+    expect_same_pairs(build_candidate_pairs(cloud.input(), &many, 0.0, threads), serial);
+    EXPECT_EQ(many.candidates, one.candidates);
+  }
+  expect_same_pairs(serial, brute_force(cloud));
 }
 
 TEST(ContactPairs, NonFiniteInputIsRefusedNamingTheParticle) {

@@ -45,7 +45,7 @@ struct Run {
 // Both searches side by side over the scene's horizon.
 template <class Real>
 Run compare_searches(const Scene& scene) {
-  HostStep<Real> grid(scene, WallSearch::grid), brute(scene, WallSearch::brute_force);
+  HostStep<Real> grid(scene, 0, WallSearch::grid), brute(scene, 0, WallSearch::brute_force);
   const int n = grid.particle_count();
   Run run;
   run.wall_touched.assign(scene.walls.size(), false);
