@@ -109,7 +109,11 @@ struct CudaStep<Real>::Impl {
   DeviceBuffer<WallFacets<Real>> facets;
   DeviceBuffer<WallMotionData<Real>> motions;
   DeviceBuffer<int> wall_materials;
-  DeviceBuffer<WallContactRecord<Real>> wall_records, wall_contacts;
+  // The touching (particle, wall) records (appended, then in wall-major order) and each pair's
+  // place among them (-1: apart): a record per touching pair, not per particle and wall.
+  DeviceBuffer<WallContactRecord<Real>> wall_touching, wall_contacts;
+  DeviceBuffer<long long> wall_keys, sorted_wall_keys;
+  DeviceBuffer<int> wall_index, sorted_wall_index, wall_slot;
   int wall_contact_count = 0;
   DeviceHistory<Real> wall_history;
   mutable bool wall_sums_ready = false;
@@ -135,7 +139,7 @@ struct CudaStep<Real>::Impl {
   }
 
   void reset_flags() {
-    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0};
+    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0, 0};
     TALUS_CUDA_CHECK(cudaMemcpy(flag.data(), none, sizeof(none), cudaMemcpyHostToDevice));
   }
   int read_flag(Flag which) const {
@@ -150,18 +154,6 @@ struct CudaStep<Real>::Impl {
     body();
     TALUS_CUDA_CHECK(cudaDeviceSynchronize());
     stage_seconds[static_cast<int>(stage)] += clock_seconds() - start;
-  }
-
-  // Compacts the records in contact into `out` (their order kept); returns how many.
-  template <class Record>
-  int select_in_contact(const DeviceBuffer<Record>& in, long long n, DeviceBuffer<Record>& out) {
-    if (n == 0) return 0;
-    out.grow_to(n);
-    int* selected_count = flag.data() + selected;
-    cub_call(temp, [&](void* t, std::size_t& b) {
-      return cub::DeviceSelect::If(t, b, in.data(), out.data(), selected_count, n, InContact());
-    });
-    return read_flag(selected);
   }
 
   // The next history store: the touching contacts' keys and histories, sorted by key.
@@ -468,21 +460,52 @@ struct CudaStep<Real>::Impl {
     args.materials = wall_materials.data();
     args.walls = walls;
     const long long n = static_cast<long long>(count) * walls;
-    wall_records.grow_to(n);
+    wall_contact_count = 0;
     if (n > 0) {
-      wall_kernel<<<blocks_for(n), kBlock>>>(view, tables, args, spring_dt, wall_history.in(),
-                                             wall_history.values(), wall_records.data(),
-                                             flag.data());
-      TALUS_CUDA_LAUNCH_CHECK();
-      const int bad = read_flag(degenerate_wall);
-      if (bad != INT_MAX) {
-        const std::vector<long long> ids = download(global_ids.data(), count);
-        throw std::runtime_error(scene.file + ": particle " + std::to_string(ids[bad % count]) +
-                                 " against wall '" + scene.walls[bad / count].name +
-                                 "': a facet's clipping failed (section capacity)");
+      wall_slot.grow_to(n);
+      TALUS_CUDA_CHECK(cudaMemset(wall_slot.data(), 0xff, n * sizeof(int)));  // -1
+      // Room for the touching records: what the last step needed (at first 64), doubled when the
+      // counter says the kernel overflowed it, which runs it again (GpuStep tests with walls
+      // overflow on their first evaluation).
+      if (wall_touching.size() == 0) wall_touching.grow_to(std::min<long long>(n, 64));
+      for (;;) {
+        const int capacity = static_cast<int>(wall_touching.size());
+        wall_kernel<<<blocks_for(n), kBlock>>>(view, tables, args, spring_dt, wall_history.in(),
+                                               wall_history.values(), wall_touching.data(),
+                                               capacity, flag.data());
+        TALUS_CUDA_LAUNCH_CHECK();
+        const int bad = read_flag(degenerate_wall);
+        if (bad != INT_MAX) {
+          const std::vector<long long> ids = download(global_ids.data(), count);
+          throw std::runtime_error(scene.file + ": particle " + std::to_string(ids[bad % count]) +
+                                   " against wall '" + scene.walls[bad / count].name +
+                                   "': a facet's clipping failed (section capacity)");
+        }
+        wall_contact_count = read_flag(touching_walls);
+        if (wall_contact_count <= capacity) break;
+        wall_touching.grow_to(std::min<long long>(n, 2LL * wall_contact_count));
+        TALUS_CUDA_CHECK(cudaMemset(flag.data() + touching_walls, 0, sizeof(int)));
       }
     }
-    wall_contact_count = select_in_contact(wall_records, n, wall_contacts);
+    const int m = wall_contact_count;
+    if (m > 0) {
+      wall_keys.grow_to(m), sorted_wall_keys.grow_to(m);
+      wall_index.grow_to(m), sorted_wall_index.grow_to(m), wall_contacts.grow_to(m);
+      wall_contact_keys<<<blocks_for(m), kBlock>>>(wall_touching.data(), m, count, wall_keys.data(),
+                                                   wall_index.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      int bits = 1;
+      while (bits < 63 && (1LL << bits) < n) ++bits;
+      cub_call(temp, [&](void* t, std::size_t& b) {
+        return cub::DeviceRadixSort::SortPairs(t, b, wall_keys.data(), sorted_wall_keys.data(),
+                                               wall_index.data(), sorted_wall_index.data(), m, 0,
+                                               bits);
+      });
+      order_wall_contacts<<<blocks_for(m), kBlock>>>(wall_touching.data(), sorted_wall_keys.data(),
+                                                     sorted_wall_index.data(), m,
+                                                     wall_contacts.data(), wall_slot.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+    }
     if (tables.volume_model) rebuild_history(wall_history, wall_contacts, wall_contact_count);
     wall_sums_ready = false;
   }
@@ -493,7 +516,7 @@ struct CudaStep<Real>::Impl {
     accumulate_kernel<<<blocks_for(count), kBlock>>>(
         view, slots ? broad_phase->device_pairs() : nullptr, slot_state.data(),
         slots ? slot_forces.data() : nullptr, sorted_slot.data(), entry_begin.data(),
-        entry_end.data(), wall_records.data(), walls);
+        entry_end.data(), wall_contacts.data(), wall_slot.data(), walls);
     TALUS_CUDA_LAUNCH_CHECK();
   }
 
@@ -843,7 +866,9 @@ std::size_t CudaStep<Real>::allocated_bytes() const {
   std::size_t bytes = m.count * (2 * sizeof(int) + sizeof(long long));
   for (const auto& entry : m.storage) bytes += entry.second.size() * sizeof(Real);
   bytes += pair_list_bytes() + m.wall_history.bytes() +
-           (m.wall_records.size() + m.wall_contacts.size()) * sizeof(WallContactRecord<Real>) +
+           (m.wall_touching.size() + m.wall_contacts.size()) * sizeof(WallContactRecord<Real>) +
+           (m.wall_keys.size() + m.sorted_wall_keys.size()) * sizeof(long long) +
+           (m.wall_index.size() + m.sorted_wall_index.size() + m.wall_slot.size()) * sizeof(int) +
            m.temp.size() + m.wall_bytes();
   return bytes;
 }

@@ -39,6 +39,7 @@ enum Flag {
   selected = 3,
   touching_pairs = 4,
   deferred_pairs = 5,
+  touching_walls = 6,
   flags
 };
 
@@ -408,20 +409,52 @@ struct WallArgs {
   int walls = 0;
 };
 
-// One thread per (particle, wall), wall-major: record w * count + i.
+// One thread per (particle, wall), wall-major (thread w * count + i). Only the touching records
+// are kept (a few per cent of the particle-wall pairs in a bed), appended in arrival order to
+// `touching[0 .. capacity)`, their number counted in flag[touching_walls] even past the capacity
+// (the caller then grows the buffer and runs the kernel again: it only reads the old histories, so
+// a second run writes the same records); order_wall_contacts then puts them in wall-major order.
 template <class Real>
 __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
                             Real spring_dt, HistoryIn old,
                             const ContactHistoryData<Real>* __restrict__ histories,
-                            WallContactRecord<Real>* __restrict__ records, int* flag) {
+                            WallContactRecord<Real>* __restrict__ touching, int capacity,
+                            int* flag) {
   const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (k >= static_cast<long long>(p.count) * walls.walls) return;
   const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
   const WallContactRecord<Real> r =
       wall_contact(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w], spring_dt,
                    old.keys, histories, old.count);
-  records[k] = r;
   if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
+  if (!r.in_contact) return;
+  const int at = atomicAdd(flag + touching_walls, 1);
+  if (at < capacity) touching[at] = r;
+}
+
+// The sort key of touching record j, wall-major as the host's order: wall * count + particle.
+template <class Real>
+__global__ void wall_contact_keys(const WallContactRecord<Real>* __restrict__ touching, int n,
+                                  int count, long long* __restrict__ keys,
+                                  int* __restrict__ index) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= n) return;
+  keys[j] = static_cast<long long>(touching[j].wall) * count + touching[j].particle;
+  index[j] = j;
+}
+
+// The touching records in key order, and each (particle, wall)'s place among them (wall_slot,
+// -1 elsewhere: cleared before the wall kernel).
+template <class Real>
+__global__ void order_wall_contacts(const WallContactRecord<Real>* __restrict__ touching,
+                                    const long long* __restrict__ sorted_keys,
+                                    const int* __restrict__ sorted_index, int n,
+                                    WallContactRecord<Real>* __restrict__ contacts,
+                                    int* __restrict__ wall_slot) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= n) return;
+  contacts[s] = touching[sorted_index[s]];
+  wall_slot[sorted_keys[s]] = s;
 }
 
 // A moving wall's corners where it is now (one thread per corner): the mesh-frame corner moved
@@ -445,8 +478,8 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
                                   const SlotForce<Real>* __restrict__ forces,
                                   const int* __restrict__ sorted_slot,
                                   const int* __restrict__ begin, const int* __restrict__ end,
-                                  const WallContactRecord<Real>* __restrict__ wall_records,
-                                  int walls) {
+                                  const WallContactRecord<Real>* __restrict__ wall_contacts,
+                                  const int* __restrict__ wall_slot, int walls) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= p.count) return;
   // The same additions, in the same order, as add_pair_force and add_wall_force on the host: the
@@ -472,21 +505,15 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
     }
   }
   for (int w = 0; w < walls; ++w) {
-    const WallContactRecord<Real>& c = wall_records[static_cast<long long>(w) * p.count + i];
-    if (!c.in_contact) continue;
+    const int slot = wall_slot[static_cast<long long>(w) * p.count + i];
+    if (slot < 0) continue;
+    const WallContactRecord<Real>& c = wall_contacts[slot];
     f = f + c.force;
     if (torque) t = t + cross(c.point - x, c.force);
   }
   p.force.set(i, f);
   if (torque) p.torque.set(i, t);
 }
-
-struct InContact {
-  template <class Record>
-  __host__ __device__ bool operator()(const Record& r) const {
-    return r.in_contact;
-  }
-};
 
 struct KeyLess {
   __host__ __device__ bool operator()(const PairKey& p, const PairKey& q) const {
