@@ -59,21 +59,7 @@ void host_wall_stage(benchmark::State& state, talus::WallSearch search) {
   const int segments = static_cast<int>(state.range(0));
   const talus::Scene scene = talus_bench::drum_bed(segments, 0.06, 4);
   talus::HostStep<double> step(scene, 1, search);  // one thread, as measured
-  step.step();
-  const int stage = static_cast<int>(talus::Stage::wall_contacts);
-  const double before = step.stage_seconds()[stage];
-  double wall_contacts = 0;
-  long long steps = 0;
-  for (auto _ : state) {
-    step.step();
-    wall_contacts += double(step.wall_contact_count());
-    ++steps;
-  }
-  const double per_step = steps > 0 ? 1.0 / double(steps) : 0;
-  state.counters["ms_wall_contacts"] = 1e3 * (step.stage_seconds()[stage] - before) * per_step;
-  state.counters["wall_contacts_per_step"] = wall_contacts * per_step;
-  state.counters["facets"] = 4.0 * segments;
-  state.counters["particles"] = step.particle_count();
+  talus_bench::time_wall_stage(state, step, segments);
 }
 
 }  // namespace

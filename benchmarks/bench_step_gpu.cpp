@@ -78,7 +78,7 @@ BENCHMARK(gpu_step)
 
 // drum_bed.hpp with radius 200 mm and 12 layers each side of the middle (44,725
 // dodecahedra), range(0) segments: 4 x segments facets. ms_wall_contacts: the wall stage per step
-// (the drum's corners placed by a kernel, the wall kernel, compaction and history).
+// (the drum's corners placed by a kernel, the wall kernel, ordering and history).
 void gpu_wall_stage(benchmark::State& state, talus::WallSearch search) {
   std::string why;
   if (!talus::cuda_device_available(&why)) {
@@ -90,21 +90,7 @@ void gpu_wall_stage(benchmark::State& state, talus::WallSearch search) {
   talus::CudaStepOptions options;
   options.wall_search = search;
   talus::CudaStep<double> step(scene, options);
-  step.step();
-  const int stage = static_cast<int>(talus::Stage::wall_contacts);
-  const double before = step.stage_seconds()[stage];
-  double wall_contacts = 0;
-  long long steps = 0;
-  for (auto _ : state) {
-    step.step();
-    wall_contacts += double(step.wall_contact_count());
-    ++steps;
-  }
-  const double per_step = steps > 0 ? 1.0 / double(steps) : 0;
-  state.counters["ms_wall_contacts"] = 1e3 * (step.stage_seconds()[stage] - before) * per_step;
-  state.counters["wall_contacts_per_step"] = wall_contacts * per_step;
-  state.counters["facets"] = 4.0 * segments;
-  state.counters["particles"] = step.particle_count();
+  talus_bench::time_wall_stage(state, step, segments);
 }
 BENCHMARK_CAPTURE(gpu_wall_stage, grid, talus::WallSearch::grid)
     ->Arg(256)

@@ -7,11 +7,14 @@
 // Gravity, the volume model, friction and rotation; double.
 #pragma once
 
+#include <benchmark/benchmark.h>
+
 #include <cmath>
 #include <random>
 #include <string>
 
 #include "solver/scene/scene_loader.hpp"
+#include "solver/step/step_plan.hpp"
 
 namespace talus_bench {
 
@@ -61,6 +64,28 @@ effects:
     }
   }
   return scene;
+}
+
+// The wall benchmarks' loop, for the host and the CUDA step alike: one step per iteration after a
+// first one; counters ms_wall_contacts (the wall stage's share of a step), wall contacts per step,
+// facets (4 x segments) and particles.
+template <class Step>
+void time_wall_stage(benchmark::State& state, Step& step, int segments) {
+  step.step();
+  const int stage = static_cast<int>(talus::Stage::wall_contacts);
+  const double before = step.stage_seconds()[stage];
+  double wall_contacts = 0;
+  long long steps = 0;
+  for (auto _ : state) {
+    step.step();
+    wall_contacts += double(step.wall_contact_count());
+    ++steps;
+  }
+  const double per_step = steps > 0 ? 1.0 / double(steps) : 0;
+  state.counters["ms_wall_contacts"] = 1e3 * (step.stage_seconds()[stage] - before) * per_step;
+  state.counters["wall_contacts_per_step"] = wall_contacts * per_step;
+  state.counters["facets"] = 4.0 * segments;
+  state.counters["particles"] = step.particle_count();
 }
 
 }  // namespace talus_bench

@@ -77,7 +77,6 @@ struct CudaStep<Real>::Impl {
   // The pair list (a Verlet list) and its slots: kept until some particle has moved skin / 2.
   std::unique_ptr<ContactPairsGpu<Real>> broad_phase;
   Real skin = 0;
-  bool list_built = false;
   long long list_builds = 0;
   int candidates = 0;
   DeviceBuffer<Real> built_x, built_y, built_z;   // positions when the list was built
@@ -179,7 +178,7 @@ struct CudaStep<Real>::Impl {
   // was built: a pair outside the list (centres beyond r_a + r_b + skin then) could now touch.
   // The 10% margin covers the round-off of the distances the broad phase compared.
   bool list_expired() {
-    if (!list_built || !(skin > 0)) return true;
+    if (list_builds == 0 || !(skin > 0)) return true;
     TALUS_CUDA_CHECK(cudaMemset(largest_move.data(), 0, sizeof(unsigned long long)));
     max_displacement_kernel<<<blocks_for(count), kBlock>>>(view, built_x.data(), built_y.data(),
                                                            built_z.data(), largest_move.data());
@@ -196,7 +195,7 @@ struct CudaStep<Real>::Impl {
   // histories over to the new slots of the same pairs (by global ids).
   void find_candidates() {
     if (!list_expired()) return;
-    const int old = list_built ? candidates : 0;
+    const int old = list_builds > 0 ? candidates : 0;
     int stored = 0;
     if (tables.volume_model && old > 0) {
       keyed.grow_to(old), store.grow_to(old);
@@ -219,7 +218,6 @@ struct CudaStep<Real>::Impl {
     broad_phase->build();
     candidates = static_cast<int>(broad_phase->pair_count());
     ++list_builds;
-    list_built = true;
     const ContactPair* pairs = broad_phase->device_pairs();
     slot_state.grow_to(candidates);
     if (tables.volume_model) slot_history.grow_to(candidates);
