@@ -17,8 +17,9 @@
 // does, so both backends agree to round-off; with deterministic: false the pair kernel adds the
 // forces to the particles by atomics instead.
 //
-// Host-facing: no CUDA types; the implementation (cuda_step.cu) exists only in CUDA builds
-// (talus_cuda), where TALUS_HAVE_CUDA is defined.
+// Host-facing: no CUDA types; the implementation exists only in CUDA builds (talus_cuda), where
+// TALUS_HAVE_CUDA is defined: cuda_step.cu, with the pair list, the pair stage and the wall
+// stage in cuda_pair_list, cuda_pair_stage and cuda_wall_stage.
 #pragma once
 
 #include <array>

@@ -1,0 +1,223 @@
+// The CUDA step's pair list and its slots (cuda_pair_list.cuh): the rebuild test, the rebuild
+// with the carry-over of the touching histories, and the CSR of the deterministic accumulation.
+#include "solver/step/cuda_pair_list.cuh"
+
+#include <cub/cub.cuh>
+
+#include <cstring>
+
+#include "solver/core/cub_call.cuh"
+
+namespace talus {
+
+namespace {
+
+// The largest squared displacement since the list was built, as the bits of a non-negative
+// double (their integer order is their numeric order): one atomicMax per block.
+template <class Real>
+__global__ void max_displacement_kernel(ParticleView<Real> p, const Real* __restrict__ x0,
+                                        const Real* __restrict__ y0, const Real* __restrict__ z0,
+                                        unsigned long long* largest) {
+  using BlockReduce = cub::BlockReduce<double, kBlock>;
+  __shared__ typename BlockReduce::TempStorage temp;
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  double d2 = 0;
+  if (i < p.count) {
+    const double dx = double(p.position.x[i]) - double(x0[i]);
+    const double dy = double(p.position.y[i]) - double(y0[i]);
+    const double dz = double(p.position.z[i]) - double(z0[i]);
+    d2 = dx * dx + dy * dy + dz * dz;
+  }
+  const double block_max =
+      BlockReduce(temp).Reduce(d2, [](double u, double v) { return u < v ? v : u; });
+  if (threadIdx.x == 0)
+    atomicMax(largest, static_cast<unsigned long long>(__double_as_longlong(block_max)));
+}
+
+// Each old slot's key (the pair's global ids) and whether it touches.
+__global__ void key_slots(const long long* __restrict__ global_id,
+                          const ContactPair* __restrict__ pairs, int count,
+                          const unsigned char* __restrict__ slot_state, PairKey* __restrict__ keys,
+                          unsigned char* __restrict__ touching) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  keys[k] = make_pair_key(global_id[pairs[k].a], global_id[pairs[k].b]);
+  touching[k] = slot_state[k] != slot_apart;
+}
+
+// Each slot of the new list takes its pair's history from the store (sorted by key; the default
+// for a pair that was not touching), and starts apart.
+template <class Real>
+__global__ void carry_histories_kernel(const long long* __restrict__ global_id,
+                                       const ContactPair* __restrict__ pairs, int count,
+                                       const PairKey* __restrict__ store_keys,
+                                       const ContactHistoryData<Real>* __restrict__ store_histories,
+                                       int stored, ContactHistoryData<Real>* __restrict__ histories,
+                                       unsigned char* __restrict__ slot_state) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  if (histories) {
+    const int at = find_pair_key(store_keys, stored,
+                                 make_pair_key(global_id[pairs[k].a], global_id[pairs[k].b]));
+    histories[k] = at >= 0 ? store_histories[at] : ContactHistoryData<Real>();
+  }
+  slot_state[k] = slot_apart;
+}
+
+// Two CSR entries per candidate slot k: (a, k) and (b, k).
+__global__ void emit_entries(const ContactPair* __restrict__ pairs, int count,
+                             int* __restrict__ particle, int* __restrict__ slot) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  particle[2 * k] = pairs[k].a;
+  particle[2 * k + 1] = pairs[k].b;
+  slot[2 * k] = slot[2 * k + 1] = k;
+}
+
+// begin[i], end[i]: particle i's range of the sorted entries (both 0 when it has none).
+__global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int* begin, int* end) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= n) return;
+  const int i = sorted_particle[s];
+  if (s == 0 || sorted_particle[s - 1] != i) begin[i] = s;
+  if (s == n - 1 || sorted_particle[s + 1] != i) end[i] = s + 1;
+}
+
+}  // namespace
+
+template <class Real>
+DevicePairList<Real>::DevicePairList(DeviceStepShared<Real>& shared, Real skin)
+    : shared_(shared), skin_(skin) {
+  const int n = shared.count;
+  NeighborInput<Real> in;
+  in.x = shared.view.position.x, in.y = shared.view.position.y, in.z = shared.view.position.z;
+  in.radius = shared.view.bounding_radius;
+  in.count = n;
+  in.skin = skin;
+  broad_phase_.set_device_particles(in);
+  if (deterministic()) entry_begin_.resize(n), entry_end_.resize(n);
+  if (skin > 0) built_x_.resize(n), built_y_.resize(n), built_z_.resize(n);
+  largest_move_.resize(1);
+}
+
+// True when some particle has moved more than (a little less than) skin / 2 since the list was
+// built: a pair outside the list (centres beyond r_a + r_b + skin then) could now touch. The 10%
+// margin covers the round-off of the distances the broad phase compared.
+template <class Real>
+bool DevicePairList<Real>::expired() {
+  if (builds_ == 0 || !(skin_ > 0)) return true;
+  TALUS_CUDA_CHECK(cudaMemset(largest_move_.data(), 0, sizeof(unsigned long long)));
+  max_displacement_kernel<<<blocks_for(shared_.count), kBlock>>>(
+      shared_.view, built_x_.data(), built_y_.data(), built_z_.data(), largest_move_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  unsigned long long bits = 0;
+  TALUS_CUDA_CHECK(cudaMemcpy(&bits, largest_move_.data(), sizeof(bits), cudaMemcpyDeviceToHost));
+  double moved2 = 0;
+  std::memcpy(&moved2, &bits, sizeof(moved2));
+  const double limit = 0.45 * double(skin_);
+  return moved2 > limit * limit;
+}
+
+// The touching slots' keys and histories, sorted by key, into the store; returns their number.
+template <class Real>
+int DevicePairList<Real>::store_touching_histories() {
+  const int old = builds_ > 0 ? candidates_ : 0;
+  if (!shared_.tables.volume_model || old == 0) return 0;
+  old_keys_.grow_to(old), old_touching_.grow_to(old);
+  store_keys_.grow_to(old), store_histories_.grow_to(old);
+  key_slots<<<blocks_for(old), kBlock>>>(shared_.global_ids.data(), pairs(), old,
+                                         slot_state_.data(), old_keys_.data(),
+                                         old_touching_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int* selected_count = shared_.flags.at(selected);
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::Flagged(t, b, old_keys_.data(), old_touching_.data(),
+                                      store_keys_.data(), selected_count, old);
+  });
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::Flagged(t, b, slot_history_.data(), old_touching_.data(),
+                                      store_histories_.data(), selected_count, old);
+  });
+  const int stored = shared_.flags.read(selected);
+  if (stored > 0) {
+    cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+      return cub::DeviceMergeSort::SortPairs(t, b, store_keys_.data(), store_histories_.data(),
+                                             stored, KeyLess());
+    });
+  }
+  return stored;
+}
+
+// The new slots: the stored histories carried over (volume model), every slot apart.
+template <class Real>
+void DevicePairList<Real>::carry_histories(int stored) {
+  slot_state_.grow_to(candidates_);
+  if (shared_.tables.volume_model) slot_history_.grow_to(candidates_);
+  if (candidates_ == 0) return;
+  carry_histories_kernel<<<blocks_for(candidates_), kBlock>>>(
+      shared_.global_ids.data(), pairs(), candidates_, store_keys_.data(), store_histories_.data(),
+      stored, histories(), slot_state_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+// Each particle's slots, in ascending slot (pair) order: the radix sort is stable.
+template <class Real>
+void DevicePairList<Real>::build_csr() {
+  const int count = shared_.count;
+  const int entries = 2 * candidates_;
+  slot_forces_.grow_to(candidates_);
+  entry_particle_.grow_to(entries), entry_slot_.grow_to(entries);
+  sorted_particle_.grow_to(entries), sorted_slot_.grow_to(entries);
+  emit_entries<<<blocks_for(candidates_), kBlock>>>(pairs(), candidates_, entry_particle_.data(),
+                                                    entry_slot_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int bits = 1;
+  while (bits < 31 && (1 << bits) < count) ++bits;
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, entry_particle_.data(), sorted_particle_.data(),
+                                           entry_slot_.data(), sorted_slot_.data(), entries, 0,
+                                           bits);
+  });
+  TALUS_CUDA_CHECK(cudaMemset(entry_begin_.data(), 0, count * sizeof(int)));
+  TALUS_CUDA_CHECK(cudaMemset(entry_end_.data(), 0, count * sizeof(int)));
+  entry_ranges<<<blocks_for(entries), kBlock>>>(sorted_particle_.data(), entries,
+                                                entry_begin_.data(), entry_end_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+template <class Real>
+void DevicePairList<Real>::update() {
+  if (!expired()) return;
+  const int stored = store_touching_histories();
+  broad_phase_.build();
+  candidates_ = static_cast<int>(broad_phase_.pair_count());
+  ++builds_;
+  carry_histories(stored);
+  if (deterministic() && candidates_ > 0) build_csr();
+  if (skin_ > 0) {  // the positions the next steps' displacements are measured from
+    const ParticleView<Real>& v = shared_.view;
+    const std::size_t bytes = shared_.count * sizeof(Real);
+    TALUS_CUDA_CHECK(cudaMemcpy(built_x_.data(), v.position.x, bytes, cudaMemcpyDeviceToDevice));
+    TALUS_CUDA_CHECK(cudaMemcpy(built_y_.data(), v.position.y, bytes, cudaMemcpyDeviceToDevice));
+    TALUS_CUDA_CHECK(cudaMemcpy(built_z_.data(), v.position.z, bytes, cudaMemcpyDeviceToDevice));
+  }
+}
+
+template <class Real>
+std::size_t DevicePairList<Real>::bytes() const {
+  return slot_state_.size() + slot_history_.size() * sizeof(ContactHistoryData<Real>) +
+         slot_forces_.size() * sizeof(SlotForce<Real>) +
+         (old_keys_.size() + store_keys_.size()) * sizeof(PairKey) + old_touching_.size() +
+         store_histories_.size() * sizeof(ContactHistoryData<Real>) +
+         (built_x_.size() + built_y_.size() + built_z_.size()) * sizeof(Real) +
+         largest_move_.size() * sizeof(unsigned long long) +
+         (entry_particle_.size() + entry_slot_.size() + sorted_particle_.size() +
+          sorted_slot_.size() + entry_begin_.size() + entry_end_.size()) *
+             sizeof(int) +
+         broad_phase_.allocated_bytes();
+}
+
+template class DevicePairList<double>;
+template class DevicePairList<float>;
+
+}  // namespace talus

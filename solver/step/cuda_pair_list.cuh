@@ -1,0 +1,76 @@
+// The CUDA step's pair list (a Verlet list) and its slots. The broad phase (ContactPairsGpu, with
+// the scene's skin) gives the candidate pairs; the list is kept until some particle has moved
+// 0.45 skin since it was built, and each candidate keeps its slot: the pair's tangential history
+// (volume model), its state and, in deterministic mode, its force. A rebuild carries the
+// touching slots' histories over to the new slots of the same pairs, by global ids (a sorted
+// store and find_pair_key), and in deterministic mode builds each particle's slots in slot order
+// (a CSR over the list) for the accumulation. Included only from .cu files.
+#pragma once
+
+#include <memory>
+
+#include "solver/neighbor/contact_pairs_gpu.hpp"
+#include "solver/step/cuda_step_common.cuh"
+
+namespace talus {
+
+template <class Real>
+class DevicePairList {
+ public:
+  // The list over the shared particles (positions, bounding radii) with the given skin
+  // (0: rebuilt every step); the scene's deterministic mode adds the slot forces and the CSR.
+  DevicePairList(DeviceStepShared<Real>& shared, Real skin);
+
+  // Rebuilds the list when it has expired (always on the first call).
+  void update();
+
+  int candidates() const { return candidates_; }
+  long long builds() const { return builds_; }
+  Real skin() const { return skin_; }
+  const ContactPair* pairs() const { return broad_phase_.device_pairs(); }
+  unsigned char* slot_state() { return slot_state_.data(); }
+  const unsigned char* slot_state() const { return slot_state_.data(); }
+  ContactHistoryData<Real>* histories() {  // volume model only, else null
+    return shared_.tables.volume_model ? slot_history_.data() : nullptr;
+  }
+  SlotForce<Real>* forces() {  // deterministic mode only, else null
+    return deterministic() ? slot_forces_.data() : nullptr;
+  }
+  const SlotForce<Real>* forces() const { return deterministic() ? slot_forces_.data() : nullptr; }
+  // Deterministic mode: particle i's slots are sorted_slot()[begin[i] .. end[i]), ascending.
+  const int* sorted_slot() const { return sorted_slot_.data(); }
+  const int* entry_begin() const { return entry_begin_.data(); }
+  const int* entry_end() const { return entry_end_.data(); }
+
+  // Device bytes of the list, its slots, the carry-over's scratch, the CSR and the positions
+  // the displacements are measured from.
+  std::size_t bytes() const;
+
+ private:
+  bool deterministic() const { return shared_.scene.deterministic; }
+  bool expired();
+  int store_touching_histories();
+  void carry_histories(int stored);
+  void build_csr();
+
+  DeviceStepShared<Real>& shared_;
+  ContactPairsGpu<Real> broad_phase_;
+  Real skin_ = 0;
+  long long builds_ = 0;
+  int candidates_ = 0;
+  DeviceBuffer<Real> built_x_, built_y_, built_z_;  // positions when the list was built
+  DeviceBuffer<unsigned long long> largest_move_;   // squared, as double bits
+  DeviceBuffer<unsigned char> slot_state_;
+  DeviceBuffer<ContactHistoryData<Real>> slot_history_;  // volume model
+  DeviceBuffer<SlotForce<Real>> slot_forces_;            // deterministic mode
+  // A rebuild's carry-over: every old slot's key and touching flag, then the store of the
+  // touching slots' keys and histories, sorted by key (volume model).
+  DeviceBuffer<PairKey> old_keys_, store_keys_;
+  DeviceBuffer<unsigned char> old_touching_;
+  DeviceBuffer<ContactHistoryData<Real>> store_histories_;
+  // Deterministic mode: each particle's slots (CSR over the list, built with it).
+  DeviceBuffer<int> entry_particle_, entry_slot_, sorted_particle_, sorted_slot_;
+  DeviceBuffer<int> entry_begin_, entry_end_;
+};
+
+}  // namespace talus

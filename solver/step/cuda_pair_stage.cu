@@ -1,0 +1,383 @@
+// The CUDA step's pair contacts (cuda_pair_stage.cuh): the kernels over the list's slots and
+// their launches.
+#include "solver/step/cuda_pair_stage.cuh"
+
+#include <cub/cub.cuh>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "solver/core/cub_call.cuh"
+#include "solver/step/pair_kernels.hpp"
+
+namespace talus {
+
+namespace {
+
+// ---- Pair contacts (pair_kernels.hpp) ----
+
+// The workspace capacity of the ordered pair (ia, ib): 0 when its geometry needs none (linear
+// model, spheres), else overlap_capacity_for of the two templates' faces, as the host picks it.
+template <class Real>
+TALUS_HD int pair_capacity(const BodyProperties<Real>& a, const BodyProperties<Real>& b,
+                           bool volume_model) {
+  if (!volume_model || a.sphere || b.sphere) return 0;
+  return overlap_capacity_for(a.faces + b.faces);
+}
+
+template <class Real>
+__device__ void atomic_add(const Soa3<Real>& s, int i, const Vec3<Real>& v) {
+  atomicAdd(s.x + i, v.x);
+  atomicAdd(s.y + i, v.y);
+  atomicAdd(s.z + i, v.z);
+}
+
+// The rest of slot k's work once its geometry g is known: the force law with the slot's history
+// (read and replaced in place: the list, and with it every pair's slot, stays until the next
+// rebuild, which carries the histories over), the slot's state, and the force: added to the
+// two particles at once by atomics (Atomic, deterministic: false) or kept in the slot for
+// accumulate_kernel. Returns whether the pair touches.
+template <class Real, bool Atomic>
+__device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Real>& t,
+                            const ContactPair& pair, int ia, int ib, int k,
+                            const PairGeometryData<Real>& g, Real spring_dt,
+                            ContactHistoryData<Real>* __restrict__ histories,
+                            SlotForce<Real>* __restrict__ forces,
+                            unsigned char* __restrict__ slot_state, int* flag) {
+  ContactHistoryData<Real> previous;
+  if (histories && g.in_contact) previous = histories[k];
+  const PairContactRecord<Real> r = pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
+  if (histories) histories[k] = r.in_contact ? r.history : ContactHistoryData<Real>();
+  slot_state[k] = !r.in_contact ? slot_apart : (ia == pair.a ? slot_a_first : slot_b_first);
+  if (r.degenerate) atomicMin(flag + degenerate_pair, k);
+  if (!r.in_contact) return false;
+  if constexpr (Atomic) {
+    atomic_add(p.force, ia, r.force_on_a);
+    atomic_add(p.force, ib, -r.force_on_a);
+    if (p.torque.present()) {
+      atomic_add(p.torque, ia, cross(r.point - p.position.get(ia), r.force_on_a));
+      atomic_add(p.torque, ib, cross(r.point - p.position.get(ib), -r.force_on_a));
+    }
+  } else {
+    forces[k] = SlotForce<Real>{r.force_on_a, r.point};
+  }
+  return true;
+}
+
+// Adds the block's touching slots to *touching (one atomic per block). Every thread calls it.
+__device__ void count_touching(bool in_contact, int* touching) {
+  const int block_touching = __syncthreads_count(in_contact);
+  if (threadIdx.x == 0 && block_touching > 0) atomicAdd(touching, block_touching);
+}
+
+// What each slot needs besides the list and its own arrays.
+template <class Real>
+struct SlotArgs {
+  const ContactPair* pairs = nullptr;
+  Real spring_dt = 0;
+  ContactHistoryData<Real>* histories = nullptr;  // volume model
+  SlotForce<Real>* forces = nullptr;              // deterministic mode
+  unsigned char* slot_state = nullptr;
+  int* flag = nullptr;
+  int* touching = nullptr;
+};
+
+// One thread per slot of the pair list (or of the given `slots`), the whole pair in one thread;
+// this launch computes only the pairs of workspace capacity `Capacity` (another launch per
+// capacity present in the scene computes the rest), so a thread's local memory is the
+// workspace of its own template pair. Used for the linear model and spheres (Capacity 0), for
+// template pairs with more than 64 faces together, and for the few pairs the phased kernels
+// defer.
+template <class Real, int Capacity, bool Atomic>
+__global__ void __launch_bounds__(kBlock)
+    pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, const int* slots,
+                int count) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  bool in_contact = false;
+  if (j < count) {
+    const int k = slots ? slots[j] : j;
+    const ContactPair pair = s.pairs[k];
+    int ia, ib;
+    order_pair(p, t, pair.a, pair.b, ia, ib);
+    const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+    const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+    if (pair_capacity(a, b, t.volume_model) == Capacity) {
+      PairGeometryData<Real> g;
+      if constexpr (Capacity == 0) {
+        g = simple_pair_geometry(p, t, ia, ib);
+      } else {
+        const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
+        const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
+        OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+        g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
+      }
+      in_contact = finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories,
+                                             s.forces, s.slot_state, s.flag);
+    }
+  }
+  count_touching(in_contact, s.touching);
+}
+
+// ---- The phased pair stage: polyhedron pairs of at most 64 faces together ----
+// A thread's overlap workspace is sized for every face plane of its two templates (3.7 KB in
+// double for two dodecahedra), but a shallow contact keeps only a few planes after culling.
+// Phase 1 culls (GJK, then overlap_cull_mask: a 64-bit mask of the kept planes); the slots are
+// then sorted by their number of kept planes, and phase 2 builds the polytope with a workspace
+// of 8, 16, 32 or 64 planes, one launch per size over its range of the sorted slots, so a warp's
+// pairs do similar work in little local memory (the overlap batch's phased_sorted kernel,
+// benchmarks/README.md). The result is overlap_polyhedra's bit for bit (overlap_from_mask).
+constexpr int kMaxMaskPlanes = 64;
+constexpr unsigned char kOtherPath = 255;  // a slot phase 1 leaves to pair_kernel
+
+// Phase 1. key[k]: 0 when the slot is settled here (GJK or the culling decides it apart),
+// m + 1 with m kept planes, kOtherPath when the pair is not a phased one (a sphere, the linear
+// model, more than 64 faces). `histogram` counts the keys 0 .. 65 (one atomic per block and key).
+// Register-bound: 164 registers a thread left 6 warps per SM; capped for 4 blocks (16 warps)
+// the kernel ran 1.2x faster in the step (H100, the 1e6 bed: pair stage 23.4 -> 21.5 ms), while
+// the polytope kernel's caps (6 or 8 blocks) spilled and lost 1.2-1.5x.
+template <class Real>
+__global__ void __launch_bounds__(kBlock, 4)
+    cull_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, int count,
+                     unsigned long long* __restrict__ masks, unsigned char* __restrict__ keys,
+                     int* __restrict__ order, int* __restrict__ histogram) {
+  __shared__ int block_histogram[kMaxMaskPlanes + 2];
+  for (int b = threadIdx.x; b < kMaxMaskPlanes + 2; b += blockDim.x) block_histogram[b] = 0;
+  __syncthreads();
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k < count) {
+    const ContactPair pair = s.pairs[k];
+    int ia, ib;
+    order_pair(p, t, pair.a, pair.b, ia, ib);
+    const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+    const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+    unsigned char key = kOtherPath;
+    if (pair_capacity(a, b, t.volume_model) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
+      const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
+      const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
+      // As polyhedra_volume_geometry: GJK first, then the overlap's own culling.
+      PairGeometryData<Real> g;
+      int kept = -1;
+      if (gjk_intersect(a.shape, pose_a, b.shape, pose_b).intersecting) {
+        OverlapResult<Real> result;
+        unsigned long long mask = 0;
+        kept = overlap_cull_mask(a.shape, pose_a, b.shape, pose_b, OverlapOptions(), mask, result);
+        if (kept >= 0)
+          masks[k] = mask;
+        else
+          g = volume_geometry_from(result);  // separate, touching or degenerate: no contact
+      }
+      if (kept < 0) {
+        finish_slot<Real, false>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories, s.forces,
+                                 s.slot_state, s.flag);
+        key = 0;
+      } else {
+        key = static_cast<unsigned char>(kept + 1);
+      }
+      atomicAdd(&block_histogram[key], 1);
+    }
+    keys[k] = key;
+    order[k] = k;
+  }
+  __syncthreads();
+  for (int b = threadIdx.x; b < kMaxMaskPlanes + 2; b += blockDim.x)
+    if (block_histogram[b] > 0) atomicAdd(&histogram[b], block_histogram[b]);
+}
+
+// Phase 2 over the sorted slots order[begin .. begin + count): the polytope from the slot's mask
+// in a workspace of Cap planes, then the force. A pair the workspace cannot hold (the hull
+// needs more room than its planes suggest; rare) is appended to `deferred` for pair_kernel.
+template <class Real, int Cap, bool Atomic>
+__global__ void __launch_bounds__(kBlock)
+    polytope_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s,
+                         const int* __restrict__ order, int begin, int count,
+                         const unsigned long long* __restrict__ masks, int* deferred,
+                         int* deferred_count) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  bool in_contact = false;
+  if (j < count) {
+    const int k = order[begin + j];
+    const ContactPair pair = s.pairs[k];
+    int ia, ib;
+    order_pair(p, t, pair.a, pair.b, ia, ib);
+    const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
+    const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
+    const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
+    const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
+    OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
+    const OverlapResult<Real> overlap =
+        overlap_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], workspace);
+    if (overlap.workspace_overrun) {
+      deferred[atomicAdd(deferred_count, 1)] = k;
+    } else {
+      in_contact =
+          finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, volume_geometry_from(overlap),
+                                    s.spring_dt, s.histories, s.forces, s.slot_state, s.flag);
+    }
+  }
+  count_touching(in_contact, s.touching);
+}
+
+// What each slot needs besides the particles and the tables.
+template <class Real>
+SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
+                         Real spring_dt) {
+  SlotArgs<Real> a;
+  a.pairs = list.pairs();
+  a.spring_dt = spring_dt;
+  a.histories = list.histories();
+  a.forces = list.forces();
+  a.slot_state = list.slot_state();
+  a.flag = shared.flags.data();
+  a.touching = shared.flags.at(touching_pairs);
+  return a;
+}
+
+}  // namespace
+
+template <class Real>
+DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
+                                       const std::vector<BodyProperties<Real>>& host_bodies)
+    : shared_(shared), list_(list) {
+  // One pair launch per workspace capacity among the scene's template pairs.
+  for (const BodyProperties<Real>& a : host_bodies) {
+    for (const BodyProperties<Real>& b : host_bodies) {
+      const int capacity = pair_capacity(a, b, shared.tables.volume_model);
+      if (std::find(capacities_.begin(), capacities_.end(), capacity) == capacities_.end())
+        capacities_.push_back(capacity);
+    }
+  }
+  std::sort(capacities_.begin(), capacities_.end());
+  // The phased path when some template pair has at most 64 planes: its capacity is then 32 or
+  // 64 (a pair with more goes to pair_kernel with its own capacity).
+  for (const int capacity : capacities_)
+    phased_ = phased_ || (capacity > 0 && capacity <= kMaxMaskPlanes);
+}
+
+// pair_kernel for the pairs of capacity Capacity among `slots` (all slots when null).
+template <class Real>
+template <int Capacity>
+void DevicePairStage<Real>::launch_pairs(const int* slots, int n) {
+  if (n <= 0) return;
+  const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
+  const ParticleView<Real>& v = shared_.view;
+  if (shared_.scene.deterministic) {
+    pair_kernel<Real, Capacity, false>
+        <<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
+  } else {
+    pair_kernel<Real, Capacity, true><<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
+  }
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+template <class Real>
+void DevicePairStage<Real>::launch_pairs(int capacity, const int* slots, int n) {
+  switch (capacity) {
+    case 0:
+      return launch_pairs<0>(slots, n);
+    case 32:
+      return launch_pairs<32>(slots, n);
+    case 64:
+      return launch_pairs<64>(slots, n);
+    case 128:
+      return launch_pairs<128>(slots, n);
+    default:
+      return launch_pairs<256>(slots, n);
+  }
+}
+
+// Phase 2 for the workspace sizes Cap, 2 Cap, ... up to 64: each over the sorted slots whose
+// kept planes fit it and not the size before (keys below + 2 .. Cap + 1).
+template <class Real>
+template <int Cap>
+void DevicePairStage<Real>::launch_polytopes(const std::vector<int>& counts, int begin, int below) {
+  int end = begin;
+  for (int m = below + 1; m <= Cap; ++m) end += counts[m + 1];
+  const int n = end - begin;
+  if (n > 0) {
+    const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
+    const auto launch = [&](auto kernel) {
+      kernel<<<blocks_for(n), kBlock>>>(shared_.view, shared_.tables, args, sorted_order_.data(),
+                                        begin, n, masks_.data(), deferred_.data(),
+                                        shared_.flags.at(deferred_pairs));
+      TALUS_CUDA_LAUNCH_CHECK();
+    };
+    if (shared_.scene.deterministic) {
+      launch(polytope_pair_kernel<Real, Cap, false>);
+    } else {
+      launch(polytope_pair_kernel<Real, Cap, true>);
+    }
+  }
+  if constexpr (Cap < kMaxMaskPlanes) launch_polytopes<Cap * 2>(counts, end, Cap);
+}
+
+// The phased path over every slot: cull, sort by kept planes, polytopes, deferred pairs.
+template <class Real>
+void DevicePairStage<Real>::compute_phased() {
+  const int n = list_.candidates();
+  masks_.grow_to(n), keys_.grow_to(n), sorted_keys_.grow_to(n);
+  order_.grow_to(n), sorted_order_.grow_to(n);
+  histogram_.grow_to(kMaxMaskPlanes + 2);
+  TALUS_CUDA_CHECK(cudaMemset(histogram_.data(), 0, histogram_.size() * sizeof(int)));
+  cull_pair_kernel<<<blocks_for(n), kBlock>>>(
+      shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_), n, masks_.data(),
+      keys_.data(), order_.data(), histogram_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  // Stable: slots of one key stay in slot order. kOtherPath (255) sorts last.
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), order_.data(),
+                                           sorted_order_.data(), n, 0, 8);
+  });
+  const std::vector<int> counts = download(histogram_.data(), kMaxMaskPlanes + 2);
+  deferred_.grow_to(n);
+  launch_polytopes<8>(counts, counts[0], -1);
+  const int late = shared_.flags.read(deferred_pairs);
+  for (const int capacity : capacities_) {
+    if (capacity > 0 && capacity <= kMaxMaskPlanes) launch_pairs(capacity, deferred_.data(), late);
+  }
+}
+
+template <class Real>
+void DevicePairStage<Real>::compute(Real spring_dt) {
+  contact_count_ = 0;
+  contact_count_ready_ = true;
+  const int candidates = list_.candidates();
+  if (candidates == 0) return;
+  spring_dt_ = spring_dt;
+  if (phased_) compute_phased();
+  for (const int capacity : capacities_) {
+    if (!phased_ || capacity == 0 || capacity > kMaxMaskPlanes)
+      launch_pairs(capacity, nullptr, candidates);
+  }
+  const int bad = shared_.flags.read(degenerate_pair);
+  if (bad != INT_MAX) {
+    const ContactPair pair = download(list_.pairs() + bad, 1)[0];
+    throw std::runtime_error(
+        shared_.scene.file + ": particles " + std::to_string(shared_.global_id(pair.a)) + " and " +
+        std::to_string(shared_.global_id(pair.b)) +
+        ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
+        "workspace cannot hold)");
+  }
+  contact_count_ready_ = false;  // flag[touching_pairs], read when asked
+}
+
+template <class Real>
+long long DevicePairStage<Real>::touching_count() const {
+  if (!contact_count_ready_) {
+    contact_count_ = shared_.flags.read(touching_pairs);
+    contact_count_ready_ = true;
+  }
+  return contact_count_;
+}
+
+template <class Real>
+std::size_t DevicePairStage<Real>::bytes() const {
+  return (order_.size() + sorted_order_.size() + deferred_.size() + histogram_.size()) *
+             sizeof(int) +
+         masks_.size() * sizeof(unsigned long long) + keys_.size() + sorted_keys_.size();
+}
+
+template class DevicePairStage<double>;
+template class DevicePairStage<float>;
+
+}  // namespace talus

@@ -1,0 +1,57 @@
+// The CUDA step's pair contacts (stage pair_contacts): every slot of the pair list through its
+// contact geometry, the force law with the slot's history, and the force (kept in the slot for
+// the deterministic accumulation, or added to both particles by atomics). Polyhedron pairs of
+// the volume model with at most 64 faces together go through the phased path: a culling kernel
+// (GJK, then the kept planes as a 64-bit mask), the slots sorted by their number of kept planes,
+// and one polytope kernel per workspace size (8, 16, 32, 64 planes), so that a warp's pairs do
+// similar work in little local memory; the few pairs whose hull overruns the small workspace are
+// deferred to the whole-pair kernel. Other pairs (spheres, the linear model, larger templates)
+// run whole in one thread with the workspace of their templates' capacity, one launch per
+// capacity the scene has. Included only from .cu files.
+#pragma once
+
+#include <vector>
+
+#include "solver/step/cuda_pair_list.cuh"
+
+namespace talus {
+
+template <class Real>
+class DevicePairStage {
+ public:
+  // The workspace capacities come from the scene's templates (host views, for their counts of
+  // faces) under the shared tables' contact model.
+  DevicePairStage(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
+                  const std::vector<BodyProperties<Real>>& host_bodies);
+
+  // Every slot of the list. Throws std::runtime_error naming the two particles when a pair's
+  // geometry is degenerate. spring_dt: 0 in the evaluation at t = 0, else the step.
+  void compute(Real spring_dt);
+
+  // Pairs touching at the last evaluation (read from the device on the first call after it).
+  long long touching_count() const;
+  // Device bytes of the phased path's masks, keys, orders and deferral list.
+  std::size_t bytes() const;
+
+ private:
+  void launch_pairs(int capacity, const int* slots, int n);
+  template <int Capacity>
+  void launch_pairs(const int* slots, int n);
+  template <int Cap>
+  void launch_polytopes(const std::vector<int>& counts, int begin, int below);
+  void compute_phased();
+
+  DeviceStepShared<Real>& shared_;
+  DevicePairList<Real>& list_;
+  std::vector<int> capacities_;  // the workspace capacities of the scene's template pairs
+  bool phased_ = false;
+  Real spring_dt_ = 0;
+  mutable long long contact_count_ = 0;
+  mutable bool contact_count_ready_ = true;
+  // The phased path: per slot a mask of kept planes and a key (its number of planes).
+  DeviceBuffer<unsigned long long> masks_;
+  DeviceBuffer<unsigned char> keys_, sorted_keys_;
+  DeviceBuffer<int> order_, sorted_order_, deferred_, histogram_;
+};
+
+}  // namespace talus

@@ -1,0 +1,142 @@
+// What the CUDA step's parts share (cuda_step.cu and the stages it owns: cuda_pair_list,
+// cuda_pair_stage, cuda_wall_stage): the launch shape, the flags kernels raise, the per-slot
+// records the pair stage writes and the accumulation reads, the double-buffered history store,
+// and DeviceStepShared, the device state every stage reads. Included only from .cu files.
+#pragma once
+
+#include <chrono>
+#include <climits>
+#include <vector>
+
+#include "solver/contact/tangential_history.hpp"
+#include "solver/core/cuda_check.hpp"
+#include "solver/core/device_buffer.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/step/contact_stage.hpp"
+#include "solver/step/particle_state.hpp"
+
+namespace talus {
+
+constexpr int kBlock = 128;
+
+inline int blocks_for(long long n) {
+  return static_cast<int>((n + kBlock - 1) / kBlock);
+}
+
+inline double clock_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+template <class T>
+std::vector<T> download(const T* device, std::size_t count) {
+  std::vector<T> host(count);
+  if (count > 0) {
+    TALUS_CUDA_CHECK(cudaMemcpy(host.data(), device, count * sizeof(T), cudaMemcpyDeviceToHost));
+  }
+  return host;
+}
+
+// Flags the kernels raise (the lowest index wins: atomicMin) or count in (atomicAdd), read after
+// their stage.
+enum Flag {
+  failed_rotation = 0,
+  degenerate_pair = 1,
+  degenerate_wall = 2,
+  selected = 3,
+  touching_pairs = 4,
+  deferred_pairs = 5,
+  touching_walls = 6,
+  flags
+};
+
+class DeviceFlags {
+ public:
+  // On the device once the scene's checks have passed (the step allocates nothing before).
+  void allocate() { values_.resize(flags); }
+  // Before each evaluation: no failure (INT_MAX, as atomicMin wants), no counts.
+  void reset() {
+    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0, 0};
+    TALUS_CUDA_CHECK(cudaMemcpy(values_.data(), none, sizeof(none), cudaMemcpyHostToDevice));
+  }
+  int read(Flag which) const {
+    int value = 0;
+    TALUS_CUDA_CHECK(
+        cudaMemcpy(&value, values_.data() + which, sizeof(int), cudaMemcpyDeviceToHost));
+    return value;
+  }
+  void clear(Flag which) { TALUS_CUDA_CHECK(cudaMemset(values_.data() + which, 0, sizeof(int))); }
+  int* data() { return values_.data(); }
+  int* at(Flag which) { return values_.data() + which; }
+
+ private:
+  DeviceBuffer<int> values_;
+};
+
+// What a touching candidate slot k holds for the accumulation (deterministic mode): the force on
+// its ordered A and the contact point; slot_state[k] says whether it touches and which of
+// pairs[k].a, pairs[k].b is A.
+template <class Real>
+struct SlotForce {
+  Vec3<Real> force_on_a;  // N; B gets the opposite
+  Vec3<Real> point;       // m
+};
+enum SlotState : unsigned char { slot_apart = 0, slot_a_first = 1, slot_b_first = 2 };
+
+struct KeyLess {
+  __host__ __device__ bool operator()(const PairKey& p, const PairKey& q) const {
+    return key_less(p, q);
+  }
+};
+
+struct HistoryIn {
+  const PairKey* keys;
+  int count;
+};
+
+// A sorted history store (keys and their histories) in device memory, double-buffered: a stage
+// reads the current one while the next is written into the other.
+template <class Real>
+struct DeviceHistory {
+  DeviceBuffer<PairKey> keys[2];
+  DeviceBuffer<ContactHistoryData<Real>> histories[2];
+  int current = 0, count = 0;
+  HistoryIn in() const { return {keys[current].data(), count}; }
+  const ContactHistoryData<Real>* values() const { return histories[current].data(); }
+  // The buffers of the next store, with room for n entries.
+  PairKey* next_keys(int n) {
+    keys[1 - current].grow_to(n);
+    return keys[1 - current].data();
+  }
+  ContactHistoryData<Real>* next_histories(int n) {
+    histories[1 - current].grow_to(n);
+    return histories[1 - current].data();
+  }
+  // The next store, once filled with n entries (sorted), becomes the current one.
+  void flip(int n) {
+    current = 1 - current;
+    count = n;
+  }
+  std::size_t bytes() const {
+    return (keys[0].size() + keys[1].size()) * sizeof(PairKey) +
+           (histories[0].size() + histories[1].size()) * sizeof(ContactHistoryData<Real>);
+  }
+};
+
+// The device state every stage of the CUDA step reads, owned by the step: the particles (device
+// pointers), the pair-law tables (device pointers), the flags, CUB's scratch and the global ids
+// (for error messages and history keys).
+template <class Real>
+struct DeviceStepShared {
+  explicit DeviceStepShared(const Scene& s) : scene(s) {}
+  const Scene& scene;
+  int count = 0;
+  ParticleView<Real> view;
+  PairLawTables<Real> tables;
+  DeviceFlags flags;
+  DeviceBuffer<unsigned char> temp;
+  DeviceBuffer<long long> global_ids;
+
+  long long global_id(int i) const { return download(global_ids.data() + i, 1)[0]; }
+};
+
+}  // namespace talus

@@ -1,0 +1,309 @@
+// The CUDA step's wall contacts (cuda_wall_stage.cuh): the kernels and their launches, the
+// walls' upload and placement, the ordering of the touching records, the history store.
+#include "solver/step/cuda_wall_stage.cuh"
+
+#include <cub/cub.cuh>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "solver/core/cub_call.cuh"
+#include "solver/step/wall_kernels.hpp"
+
+namespace talus {
+
+namespace {
+
+template <class Real>
+struct WallArgs {
+  const WallFacets<Real>* facets = nullptr;  // per wall: device corners and grid
+  const WallMotionData<Real>* motions = nullptr;
+  const int* materials = nullptr;
+  int walls = 0;
+};
+
+// One thread per (particle, wall), wall-major (thread w * count + i). Only the touching records
+// are kept (a few per cent of the particle-wall pairs in a bed), appended in arrival order to
+// `touching[0 .. capacity)`, their number counted in flag[touching_walls] even past the capacity
+// (the caller then grows the buffer and runs the kernel again: it only reads the old histories, so
+// a second run writes the same records); order_wall_contacts then puts them in wall-major order.
+template <class Real>
+__global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
+                            Real spring_dt, HistoryIn old,
+                            const ContactHistoryData<Real>* __restrict__ histories,
+                            WallContactRecord<Real>* __restrict__ touching, int capacity,
+                            int* flag) {
+  const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= static_cast<long long>(p.count) * walls.walls) return;
+  const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
+  const WallContactRecord<Real> r =
+      wall_contact(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w], spring_dt,
+                   old.keys, histories, old.count);
+  if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
+  if (!r.in_contact) return;
+  const int at = atomicAdd(flag + touching_walls, 1);
+  if (at < capacity) touching[at] = r;
+}
+
+// The sort key of touching record j, wall-major as the host's order: wall * count + particle.
+template <class Real>
+__global__ void wall_contact_keys(const WallContactRecord<Real>* __restrict__ touching, int n,
+                                  int count, long long* __restrict__ keys,
+                                  int* __restrict__ index) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= n) return;
+  keys[j] = static_cast<long long>(touching[j].wall) * count + touching[j].particle;
+  index[j] = j;
+}
+
+// The touching records in key order, and each (particle, wall)'s place among them (wall_slot,
+// -1 elsewhere: cleared before the wall kernel).
+template <class Real>
+__global__ void order_wall_contacts(const WallContactRecord<Real>* __restrict__ touching,
+                                    const long long* __restrict__ sorted_keys,
+                                    const int* __restrict__ sorted_index, int n,
+                                    WallContactRecord<Real>* __restrict__ contacts,
+                                    int* __restrict__ wall_slot) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= n) return;
+  contacts[s] = touching[sorted_index[s]];
+  wall_slot[sorted_keys[s]] = s;
+}
+
+// A moving wall's corners where it is now (one thread per corner): the mesh-frame corner moved
+// in double by the transform the host computed (wall_transform), then rounded to Real, as
+// WallContactStage::place does on the host (the same arithmetic, but for nvcc's fused
+// multiply-adds). Placing here rather than on the host saves the host's loop over every corner
+// and the upload of all of them each step; only the transform crosses.
+template <class Real>
+__global__ void place_wall_kernel(const Vec3d* __restrict__ mesh_corners, int n, Quatd rotation,
+                                  Vec3d translation, Vec3<Real>* __restrict__ corners) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  corners[k] = Vec3<Real>(rotate(rotation, mesh_corners[k]) + translation);
+}
+
+// The next history store from the touching contacts (sorted afterwards).
+template <class Record, class Real>
+__global__ void copy_histories(const Record* __restrict__ contacts, int count,
+                               PairKey* __restrict__ keys,
+                               ContactHistoryData<Real>* __restrict__ histories) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  keys[k] = contacts[k].key;
+  histories[k] = contacts[k].history;
+}
+
+}  // namespace
+
+template <class Real>
+DeviceWallStage<Real>::DeviceWallStage(DeviceStepShared<Real>& shared,
+                                       std::unique_ptr<WallContactStage<Real>> host, double time)
+    : shared_(shared), host_(std::move(host)) {
+  motions_.upload(host_->motions());
+  std::vector<int> materials;
+  for (const auto& w : shared.scene.walls) materials.push_back(w.material);
+  materials_.upload(materials);
+  upload(time);
+}
+
+// Once, at construction: the grids and the static walls' corners (placed on the host at `time`
+// by the host stage), and the moving walls' mesh-frame corners.
+template <class Real>
+void DeviceWallStage<Real>::upload(double time) {
+  WallContactStage<Real>& hw = *host_;
+  hw.place(time);
+  const int walls = static_cast<int>(shared_.scene.walls.size());
+  std::vector<Vec3<Real>> all;
+  std::vector<Vec3d> moving;
+  std::vector<int> cells, entries;
+  std::vector<std::size_t> cell_at(walls), entry_at(walls);
+  corner_at_.assign(walls, 0);
+  mesh_corner_at_.assign(walls, -1);
+  for (int w = 0; w < walls; ++w) {
+    const TriangleMesh& mesh = hw.mesh(w);
+    corner_at_[w] = static_cast<long long>(all.size());
+    if (hw.moves(w)) {
+      mesh_corner_at_[w] = static_cast<long long>(moving.size());
+      for (const std::array<int, 3>& t : mesh.triangles) {
+        for (const int k : t) moving.push_back(mesh.vertices[k]);
+      }
+      all.resize(all.size() + 3 * mesh.triangles.size());  // placed each step
+    } else {
+      all.insert(all.end(), hw.corners(w).begin(), hw.corners(w).end());
+    }
+    cell_at[w] = cells.size();
+    entry_at[w] = entries.size();
+    if (const FacetGrid<Real>* g = hw.grid(w)) {
+      cells.insert(cells.end(), g->cell_start().begin(), g->cell_start().end());
+      entries.insert(entries.end(), g->cell_facets().begin(), g->cell_facets().end());
+    }
+  }
+  corners_.upload(all);
+  mesh_corners_.upload(moving);
+  grid_cells_.upload(cells);
+  grid_facets_.upload(entries);
+  wall_views_.resize(walls);
+  for (int w = 0; w < walls; ++w) {
+    wall_views_[w] = hw.facets(w);
+    wall_views_[w].corners = corners_.data() + corner_at_[w];
+    if (const FacetGrid<Real>* g = hw.grid(w)) {
+      wall_views_[w].grid =
+          g->view_of(grid_cells_.data() + cell_at[w], grid_facets_.data() + entry_at[w]);
+    }
+  }
+  facets_.upload(wall_views_);
+}
+
+// The walls at `time`: each moving wall's present corners placed by a kernel (one thread per
+// corner) with the transform computed here, in double as on the host; the per-wall views
+// uploaded again only when a count or a transform changed (a few hundred bytes).
+template <class Real>
+void DeviceWallStage<Real>::place(double time) {
+  host_->locate(time);
+  bool changed = false;
+  for (std::size_t w = 0; w < wall_views_.size(); ++w) {
+    const WallFacets<Real>& now = host_->facets(static_cast<int>(w));
+    WallFacets<Real>& view = wall_views_[w];
+    if (mesh_corner_at_[w] >= 0) {
+      const RigidTransform transform = wall_transform(shared_.scene.walls[w].motion, time);
+      const int n = 3 * now.count;
+      if (n > 0) {
+        place_wall_kernel<<<blocks_for(n), kBlock>>>(mesh_corners_.data() + mesh_corner_at_[w], n,
+                                                     transform.rotation, transform.translation,
+                                                     corners_.data() + corner_at_[w]);
+        TALUS_CUDA_LAUNCH_CHECK();
+      }
+      view.rotation = now.rotation;
+      view.translation = now.translation;
+      changed = true;
+    }
+    if (view.count != now.count) {
+      view.count = now.count;
+      changed = true;
+    }
+  }
+  if (changed) facets_.upload(wall_views_);
+}
+
+template <class Real>
+void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
+  place(time);
+  const int count = shared_.count;
+  WallArgs<Real> args;
+  args.facets = facets_.data();
+  args.motions = motions_.data();
+  args.materials = materials_.data();
+  args.walls = walls();
+  const long long n = static_cast<long long>(count) * args.walls;
+  contact_count_ = 0;
+  if (n > 0) {
+    wall_slot_.grow_to(n);
+    TALUS_CUDA_CHECK(cudaMemset(wall_slot_.data(), 0xff, n * sizeof(int)));  // -1
+    // Room for the touching records: what the last step needed (at first 64), doubled when the
+    // counter says the kernel overflowed it, which runs it again (GpuStep tests with walls
+    // overflow on their first evaluation).
+    if (touching_.size() == 0) touching_.grow_to(std::min<long long>(n, 64));
+    for (;;) {
+      const int capacity = static_cast<int>(touching_.size());
+      wall_kernel<<<blocks_for(n), kBlock>>>(shared_.view, shared_.tables, args, spring_dt,
+                                             history_.in(), history_.values(), touching_.data(),
+                                             capacity, shared_.flags.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      const int bad = shared_.flags.read(degenerate_wall);
+      if (bad != INT_MAX) {
+        throw std::runtime_error(shared_.scene.file + ": particle " +
+                                 std::to_string(shared_.global_id(bad % count)) +
+                                 " against wall '" + shared_.scene.walls[bad / count].name +
+                                 "': a facet's clipping failed (section capacity)");
+      }
+      contact_count_ = shared_.flags.read(touching_walls);
+      if (contact_count_ <= capacity) break;
+      touching_.grow_to(std::min<long long>(n, 2LL * contact_count_));
+      shared_.flags.clear(touching_walls);
+    }
+  }
+  if (contact_count_ > 0) sort_records(n);
+  if (shared_.tables.volume_model) rebuild_history();
+  sums_ready_ = false;
+}
+
+// The touching records into wall-major order (as the host's), each pair's slot recorded.
+template <class Real>
+void DeviceWallStage<Real>::sort_records(long long pairs) {
+  const int m = contact_count_;
+  keys_.grow_to(m), sorted_keys_.grow_to(m);
+  index_.grow_to(m), sorted_index_.grow_to(m), contacts_.grow_to(m);
+  wall_contact_keys<<<blocks_for(m), kBlock>>>(touching_.data(), m, shared_.count, keys_.data(),
+                                               index_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int bits = 1;
+  while (bits < 63 && (1LL << bits) < pairs) ++bits;
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), index_.data(),
+                                           sorted_index_.data(), m, 0, bits);
+  });
+  order_wall_contacts<<<blocks_for(m), kBlock>>>(touching_.data(), sorted_keys_.data(),
+                                                 sorted_index_.data(), m, contacts_.data(),
+                                                 wall_slot_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+// The next history store: the touching contacts' keys and histories, sorted by key.
+template <class Real>
+void DeviceWallStage<Real>::rebuild_history() {
+  const int n = contact_count_;
+  PairKey* keys = history_.next_keys(n);
+  ContactHistoryData<Real>* histories = history_.next_histories(n);
+  if (n > 0) {
+    copy_histories<<<blocks_for(n), kBlock>>>(contacts_.data(), n, keys, histories);
+    TALUS_CUDA_LAUNCH_CHECK();
+    cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+      return cub::DeviceMergeSort::SortPairs(t, b, keys, histories, n, KeyLess());
+    });
+  }
+  history_.flip(n);
+}
+
+template <class Real>
+void DeviceWallStage<Real>::sum() const {
+  if (sums_ready_) return;
+  const std::size_t walls = shared_.scene.walls.size();
+  force_.assign(walls, Vec3d());
+  torque_.assign(walls, Vec3d());
+  // As WallContactStage::accumulate: in order, in double.
+  for (const WallContactRecord<Real>& c : download(contacts_.data(), contact_count_)) {
+    force_[c.wall] -= Vec3d(c.force);
+    torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
+  }
+  sums_ready_ = true;
+}
+
+template <class Real>
+Vec3d DeviceWallStage<Real>::force(int w) const {
+  sum();
+  return force_.at(w);
+}
+
+template <class Real>
+Vec3d DeviceWallStage<Real>::torque(int w) const {
+  sum();
+  return torque_.at(w);
+}
+
+template <class Real>
+std::size_t DeviceWallStage<Real>::bytes() const {
+  return corners_.size() * sizeof(Vec3<Real>) + mesh_corners_.size() * sizeof(Vec3d) +
+         (grid_cells_.size() + grid_facets_.size() + materials_.size()) * sizeof(int) +
+         facets_.size() * sizeof(WallFacets<Real>) +
+         motions_.size() * sizeof(WallMotionData<Real>) + history_.bytes() +
+         (touching_.size() + contacts_.size()) * sizeof(WallContactRecord<Real>) +
+         (keys_.size() + sorted_keys_.size()) * sizeof(long long) +
+         (index_.size() + sorted_index_.size() + wall_slot_.size()) * sizeof(int);
+}
+
+template class DeviceWallStage<double>;
+template class DeviceWallStage<float>;
+
+}  // namespace talus
