@@ -252,6 +252,16 @@ DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePai
   // 64 (a pair with more goes to pair_kernel with its own capacity).
   for (const int capacity : capacities_)
     phased_ = phased_ || (capacity > 0 && capacity <= kMaxMaskPlanes);
+  if (phased_) {
+    for (cudaStream_t& stream : streams_) TALUS_CUDA_CHECK(cudaStreamCreate(&stream));
+  }
+}
+
+template <class Real>
+DevicePairStage<Real>::~DevicePairStage() {
+  for (cudaStream_t stream : streams_) {
+    if (stream) cudaStreamDestroy(stream);  // no throw from a destructor
+  }
 }
 
 // pair_kernel for the pairs of capacity Capacity among `slots` (all slots when null).
@@ -286,29 +296,23 @@ void DevicePairStage<Real>::launch_pairs(int capacity, const int* slots, int n) 
   }
 }
 
-// Phase 2 for the workspace sizes Cap, 2 Cap, ... up to 64: each over the sorted slots whose
-// kept planes fit it and not the size before (keys below + 2 .. Cap + 1).
+// Phase 2 with a workspace of Cap planes over the sorted slots [begin, begin + n), on `stream`.
 template <class Real>
 template <int Cap>
-void DevicePairStage<Real>::launch_polytopes(const std::vector<int>& counts, int begin, int below) {
-  int end = begin;
-  for (int m = below + 1; m <= Cap; ++m) end += counts[m + 1];
-  const int n = end - begin;
-  if (n > 0) {
-    const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
-    const auto launch = [&](auto kernel) {
-      kernel<<<blocks_for(n), kBlock>>>(shared_.view, shared_.tables, args, sorted_order_.data(),
-                                        begin, n, masks_.data(), deferred_.data(),
-                                        shared_.flags.at(deferred_pairs));
-      TALUS_CUDA_LAUNCH_CHECK();
-    };
-    if (shared_.scene.deterministic) {
-      launch(polytope_pair_kernel<Real, Cap, false>);
-    } else {
-      launch(polytope_pair_kernel<Real, Cap, true>);
-    }
+void DevicePairStage<Real>::launch_polytopes(int begin, int n, cudaStream_t stream) {
+  if (n <= 0) return;
+  const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
+  const auto launch = [&](auto kernel) {
+    kernel<<<blocks_for(n), kBlock, 0, stream>>>(
+        shared_.view, shared_.tables, args, sorted_order_.data(), begin, n, masks_.data(),
+        deferred_.data(), shared_.flags.at(deferred_pairs));
+    TALUS_CUDA_LAUNCH_CHECK();
+  };
+  if (shared_.scene.deterministic) {
+    launch(polytope_pair_kernel<Real, Cap, false>);
+  } else {
+    launch(polytope_pair_kernel<Real, Cap, true>);
   }
-  if constexpr (Cap < kMaxMaskPlanes) launch_polytopes<Cap * 2>(counts, end, Cap);
 }
 
 // The phased path over every slot: cull, sort by kept planes, polytopes, deferred pairs.
@@ -330,7 +334,24 @@ void DevicePairStage<Real>::compute_phased() {
   });
   const std::vector<int> counts = download(histogram_.data(), kMaxMaskPlanes + 2);
   deferred_.grow_to(n);
-  launch_polytopes<8>(counts, counts[0], -1);
+  // The sorted slots of keys 1 .. 9 need 8 planes, 10 .. 17 16, and so on. Each workspace size
+  // runs on a stream of its own: a small bucket (a few thousand deep pairs among millions) then
+  // runs beside the large one instead of as a tail with the GPU nearly idle. The streams are
+  // blocking ones: they start after the sort on the default stream, and the flag read below
+  // waits for all of them. The larger sizes are launched first so that their blocks are
+  // scheduled early.
+  static_assert((8 << (kPolytopeSizes - 1)) == kMaxMaskPlanes, "8, 16, 32, 64 planes");
+  int begin[kPolytopeSizes + 1];
+  begin[0] = counts[0];
+  for (int size = 0, m = 0; size < kPolytopeSizes; ++size) {
+    begin[size + 1] = begin[size];
+    for (; m <= (8 << size); ++m) begin[size + 1] += counts[m + 1];
+  }
+  const auto bucket = [&](int size) { return begin[size + 1] - begin[size]; };
+  launch_polytopes<64>(begin[3], bucket(3), streams_[3]);
+  launch_polytopes<32>(begin[2], bucket(2), streams_[2]);
+  launch_polytopes<16>(begin[1], bucket(1), streams_[1]);
+  launch_polytopes<8>(begin[0], bucket(0), streams_[0]);
   const int late = shared_.flags.read(deferred_pairs);
   for (const int capacity : capacities_) {
     if (capacity > 0 && capacity <= kMaxMaskPlanes) launch_pairs(capacity, deferred_.data(), late);

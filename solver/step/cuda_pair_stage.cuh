@@ -10,6 +10,7 @@
 // capacity the scene has. Included only from .cu files.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "solver/step/cuda_pair_list.cuh"
@@ -23,6 +24,9 @@ class DevicePairStage {
   // faces) under the shared tables' contact model.
   DevicePairStage(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
                   const std::vector<BodyProperties<Real>>& host_bodies);
+  ~DevicePairStage();
+  DevicePairStage(const DevicePairStage&) = delete;
+  DevicePairStage& operator=(const DevicePairStage&) = delete;
 
   // Every slot of the list. Throws std::runtime_error naming the two particles when a pair's
   // geometry is degenerate. spring_dt: 0 in the evaluation at t = 0, else the step.
@@ -38,7 +42,7 @@ class DevicePairStage {
   template <int Capacity>
   void launch_pairs(const int* slots, int n);
   template <int Cap>
-  void launch_polytopes(const std::vector<int>& counts, int begin, int below);
+  void launch_polytopes(int begin, int n, cudaStream_t stream);
   void compute_phased();
 
   DeviceStepShared<Real>& shared_;
@@ -52,6 +56,9 @@ class DevicePairStage {
   DeviceBuffer<unsigned long long> masks_;
   DeviceBuffer<unsigned char> keys_, sorted_keys_;
   DeviceBuffer<int> order_, sorted_order_, deferred_, histogram_;
+  // One stream per polytope workspace size (8, 16, 32, 64 planes), so the sizes run together.
+  static constexpr int kPolytopeSizes = 4;
+  std::array<cudaStream_t, kPolytopeSizes> streams_{};
 };
 
 }  // namespace talus
