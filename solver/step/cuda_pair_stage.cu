@@ -239,6 +239,8 @@ template <class Real>
 DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
                                        const std::vector<BodyProperties<Real>>& host_bodies)
     : shared_(shared), list_(list) {
+  if (shared.constant_region >= 0)
+    fill_template_region(shared.device_bodies, shared.constant_region);
   // One pair launch per workspace capacity among the scene's template pairs.
   for (const BodyProperties<Real>& a : host_bodies) {
     for (const BodyProperties<Real>& b : host_bodies) {

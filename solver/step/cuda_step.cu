@@ -301,7 +301,8 @@ struct CudaStep<Real>::Impl {
 // free and they fit (else in global memory only).
 template <class Real>
 void CudaStep<Real>::Impl::upload_templates(const CudaStepOptions& options) {
-  std::vector<BodyProperties<Real>> device_bodies = host_bodies;
+  std::vector<BodyProperties<Real>>& device_bodies = shared.device_bodies;
+  device_bodies = host_bodies;
   for (std::size_t k = 0; k < device_bodies.size(); ++k) {
     device_shapes.push_back(nullptr);
     if (host_shapes[k]) {
@@ -310,15 +311,11 @@ void CudaStep<Real>::Impl::upload_templates(const CudaStepOptions& options) {
     }
   }
   bodies.upload(device_bodies);
+  // A region is claimed here and filled by the stages that read it (fill_template_region).
   if (options.constant_templates &&
       device_bodies.size() <= static_cast<std::size_t>(templates_per_region<Real>())) {
     constant_region = claim_template_region();
-    if (constant_region >= 0) {
-      TALUS_CUDA_CHECK(
-          cudaMemcpyToSymbol(template_table_detail::constant_templates, device_bodies.data(),
-                             device_bodies.size() * sizeof(BodyProperties<Real>),
-                             static_cast<std::size_t>(constant_region) * kTemplateRegionBytes));
-    }
+    shared.constant_region = constant_region;
   }
 }
 

@@ -135,6 +135,10 @@ struct DeviceStepShared {
   DeviceFlags flags;
   DeviceBuffer<unsigned char> temp;
   DeviceBuffer<long long> global_ids;
+  // The templates as the device sees them (device shape views), and their region of constant
+  // memory (-1: none): each stage whose kernels read templates fills its own unit's copy.
+  std::vector<BodyProperties<Real>> device_bodies;
+  int constant_region = -1;
 
   long long global_id(int i) const { return download(global_ids.data() + i, 1)[0]; }
 };

@@ -101,6 +101,8 @@ template <class Real>
 DeviceWallStage<Real>::DeviceWallStage(DeviceStepShared<Real>& shared,
                                        std::unique_ptr<WallContactStage<Real>> host, double time)
     : shared_(shared), host_(std::move(host)) {
+  if (shared.constant_region >= 0)
+    fill_template_region(shared.device_bodies, shared.constant_region);
   motions_.upload(host_->motions());
   std::vector<int> materials;
   for (const auto& w : shared.scene.walls) materials.push_back(w.material);

@@ -8,6 +8,8 @@
 // memory: different threads read different vertices, which the constant cache would serialise.
 #pragma once
 
+#include <vector>
+
 #include "solver/core/hd.hpp"
 #include "solver/step/particle_kernels.hpp"
 
@@ -21,8 +23,8 @@ constexpr int kTemplateRegionBytes = 8 * 1024;  // 40 templates in double
 #if defined(__CUDACC__)
 namespace template_table_detail {
 // Raw bytes: a __constant__ object may not have a constructor, which BodyProperties has. Internal
-// linkage: each CUDA translation unit has its own copy, filled by the one whose kernels read it
-// (cuda_step.cu).
+// linkage (no relocatable device code): each CUDA translation unit has its own copy, which
+// that unit must fill for its kernels (fill_template_region).
 static __constant__ __align__(
     16) unsigned char constant_templates[kTemplateRegions * kTemplateRegionBytes];
 }  // namespace template_table_detail
@@ -56,5 +58,23 @@ template <class Real>
 constexpr int templates_per_region() {
   return kTemplateRegionBytes / static_cast<int>(sizeof(BodyProperties<Real>));
 }
+
+#if defined(__CUDACC__)
+}  // namespace talus
+
+#include "solver/core/cuda_check.hpp"
+
+namespace talus {
+
+// Copies the templates (device views) into region `region` of the calling translation unit's
+// constant bank. Static, like the bank: each unit whose kernels read a TemplateTable calls it
+// (the pair stage and the wall stage of the CUDA step).
+template <class Real>
+static void fill_template_region(const std::vector<BodyProperties<Real>>& bodies, int region) {
+  TALUS_CUDA_CHECK(cudaMemcpyToSymbol(template_table_detail::constant_templates, bodies.data(),
+                                      bodies.size() * sizeof(BodyProperties<Real>),
+                                      static_cast<std::size_t>(region) * kTemplateRegionBytes));
+}
+#endif
 
 }  // namespace talus
