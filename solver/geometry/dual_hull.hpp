@@ -151,6 +151,7 @@ TALUS_HD inline bool init_simplex(W& ws) {
   int i2 = -1;
   best = 0;
   for (int p = 0; p < n; ++p) {
+    if (p == i0 || p == i1) continue;
     const Real d = norm(cross(axis, ws.point[p] - ws.point[i0]));
     if (d > best) {
       best = d;
@@ -163,6 +164,9 @@ TALUS_HD inline bool init_simplex(W& ws) {
   best = 0;
   Real side = 0;
   for (int p = 0; p < n; ++p) {
+    // i0, i1 and i2 span the plane: their heights are round-off, and on a nearly flat set one of
+    // them could win and enter the simplex twice, whose faces then find no neighbours.
+    if (p == i0 || p == i1 || p == i2) continue;
     const Real d = dot(normal, ws.point[p] - ws.point[i0]);
     if (abs_of(d) > best) {
       best = abs_of(d);
