@@ -33,6 +33,25 @@ TALUS_HD inline bool is_finite(Real x) {
   return (x - x) == Real(0);
 }
 
+// a * b rounded once and never fused into a neighbouring addition. nvcc contracts a * b + c into
+// one fma by default (a different rounding), so a product that is recomputed where it used to be
+// stored and loaded needs this to keep the stored bits. The host's default x86-64 target has no fma
+// to contract into.
+TALUS_HD inline double product_rn(double a, double b) {
+#ifdef __CUDA_ARCH__
+  return __dmul_rn(a, b);
+#else
+  return a * b;
+#endif
+}
+TALUS_HD inline float product_rn(float a, float b) {
+#ifdef __CUDA_ARCH__
+  return __fmul_rn(a, b);
+#else
+  return a * b;
+#endif
+}
+
 // Machine epsilon of the real type, usable in device code.
 template <class Real>
 struct Eps;

@@ -25,54 +25,72 @@ using HullIndexFor = std::conditional_t<(Faces <= 128), signed char, short>;
 
 template <class Real, int MaxPoints>
 struct DualHullWorkspace {
+  static_assert(MaxPoints >= 4, "a hull needs four points");
   static constexpr int kMaxPoints = MaxPoints;
-  static constexpr int kMaxFaces = 2 * MaxPoints;
+  // A closed triangulated hull of V vertices has 2V - 4 faces (Euler), and an expansion frees
+  // its visible faces before it allocates the new ones, so no more slots are ever in use. (The
+  // expansion keeps V - E + F from falling below 2 even when round-off gives a horizon of
+  // several loops; the overrun check stays as the guard.)
+  static constexpr int kMaxFaces = 2 * MaxPoints - 4;
   static_assert(kMaxFaces <= 32767, "face indices are shorts");
   using Index = HullIndexFor<kMaxFaces>;  // a point or face index
 
-  Vec3<Real> point[MaxPoints];
+  // The points are the polar duals of planes, y = n / s (Eq. 5): kept as the plane's unit normal
+  // and |y| = 1 / s, since the overlap needs the normals too (one array instead of two); point()
+  // gives y. The caller fills plane_normal, point_norm and n_points.
+  Vec3<Real> plane_normal[MaxPoints];
   Real point_norm[MaxPoints];
-  Index point_face[MaxPoints];  // face the point is outside of; -1: inside or on the hull
-  Real point_dist[MaxPoints];   // its distance above that face
-  int n_points = 0;
-
-  Index face_vertex[kMaxFaces][3];    // counter-clockwise seen from outside
-  Index face_neighbor[kMaxFaces][3];  // across edge (vertex[e], vertex[e + 1])
+  Real point_dist[MaxPoints];  // the distance above point_face
   // Unit, outward. Once the hull is built, overlap_polyhedra overwrites it with the face's
   // primal vertex (unpolarisation), which saves an array of the same size.
   Vec3<Real> face_normal[kMaxFaces];
   Real face_offset[kMaxFaces];  // dot(normal, y) = offset on the face, > 0
-  Real face_scale[kMaxFaces];   // largest |vertex|: sets the round-off tolerance
+  int n_points = 0;
+  int n_free = 0;
+  int n_slots = 0;         // slots ever used
+  int skipped_points = 0;  // outside points dropped because the visible region was not a disk
+
+  Index point_face[MaxPoints];        // face the point is outside of; -1: inside or on the hull
+  Index face_vertex[kMaxFaces][3];    // counter-clockwise seen from outside
+  Index face_neighbor[kMaxFaces][3];  // across edge (vertex[e], vertex[e + 1])
+  // The face's vertex of largest |y|, whose norm sets the face's round-off tolerance (a byte
+  // where the norm itself took a Real).
+  Index face_far[kMaxFaces];
   // < 0: free slot; else the last expansion that visited it (at most kMaxPoints, an Index).
   Index face_stamp[kMaxFaces];
   Index free_slots[kMaxFaces];
-  int n_free = 0;
-  int n_slots = 0;  // slots ever used
 
-  // Scratch for one expansion.
+  // Scratch for one expansion. `stack` lists the visible faces, then, once they are freed, the
+  // new ones.
   Index stack[kMaxFaces];
   Index horizon_face[kMaxFaces];   // the face kept beyond the horizon edge
   Index horizon_edge[kMaxFaces];   // the edge index in that face
   Index new_face_from[MaxPoints];  // horizon edge starting at a vertex -> new face
-  Index new_faces[kMaxFaces];
   Index orphans[MaxPoints];
 
   bool overrun = false;
-  int skipped_points = 0;  // outside points dropped because the visible region was not a disk
+
+  // The dual point p, rounded as the product n * |y| is: the bits of a stored point.
+  TALUS_HD Vec3<Real> point(int p) const {
+    const Vec3<Real>& n = plane_normal[p];
+    const Real s = point_norm[p];
+    return Vec3<Real>(product_rn(n.x, s), product_rn(n.y, s), product_rn(n.z, s));
+  }
 };
 
 namespace dual_hull_detail {
 
 // Distance tolerance of a point against a face: the plane test subtracts numbers of size
-// |y| and face_scale, each carrying relative round-off of a few eps.
+// |y| and the face's largest |vertex|, each carrying relative round-off of a few eps.
 template <class Real, class W>
 TALUS_HD inline Real tolerance(const W& ws, int face, Real point_norm) {
-  return Real(32) * Eps<Real>::value * (point_norm + ws.face_scale[face]);
+  return Real(32) * Eps<Real>::value * (point_norm + ws.point_norm[ws.face_far[face]]);
 }
 
+// The height of point y above the face's plane.
 template <class Real, class W>
-TALUS_HD inline Real distance(const W& ws, int face, int p) {
-  return dot(ws.face_normal[face], ws.point[p]) - ws.face_offset[face];
+TALUS_HD inline Real distance(const W& ws, int face, const Vec3<Real>& y) {
+  return dot(ws.face_normal[face], y) - ws.face_offset[face];
 }
 
 template <class Real, class W>
@@ -92,16 +110,18 @@ TALUS_HD inline void set_face(W& ws, int f, int a, int b, int c) {
   ws.face_vertex[f][0] = Index(a);
   ws.face_vertex[f][1] = Index(b);
   ws.face_vertex[f][2] = Index(c);
-  const Vec3<Real>& pa = ws.point[a];
-  const Vec3<Real>& pb = ws.point[b];
-  const Vec3<Real>& pc = ws.point[c];
+  const Vec3<Real> pa = ws.point(a);
+  const Vec3<Real> pb = ws.point(b);
+  const Vec3<Real> pc = ws.point(c);
   Vec3<Real> n = cross(pb - pa, pc - pa);
   const Real len = norm(n);
   n = len > Real(0) ? n * (Real(1) / len) : Vec3<Real>(0, 0, 0);
   ws.face_normal[f] = n;
   // Eq. 7 takes one vertex's offset; the mean of the three halves the round-off.
   ws.face_offset[f] = (dot(n, pa) + dot(n, pb) + dot(n, pc)) * (Real(1) / Real(3));
-  ws.face_scale[f] = max_of(ws.point_norm[a], max_of(ws.point_norm[b], ws.point_norm[c]));
+  // The vertex whose norm max_of(|a|, max_of(|b|, |c|)) returns.
+  const int far_bc = ws.point_norm[b] < ws.point_norm[c] ? c : b;
+  ws.face_far[f] = Index(ws.point_norm[a] < ws.point_norm[far_bc] ? far_bc : a);
   ws.face_stamp[f] = 0;
 }
 
@@ -109,11 +129,13 @@ TALUS_HD inline void set_face(W& ws, int f, int a, int b, int c) {
 template <class Real, class W>
 TALUS_HD inline void assign_point(W& ws, int p, const typename W::Index* faces, int count) {
   ws.point_face[p] = -1;
+  const Vec3<Real> y = ws.point(p);
+  const Real y_norm = ws.point_norm[p];
   Real best = 0;
   for (int i = 0; i < count; ++i) {
     const int f = faces[i];
-    const Real d = distance<Real>(ws, f, p);
-    if (d > tolerance<Real>(ws, f, ws.point_norm[p]) && d > best) {
+    const Real d = distance<Real>(ws, f, y);
+    if (d > tolerance<Real>(ws, f, y_norm) && d > best) {
       best = d;
       ws.point_face[p] = typename W::Index(f);
     }
@@ -127,16 +149,27 @@ template <class Real, class W>
 TALUS_HD inline bool init_simplex(W& ws) {
   const int n = ws.n_points;
   int extreme[6] = {0, 0, 0, 0, 0, 0};
-  for (int p = 1; p < n; ++p)
+  Vec3<Real> low = ws.point(0), high = low;  // the extremes' coordinates
+  for (int p = 1; p < n; ++p) {
+    const Vec3<Real> y = ws.point(p);
     for (int axis = 0; axis < 3; ++axis) {
-      if (ws.point[p][axis] < ws.point[extreme[2 * axis]][axis]) extreme[2 * axis] = p;
-      if (ws.point[p][axis] > ws.point[extreme[2 * axis + 1]][axis]) extreme[2 * axis + 1] = p;
+      if (y[axis] < low[axis]) {
+        extreme[2 * axis] = p;
+        low[axis] = y[axis];
+      }
+      if (y[axis] > high[axis]) {
+        extreme[2 * axis + 1] = p;
+        high[axis] = y[axis];
+      }
     }
+  }
+  Vec3<Real> extreme_point[6];
+  for (int a = 0; a < 6; ++a) extreme_point[a] = ws.point(extreme[a]);
   int i0 = 0, i1 = 0;
   Real best = -1;
   for (int a = 0; a < 6; ++a)
     for (int b = a + 1; b < 6; ++b) {
-      const Real d = norm2(ws.point[extreme[a]] - ws.point[extreme[b]]);
+      const Real d = norm2(extreme_point[a] - extreme_point[b]);
       if (d > best) {
         best = d;
         i0 = extreme[a];
@@ -146,24 +179,29 @@ TALUS_HD inline bool init_simplex(W& ws) {
   Real scale = 0;
   for (int p = 0; p < n; ++p) scale = max_of(scale, ws.point_norm[p]);
   const Real tiny = Real(64) * Eps<Real>::value * scale;
-  const Vec3<Real> axis = ws.point[i1] - ws.point[i0];
+  const Vec3<Real> p0 = ws.point(i0);
+  const Vec3<Real> axis = ws.point(i1) - p0;
   if (norm(axis) <= tiny) return false;
   int i2 = -1;
   best = 0;
   for (int p = 0; p < n; ++p) {
-    const Real d = norm(cross(axis, ws.point[p] - ws.point[i0]));
+    if (p == i0 || p == i1) continue;
+    const Real d = norm(cross(axis, ws.point(p) - p0));
     if (d > best) {
       best = d;
       i2 = p;
     }
   }
   if (i2 < 0 || best <= tiny * norm(axis)) return false;
-  const Vec3<Real> normal = cross(axis, ws.point[i2] - ws.point[i0]);
+  const Vec3<Real> normal = cross(axis, ws.point(i2) - p0);
   int i3 = -1;
   best = 0;
   Real side = 0;
   for (int p = 0; p < n; ++p) {
-    const Real d = dot(normal, ws.point[p] - ws.point[i0]);
+    // i0, i1 and i2 span the plane: their heights are round-off, and on a nearly flat set one of
+    // them could win and enter the simplex twice, whose faces then find no neighbours.
+    if (p == i0 || p == i1 || p == i2) continue;
+    const Real d = dot(normal, ws.point(p) - p0);
     if (abs_of(d) > best) {
       best = abs_of(d);
       i3 = p;
@@ -208,6 +246,8 @@ template <class Real, class W>
 TALUS_HD inline void expand_once(W& ws, int p, int stamp) {
   const int start = ws.point_face[p];
   ws.point_face[p] = -1;
+  const Vec3<Real> apex = ws.point(p);
+  const Real apex_norm = ws.point_norm[p];
   int n_stack = 0, n_horizon = 0;
   ws.stack[n_stack++] = start;
   ws.face_stamp[start] = stamp;
@@ -218,7 +258,7 @@ TALUS_HD inline void expand_once(W& ws, int p, int stamp) {
     for (int e = 0; e < 3; ++e) {
       const int g = ws.face_neighbor[f][e];
       if (ws.face_stamp[g] == stamp) continue;
-      if (distance<Real>(ws, g, p) > tolerance<Real>(ws, g, ws.point_norm[p])) {
+      if (distance<Real>(ws, g, apex) > tolerance<Real>(ws, g, apex_norm)) {
         ws.face_stamp[g] = stamp;
         ws.stack[n_stack++] = g;
       } else {
@@ -254,8 +294,9 @@ TALUS_HD inline void expand_once(W& ws, int p, int stamp) {
     const int f = ws.point_face[q];
     if (f >= 0 && ws.face_stamp[f] < 0) ws.orphans[n_orphans++] = q;
   }
-  // New faces: the horizon edge (a, b) as wound in the visible face, then the apex.
-  auto* new_faces = ws.new_faces;
+  // New faces: the horizon edge (a, b) as wound in the visible face, then the apex. They are
+  // listed in `stack`, whose visible faces are freed.
+  auto* new_faces = ws.stack;
   for (int h = 0; h < n_horizon; ++h) {
     const int g = ws.horizon_face[h], k = ws.horizon_edge[h];
     // In the kept face g the shared edge runs (vertex[k], vertex[k+1]); reversed for us.

@@ -25,19 +25,23 @@
 
 namespace talus {
 
+// One pair's scratch. On the GPU it lives in the thread's local memory, whose latency bounds the
+// polytope kernels (benchmarks/README.md), so nothing in it is kept twice: the plane normals are
+// the hull's (its dual points are n / s, kept as n and 1 / s), a face's round-off scale is an
+// index, and scratch that is dead in a later step holds that step's arrays.
 template <class Real, int MaxPlanes>
 struct OverlapWorkspace {
   static constexpr int kMaxPlanes = MaxPlanes;
-  Vec3<Real> plane_normal[MaxPlanes];  // unit, outward of the owning body, frame centred on A
-  // dot(n, x) <= offset inside; from step 4 on, the plane's slack at x_o (offset - dot(n, x_o)).
+  // Planes in the frame centred on A. Their unit normals, outward of the owning body, are
+  // hull.plane_normal. dot(n, x) <= offset inside; from step 4 on, the plane's slack at x_o
+  // (offset - dot(n, x_o)).
   Real plane_offset[MaxPlanes];
+  // Also holds each dual face's primal vertex (relative to x_o) in place of its normal once the
+  // hull is built (step 5), and in point_face, whose conflicts are then all resolved, each dual
+  // vertex's fan apex: a dual face around it (-1: not on the hull).
+  DualHullWorkspace<Real, MaxPlanes> hull;
   signed char plane_owner[MaxPlanes];  // 0: A, 1: B
   signed char plane_twin[MaxPlanes];   // 1 when a coincident plane of the other body was merged
-  // Also holds each dual face's primal vertex (relative to x_o) in place of its normal once the
-  // hull is built (step 5).
-  DualHullWorkspace<Real, MaxPlanes> hull;
-  // Per dual vertex: a dual face around it (-1: not on the hull).
-  typename DualHullWorkspace<Real, MaxPlanes>::Index fan_apex[MaxPlanes];
 };
 
 // The workspace for `planes` face planes in all (the sum over both templates), rounded up to the
@@ -99,9 +103,9 @@ template <class Real, class Workspace>
 TALUS_HD inline Vec3<Real> primal_vertex_of(const Workspace& ws, int f, Real w) {
   const auto& hull = ws.hull;
   const int i = hull.face_vertex[f][0], j = hull.face_vertex[f][1], k = hull.face_vertex[f][2];
-  const Vec3<Real>& n1 = ws.plane_normal[i];
-  const Vec3<Real>& n2 = ws.plane_normal[j];
-  const Vec3<Real>& n3 = ws.plane_normal[k];
+  const Vec3<Real>& n1 = hull.plane_normal[i];
+  const Vec3<Real>& n2 = hull.plane_normal[j];
+  const Vec3<Real>& n3 = hull.plane_normal[k];
   const Vec3<Real> c23 = cross(n2, n3), c31 = cross(n3, n1), c12 = cross(n1, n2);
   const Real det = dot(n1, c23);
   if (abs_of(det) > Real(1e-3)) {
@@ -241,7 +245,7 @@ TALUS_HD inline bool uses_face_test(const ConvexView<Real>& self, OverlapOptions
   return options.cull_planes && options.cull_faces && self.face_loop_offsets != nullptr;
 }
 
-// Steps 3-5 on the m planes in ws (plane_normal, plane_offset, plane_owner; twins cleared).
+// Steps 3-5 on the m planes in ws (hull.plane_normal, plane_offset, plane_owner; twins cleared).
 template <class Real, class Workspace>
 TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
                                                    const Pose<Real>& pose_a,
@@ -254,11 +258,12 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   const Real round_off = frame.round_off;
   const ConvexView<Real>* body[2] = {&a, &b};
   auto& hull = ws.hull;
+  Vec3<Real>* plane_normal = hull.plane_normal;
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
   const Vec3<Real> start = center[1] * (a.bounding_radius / radius_sum);
   const ChebyshevResult<Real> lp =
-      chebyshev_center(ws.plane_normal, ws.plane_offset, m, start,
+      chebyshev_center(plane_normal, ws.plane_offset, m, start,
                        min_of(a.bounding_radius, b.bounding_radius), 8 * m + 32);
   result.depth_hint = lp.depth;
   if (lp.depth <= round_off) {
@@ -290,25 +295,24 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   const Real twin_tolerance = TwinTolerance<Real>::value;
   int n_points = 0;
   for (int i = 0; i < m; ++i) {
-    const Real slack = ws.plane_offset[i] - dot(ws.plane_normal[i], x_o);
+    const Real slack = ws.plane_offset[i] - dot(plane_normal[i], x_o);
     const Real y_norm = Real(1) / slack;
-    const Vec3<Real> y = ws.plane_normal[i] * y_norm;
+    const Vec3<Real> y = plane_normal[i] * y_norm;
     bool merged = false;
     if (ws.plane_owner[i] == 1) {
       for (int j = 0; j < n_points && !merged; ++j) {
         if (ws.plane_owner[j] != 0) continue;
-        if (norm(y - hull.point[j]) <= twin_tolerance * max_of(y_norm, hull.point_norm[j])) {
+        if (norm(y - hull.point(j)) <= twin_tolerance * max_of(y_norm, hull.point_norm[j])) {
           ws.plane_twin[j] = 1;
           merged = true;
         }
       }
     }
     if (merged) continue;
-    ws.plane_normal[n_points] = ws.plane_normal[i];
-    ws.plane_offset[n_points] = slack;  // from here on the slack at x_o
+    plane_normal[n_points] = plane_normal[i];  // the dual point is y = n * y_norm
+    ws.plane_offset[n_points] = slack;         // from here on the slack at x_o
     ws.plane_owner[n_points] = ws.plane_owner[i];
     ws.plane_twin[n_points] = 0;
-    hull.point[n_points] = y;
     hull.point_norm[n_points] = y_norm;
     ++n_points;
   }
@@ -323,7 +327,8 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   // Step 5. Unpolarise (Eqs. 6-8): dual face (n, w) -> primal vertex x_o + n / w. Each dual
   // vertex (a face of the polytope) remembers one dual face around it; that face's primal vertex,
   // a corner of the polygon, is the apex of the polygon's fan.
-  for (int i = 0; i < m; ++i) ws.fan_apex[i] = -1;
+  auto* fan_apex = hull.point_face;  // free now: every point is on or inside the hull
+  for (int i = 0; i < m; ++i) fan_apex[i] = -1;
   for (int f = 0; f < hull.n_slots; ++f) {
     if (hull.face_stamp[f] < 0) continue;
     const Real w = hull.face_offset[f];
@@ -333,7 +338,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     }
     // In place of the face's normal, which primal_vertex_of reads first.
     hull.face_normal[f] = overlap_detail::primal_vertex_of<Real>(ws, f, w);
-    for (int k = 0; k < 3; ++k) ws.fan_apex[hull.face_vertex[f][k]] = f;
+    for (int k = 0; k < 3; ++k) fan_apex[hull.face_vertex[f][k]] = f;
   }
   // Cones from x_o over the fan of each face (Eq. 9): the primal edge between the vertices of
   // dual faces f and g lies on the faces of both dual vertices of their shared edge; the directed
@@ -346,25 +351,25 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     for (int e = 0; e < 3; ++e) {
       const int v = hull.face_vertex[f][e];
       const int g = hull.face_neighbor[f][e];
-      const int apex = ws.fan_apex[v];
+      const int apex = fan_apex[v];
       if (apex == f || apex == g) continue;  // a triangle of the fan with no area
       const Vec3<Real>& p_g = hull.face_normal[g];
       const Vec3<Real>& c = hull.face_normal[apex];
       // Signed along the face's outward normal (the ring runs clockwise seen from outside):
       // a fan triangle flipped by round-off, where a primal vertex sits almost on the segment
       // of its neighbours, then subtracts instead of adding. Taking |area| cost float 1e-3.
-      const Real area = dot(cross(p_g - c, p_f - c), ws.plane_normal[v]) / Real(2);
+      const Real area = dot(cross(p_g - c, p_f - c), plane_normal[v]) / Real(2);
       // area * distance / 3, the distance from x_o being the slack.
       const Real cone = area * ws.plane_offset[v] * (Real(1) / Real(3));
       volume += cone;
       moment += (c + p_f + p_g) * (cone / Real(4));
       const Real share =
           ws.plane_twin[v] ? Real(0.5) : (ws.plane_owner[v] == 0 ? Real(1) : Real(0));
-      vector_area += ws.plane_normal[v] * (area * share);
+      vector_area += plane_normal[v] * (area * share);
     }
   }
   int on_hull = 0;
-  for (int i = 0; i < m; ++i) on_hull += ws.fan_apex[i] >= 0;
+  for (int i = 0; i < m; ++i) on_hull += fan_apex[i] >= 0;
   result.hull_points = on_hull;
   result.volume = volume;
   result.vector_area = vector_area;
@@ -413,7 +418,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
         result.status = OverlapStatus::degenerate;
         return result;
       }
-      ws.plane_normal[m] = n;
+      ws.hull.plane_normal[m] = n;
       ws.plane_offset[m] = h;
       ws.plane_owner[m] = static_cast<signed char>(owner);
       ws.plane_twin[m] = 0;
@@ -495,7 +500,7 @@ TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
     Vec3<Real> n;
     Real h;
     frame_plane(owner == 0 ? a : b, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
-    ws.plane_normal[m] = n;
+    ws.hull.plane_normal[m] = n;
     ws.plane_offset[m] = h;
     ws.plane_owner[m] = static_cast<signed char>(owner);
     ws.plane_twin[m] = 0;
