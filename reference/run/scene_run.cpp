@@ -240,11 +240,6 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
   total_steps_ = std::llround(scene.end_time / scene.time_step);
 
   if (scene.outputs.trajectories) {
-    if (scene.outputs.trajectories->format != TrajectoryFormat::csv) {
-      throw std::runtime_error(scene.file +
-                               ": outputs.trajectories.format: the reference solver writes csv "
-                               "only (vtk output arrives with issue 5)");
-    }
     trajectory_dir_ = joined(settings_.output_root, scene.outputs.trajectories->directory);
     create_output_directory(trajectory_dir_);
     write_run_info(trajectory_dir_, run_info(scene, "reference"));

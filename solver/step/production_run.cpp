@@ -111,11 +111,6 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   }
   m.total_steps = std::llround(scene.end_time / scene.time_step);
   if (scene.outputs.trajectories) {
-    if (scene.outputs.trajectories->format != TrajectoryFormat::csv) {
-      throw std::runtime_error(scene.file +
-                               ": outputs.trajectories.format: the production solver writes csv "
-                               "only (vtk output arrives with issue 5)");
-    }
     m.trajectory_dir = joined(m.settings.output_root, scene.outputs.trajectories->directory);
     create_output_directory(m.trajectory_dir);
     write_run_info(m.trajectory_dir, run_info(scene, "talus"));
