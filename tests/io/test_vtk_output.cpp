@@ -21,18 +21,11 @@ namespace talus {
 namespace {
 
 namespace fs = std::filesystem;
+using talus_test::file_names;
 using talus_test::read_text;
 
 std::string test_directory(const std::string& name) {
   return talus_test::fresh_test_directory("test-io-vtk", name);
-}
-
-std::vector<std::string> file_names(const std::string& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir))
-    names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
 }
 
 // A dodecahedron and a ball, and the walls given.
