@@ -240,11 +240,6 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
   total_steps_ = std::llround(scene.end_time / scene.time_step);
 
   if (scene.outputs.trajectories) {
-    if (scene.outputs.trajectories->format != TrajectoryFormat::csv) {
-      throw std::runtime_error(scene.file +
-                               ": outputs.trajectories.format: the reference solver writes csv "
-                               "only (vtk output arrives with issue 5)");
-    }
     trajectory_dir_ = joined(settings_.output_root, scene.outputs.trajectories->directory);
     create_output_directory(trajectory_dir_);
     write_run_info(trajectory_dir_, run_info(scene, "reference"));
@@ -256,6 +251,12 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
                                       probe_columns(*scene.outputs.probes, scene.walls));
     outputs_.push_back(probes_->path());
   }
+  if (scene.outputs.vtk) {
+    vtk_ = std::make_unique<VtkSeriesWriter>(
+        scene, joined(settings_.output_root, scene.outputs.vtk->directory),
+        vtk_particles_for(scene, world_.bodies().size()));
+    outputs_.push_back(vtk_->directory());
+  }
   // Step 0's outputs need the forces at t = 0 (contacts, wall forces).
   world_.evaluate_forces(0.0);
   write_outputs(done());
@@ -265,9 +266,13 @@ SceneRunner::~SceneRunner() = default;
 
 void SceneRunner::write_outputs(bool last) {
   const auto due = [&](long long every) { return step_ % every == 0 || last; };
-  if (scene_.outputs.trajectories && due(scene_.outputs.trajectories->every)) {
-    write_trajectory_frame(trajectory_dir_, step_, trajectory_rows(world_, template_of_body_));
-  }
+  const bool frame = scene_.outputs.trajectories && due(scene_.outputs.trajectories->every);
+  const bool vtk_frame = vtk_ && due(scene_.outputs.vtk->every);
+  const std::vector<TrajectoryRow> rows = frame || vtk_frame
+                                              ? trajectory_rows(world_, template_of_body_)
+                                              : std::vector<TrajectoryRow>();
+  if (frame) write_trajectory_frame(trajectory_dir_, step_, rows);
+  if (vtk_frame) vtk_->write_frame(step_, world_.time(), rows);
   if (probes_ && due(scene_.outputs.probes->every)) {
     probes_->write_row(world_.time(), step_, probe_values(scene_, world_));
   }

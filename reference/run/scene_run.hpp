@@ -1,6 +1,7 @@
 // A scene run by the reference solver: the scene (solver/scene, the loader both solvers share)
 // turned into a RefWorld, stepped to the end time, with the scene's outputs written in the format
-// the production solver writes too (solver/io: trajectory frames, run.json, probes).
+// the production solver writes too (solver/io: trajectory frames, run.json, probes, ParaView
+// files).
 #pragma once
 
 #include <functional>
@@ -10,6 +11,7 @@
 
 #include "reference/world/world.hpp"
 #include "solver/io/probes.hpp"
+#include "solver/io/vtk_output.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
 
@@ -94,6 +96,7 @@ class SceneRunner {
   long long step_ = 0, total_steps_ = 0;
   std::string trajectory_dir_;
   std::unique_ptr<ProbeWriter> probes_;
+  std::unique_ptr<VtkSeriesWriter> vtk_;
   std::vector<std::string> outputs_;
   double contacts_sum_ = 0;
   double started_ = 0, last_progress_ = 0;  // steady-clock seconds

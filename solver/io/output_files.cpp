@@ -37,6 +37,13 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   if (std::rename(temporary.c_str(), path.c_str()) != 0) fail(errno);
 }
 
+std::string numbered_file_name(const std::string& prefix, long long step,
+                               const std::string& extension) {
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%09lld", step);
+  return prefix + digits + extension;
+}
+
 std::string exact_decimal(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.17g", value);

@@ -16,6 +16,11 @@ void create_output_directory(const std::string& directory);
 // "cannot write '<path>': <reason>" (and removes the temporary file) on any failure.
 void write_file_atomically(const std::string& path, const std::string& text);
 
+// prefix + the step in at least 9 digits + extension: ("particles_", 1200, ".vtp") gives
+// "particles_000001200.vtp", so that the files of a run sort by step.
+std::string numbered_file_name(const std::string& prefix, long long step,
+                               const std::string& extension);
+
 // printf("%.17g"): 17 significant digits, enough for every double to read back to the same bits
 // (and every float, converted to double, too).
 std::string exact_decimal(double value);

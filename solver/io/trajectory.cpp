@@ -48,9 +48,7 @@ const std::regex& frame_name_pattern() {
 }  // namespace
 
 std::string trajectory_file_name(long long step) {
-  char name[48];
-  std::snprintf(name, sizeof name, "trajectory_%09lld.csv", step);
-  return name;
+  return numbered_file_name("trajectory_", step, ".csv");
 }
 
 void write_trajectory_frame(const std::string& directory, long long step,

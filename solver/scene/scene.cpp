@@ -109,8 +109,8 @@ const char* to_string(Precision precision) {
   return precision == Precision::float32 ? "float" : "double";
 }
 
-const char* to_string(TrajectoryFormat format) {
-  return format == TrajectoryFormat::csv ? "csv" : "vtk";
+const char* to_string(VtkParticles particles) {
+  return particles == VtkParticles::surfaces ? "surfaces" : "points";
 }
 
 }  // namespace talus

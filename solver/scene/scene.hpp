@@ -220,13 +220,21 @@ struct Effects {
   bool feed = false;          // some feed inserts particles during the run
 };
 
-enum class TrajectoryFormat { csv, vtk };
+enum class VtkParticles { surfaces, points };
 enum class Probe { kinetic_energy, wall_forces, contact_count, bed_height };
 
 struct TrajectoryOutput {
   long long every = 0;    // steps
   std::string directory;  // as written (relative: to the working directory of the run)
-  TrajectoryFormat format = TrajectoryFormat::csv;
+};
+// ParaView files (solver/io/vtk_output.hpp): particles as their posed polyhedral surfaces or as
+// points with orientation, the walls where they are, and a .pvd time series of each.
+struct VtkOutput {
+  long long every = 0;    // steps
+  std::string directory;  // as written
+  // Not given: surfaces for runs of at most kVtkSurfaceParticleLimit particles, else points
+  // (vtk_particles_for).
+  std::optional<VtkParticles> particles;
 };
 struct ProbeOutput {
   long long every = 0;  // steps
@@ -236,6 +244,7 @@ struct ProbeOutput {
 struct Outputs {
   std::optional<TrajectoryOutput> trajectories;
   std::optional<ProbeOutput> probes;
+  std::optional<VtkOutput> vtk;
 };
 
 enum class Backend { automatic, cpu, cuda };
@@ -284,6 +293,6 @@ const char* to_string(ContactModel model);
 const char* to_string(Probe probe);
 const char* to_string(Backend backend);
 const char* to_string(Precision precision);
-const char* to_string(TrajectoryFormat format);
+const char* to_string(VtkParticles particles);
 
 }  // namespace talus

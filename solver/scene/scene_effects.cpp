@@ -84,54 +84,77 @@ void parse_effects(const SceneNode& node, Scene& scene) {
   }
 }
 
+namespace {
+
+const std::string kEvery = "a positive integer number of steps";
+
+TrajectoryOutput parse_trajectories(const SceneNode& node) {
+  // The key that once chose VTK here: ParaView files are an output of their own now.
+  if (auto format = node.find("format"))
+    format->fail("trajectories are CSV files; for ParaView's VTK files write outputs.vtk");
+  node.keys({"every", "directory"}, "trajectories: a map with keys every, directory");
+  TrajectoryOutput output;
+  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.directory = "trajectories";
+  if (auto directory = node.find("directory"))
+    output.directory = directory->text("a directory path");
+  return output;
+}
+
+VtkOutput parse_vtk(const SceneNode& node) {
+  node.keys({"every", "directory", "particles"},
+            "vtk: a map with keys every, directory, particles");
+  VtkOutput output;
+  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.directory = "vtk";
+  if (auto directory = node.find("directory"))
+    output.directory = directory->text("a directory path");
+  if (auto particles = node.find("particles"))
+    output.particles = particles->choice({"surfaces", "points"}, "a particle form") == "surfaces"
+                           ? VtkParticles::surfaces
+                           : VtkParticles::points;
+  return output;
+}
+
+ProbeOutput parse_probes(const SceneNode& node, const Scene& scene) {
+  node.keys({"every", "file", "quantities"}, "probes: a map with keys every, file, quantities");
+  ProbeOutput output;
+  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.file = "probes.csv";
+  if (auto file = node.find("file")) output.file = file->text("a file path");
+  const std::vector<Probe> all = {Probe::kinetic_energy, Probe::wall_forces, Probe::contact_count,
+                                  Probe::bed_height};
+  std::vector<std::string> names;
+  for (Probe p : all) names.push_back(to_string(p));
+  const SceneNode quantities = node.at("quantities", "a list of probes");
+  const std::vector<SceneNode> items =
+      quantities.items("a list of probes, from " + join_options(names));
+  if (items.empty()) quantities.fail_expected("a list of probes (at least one)");
+  for (const SceneNode& item : items) {
+    const std::string name = item.choice(names, "a probe");
+    const Probe probe = all[std::find(names.begin(), names.end(), name) - names.begin()];
+    if (std::find(output.quantities.begin(), output.quantities.end(), probe) !=
+        output.quantities.end())
+      item.fail("probe '" + name + "' is listed twice");
+    if (probe == Probe::wall_forces && scene.walls.empty())
+      item.fail("wall_forces needs walls; the scene has none");
+    if (probe == Probe::contact_count && !scene.effects.contact)
+      item.fail("contact_count needs a contact model (effects.contact)");
+    if (probe == Probe::bed_height && !scene.effects.gravity)
+      item.fail("bed_height is measured against gravity; the scene has no effects.gravity");
+    output.quantities.push_back(probe);
+  }
+  return output;
+}
+
+}  // namespace
+
 void parse_outputs(const SceneNode& node, Scene& scene) {
-  node.keys({"trajectories", "probes"}, "a map of outputs (trajectories, probes)");
-  const std::string kEvery = "a positive integer number of steps";
-  if (auto trajectories = node.find("trajectories")) {
-    trajectories->keys({"every", "directory", "format"},
-                       "trajectories: a map with keys every, directory, format");
-    TrajectoryOutput output;
-    output.every = trajectories->at("every", kEvery).integer(kEvery, 1, 1LL << 62);
-    output.directory = "trajectories";
-    if (auto directory = trajectories->find("directory"))
-      output.directory = directory->text("a directory path");
-    if (auto format = trajectories->find("format"))
-      output.format = format->choice({"csv", "vtk"}, "a trajectory format") == "csv"
-                          ? TrajectoryFormat::csv
-                          : TrajectoryFormat::vtk;
-    scene.outputs.trajectories = output;
-  }
-  if (auto probes = node.find("probes")) {
-    probes->keys({"every", "file", "quantities"},
-                 "probes: a map with keys every, file, quantities");
-    ProbeOutput output;
-    output.every = probes->at("every", kEvery).integer(kEvery, 1, 1LL << 62);
-    output.file = "probes.csv";
-    if (auto file = probes->find("file")) output.file = file->text("a file path");
-    const std::vector<Probe> all = {Probe::kinetic_energy, Probe::wall_forces, Probe::contact_count,
-                                    Probe::bed_height};
-    std::vector<std::string> names;
-    for (Probe p : all) names.push_back(to_string(p));
-    const SceneNode quantities = probes->at("quantities", "a list of probes");
-    const std::vector<SceneNode> items =
-        quantities.items("a list of probes, from " + join_options(names));
-    if (items.empty()) quantities.fail_expected("a list of probes (at least one)");
-    for (const SceneNode& item : items) {
-      const std::string name = item.choice(names, "a probe");
-      const Probe probe = all[std::find(names.begin(), names.end(), name) - names.begin()];
-      if (std::find(output.quantities.begin(), output.quantities.end(), probe) !=
-          output.quantities.end())
-        item.fail("probe '" + name + "' is listed twice");
-      if (probe == Probe::wall_forces && scene.walls.empty())
-        item.fail("wall_forces needs walls; the scene has none");
-      if (probe == Probe::contact_count && !scene.effects.contact)
-        item.fail("contact_count needs a contact model (effects.contact)");
-      if (probe == Probe::bed_height && !scene.effects.gravity)
-        item.fail("bed_height is measured against gravity; the scene has no effects.gravity");
-      output.quantities.push_back(probe);
-    }
-    scene.outputs.probes = output;
-  }
+  node.keys({"trajectories", "probes", "vtk"}, "a map of outputs (trajectories, probes, vtk)");
+  if (auto trajectories = node.find("trajectories"))
+    scene.outputs.trajectories = parse_trajectories(*trajectories);
+  if (auto probes = node.find("probes")) scene.outputs.probes = parse_probes(*probes, scene);
+  if (auto vtk = node.find("vtk")) scene.outputs.vtk = parse_vtk(*vtk);
 }
 
 }  // namespace talus

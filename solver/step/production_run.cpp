@@ -9,6 +9,7 @@
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
+#include "solver/io/vtk_output.hpp"
 #include "solver/step/any_step.hpp"
 #include "solver/step/host_step.hpp"
 
@@ -48,6 +49,7 @@ struct ProductionRunner::Impl {
   long long step_index = 0, total_steps = 0;
   std::string trajectory_dir;
   std::unique_ptr<ProbeWriter> probes;
+  std::unique_ptr<VtkSeriesWriter> vtk;
   std::vector<std::string> outputs;
   double contacts_sum = 0, output_seconds = 0;
   double started = 0, last_progress = 0;
@@ -82,9 +84,13 @@ struct ProductionRunner::Impl {
   void write_outputs(bool last) {
     const double start = clock_seconds();
     const auto due = [&](long long every) { return step_index % every == 0 || last; };
-    if (scene.outputs.trajectories && due(scene.outputs.trajectories->every)) {
-      write_trajectory_frame(trajectory_dir, step_index, step->rows());
-    }
+    const bool frame = scene.outputs.trajectories && due(scene.outputs.trajectories->every);
+    const bool vtk_frame = vtk && due(scene.outputs.vtk->every);
+    // One download of the particles (the CUDA step's) for both.
+    const std::vector<TrajectoryRow> rows =
+        frame || vtk_frame ? step->rows() : std::vector<TrajectoryRow>();
+    if (frame) write_trajectory_frame(trajectory_dir, step_index, rows);
+    if (vtk_frame) vtk->write_frame(step_index, step->time(), rows);
     if (probes && due(scene.outputs.probes->every)) {
       probes->write_row(step->time(), step_index, probe_values());
     }
@@ -111,11 +117,6 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   }
   m.total_steps = std::llround(scene.end_time / scene.time_step);
   if (scene.outputs.trajectories) {
-    if (scene.outputs.trajectories->format != TrajectoryFormat::csv) {
-      throw std::runtime_error(scene.file +
-                               ": outputs.trajectories.format: the production solver writes csv "
-                               "only (vtk output arrives with issue 5)");
-    }
     m.trajectory_dir = joined(m.settings.output_root, scene.outputs.trajectories->directory);
     create_output_directory(m.trajectory_dir);
     write_run_info(m.trajectory_dir, run_info(scene, "talus"));
@@ -126,6 +127,12 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
         std::make_unique<ProbeWriter>(joined(m.settings.output_root, scene.outputs.probes->file),
                                       probe_columns(*scene.outputs.probes, scene.walls));
     m.outputs.push_back(m.probes->path());
+  }
+  if (scene.outputs.vtk) {
+    m.vtk = std::make_unique<VtkSeriesWriter>(
+        scene, joined(m.settings.output_root, scene.outputs.vtk->directory),
+        vtk_particles_for(scene, m.step->particles()));
+    m.outputs.push_back(m.vtk->directory());
   }
   m.step->evaluate_forces();  // step 0's contacts
   m.write_outputs(done());

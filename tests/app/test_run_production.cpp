@@ -11,6 +11,7 @@
 #include "solver/io/trajectory.hpp"
 #include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace {
 
@@ -160,6 +161,37 @@ TEST(TalusRunProduction, CudaBackendRunsLikeTheHostOrIsRefused) {
       EXPECT_NEAR(g[f].rows[i].velocity.x, c[f].rows[i].velocity.x, 1e-12);
     }
   }
+}
+
+// outputs.vtk: a ParaView frame at every trajectory frame's step, listed in particles.pvd; the
+// two balls drawn as surfaces (the default for a small run); no walls, so no walls series.
+// tests/io/vtk_readback.py reads such files back with VTK and checks their values.
+TEST(TalusRunProduction, WritesParaViewFramesBesideTheTrajectories) {
+  const std::string dir = production_directory("vtk");
+  const std::string scene =
+      write_scene(dir, std::string(kTwoBalls) + "  vtk: {every: 500, directory: pv}\n");
+  const ProcessResult run = run_talus({"run", "--quiet", "--output", dir + "/out", scene});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json outputs = parse_or_fail(run.out)["outputs"];
+  ASSERT_EQ(outputs.items.size(), 2u);
+  EXPECT_EQ(outputs.items[1].text, dir + "/out/pv");
+  EXPECT_EQ(talus_test::file_names(dir + "/out/pv"),
+            (std::vector<std::string>{"particles.pvd", "particles_000000000.vtp",
+                                      "particles_000000500.vtp", "particles_000001000.vtp",
+                                      "particles_000001500.vtp", "particles_000002000.vtp"}));
+  const std::string pvd = talus_test::read_text(dir + "/out/pv/particles.pvd");
+  // One DataSet a frame, at its time: step * 1e-5 s, summed step by step (round-off of 1e-16
+  // relative a step).
+  std::vector<double> times;
+  const std::string key = "timestep=\"";
+  for (std::size_t at = pvd.find(key); at != std::string::npos; at = pvd.find(key, at + 1))
+    times.push_back(std::stod(pvd.substr(at + key.size())));
+  ASSERT_EQ(times.size(), 5u);
+  for (std::size_t f = 0; f < times.size(); ++f) EXPECT_NEAR(times[f], 0.005 * f, 1e-15);
+  // Two spheres of 6 bands of 12 segments: 62 points and 72 faces each.
+  const std::string frame = talus_test::read_text(dir + "/out/pv/particles_000002000.vtp");
+  EXPECT_NE(frame.find("NumberOfPoints=\"124\""), std::string::npos);
+  EXPECT_NE(frame.find("NumberOfPolys=\"144\""), std::string::npos);
 }
 
 // What the host step cannot do yet is refused with exit 2 and what to do.

@@ -23,15 +23,8 @@ namespace fs = std::filesystem;
 std::string test_directory(const std::string& name) {
   return talus_test::fresh_test_directory("test-io", name);
 }
+using talus_test::file_names;
 using talus_test::read_text;
-
-std::vector<std::string> file_names(const std::string& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir))
-    names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 // Doubles that a careless format would not read back: many digits, extremes, subnormals, -0.
 std::vector<TrajectoryRow> awkward_rows(int count, unsigned seed) {

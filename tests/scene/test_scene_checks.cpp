@@ -165,6 +165,27 @@ TEST(SceneChecks, OutputsNeedWhatTheyMeasure) {
        {{"  friction: true", "  friction: true\noutputs:\n  trajectories: {every: 2.5}"}},
        "errors.yaml:22:25: outputs.trajectories.every: expected a positive integer number of "
        "steps, got '2.5'"},
+      {"vtk output every zero steps",
+       {{"  friction: true", "  friction: true\noutputs:\n  vtk: {every: 0}"}},
+       "errors.yaml:22:16: outputs.vtk.every: expected a positive integer number of steps, got "
+       "'0'"},
+      {"vtk output without every",
+       {{"  friction: true", "  friction: true\noutputs:\n  vtk: {directory: pv}"}},
+       "errors.yaml:22:8: outputs.vtk.every: missing required key; expected a positive integer "
+       "number of steps"},
+      {"an unknown particle form",
+       {{"  friction: true", "  friction: true\noutputs:\n  vtk: {every: 5, particles: meshes}"}},
+       "errors.yaml:22:30: outputs.vtk.particles: expected a particle form, one of surfaces, "
+       "points, got 'meshes'"},
+      {"a misspelt vtk key",
+       {{"  friction: true", "  friction: true\noutputs:\n  vtk: {every: 5, particle: points}"}},
+       "errors.yaml:22:19: outputs.vtk.particle: unknown key; expected one of every, directory, "
+       "particles (did you mean 'particles'?)"},
+      {"the trajectory format that VTK output replaced",
+       {{"  friction: true",
+         "  friction: true\noutputs:\n  trajectories: {every: 5, format: vtk}"}},
+       "errors.yaml:22:36: outputs.trajectories.format: trajectories are CSV files; for "
+       "ParaView's VTK files write outputs.vtk"},
   };
   for (const CheckCase& c : cases) expect_message(c);
 }

@@ -143,7 +143,10 @@ TEST(SceneExample, LoadsWithEveryValueAsWritten) {
   ASSERT_TRUE(scene.outputs.trajectories.has_value());
   EXPECT_EQ(scene.outputs.trajectories->every, 1000);
   EXPECT_EQ(scene.outputs.trajectories->directory, "out/trajectory");
-  EXPECT_EQ(scene.outputs.trajectories->format, TrajectoryFormat::vtk);
+  ASSERT_TRUE(scene.outputs.vtk.has_value());
+  EXPECT_EQ(scene.outputs.vtk->every, 5000);
+  EXPECT_EQ(scene.outputs.vtk->directory, "out/paraview");
+  EXPECT_EQ(scene.outputs.vtk->particles, VtkParticles::surfaces);
   ASSERT_TRUE(scene.outputs.probes.has_value());
   EXPECT_EQ(scene.outputs.probes->every, 100);
   EXPECT_EQ(scene.outputs.probes->file, "out/probes.csv");

@@ -34,6 +34,7 @@ TEST(SceneValues, DefaultsOfKeysLeftOut) {
   EXPECT_FALSE(scene.effects.feed);
   EXPECT_FALSE(scene.outputs.trajectories.has_value());
   EXPECT_FALSE(scene.outputs.probes.has_value());
+  EXPECT_FALSE(scene.outputs.vtk.has_value());
   // `effects:` with nothing under it: no physics at all.
   const Scene bare =
       with({{"effects:\n  gravity: [0, 0, -9.81]\n  contact: volume\n  friction: "
@@ -143,13 +144,32 @@ TEST(SceneValues, MeshTemplateScaleInTheSpec) {
   EXPECT_NEAR(t.bounding_radius, 6e-3 * std::sqrt(3.0), 1e-15);
 }
 
+TEST(SceneValues, VtkOutputDefaultsAndParticleForms) {
+  const std::string outputs = "  friction: true\noutputs:\n  ";
+  const Scene plain = with({{"  friction: true", outputs + "vtk: {every: 20}"}});
+  ASSERT_TRUE(plain.outputs.vtk.has_value());
+  EXPECT_EQ(plain.outputs.vtk->every, 20);
+  EXPECT_EQ(plain.outputs.vtk->directory, "vtk");
+  EXPECT_FALSE(plain.outputs.vtk->particles.has_value());  // chosen by the run's particle count
+  EXPECT_FALSE(plain.outputs.trajectories.has_value());
+  const Scene points =
+      with({{"  friction: true", outputs + "vtk: {every: 3, directory: pv, particles: points}"}});
+  EXPECT_EQ(points.outputs.vtk->every, 3);
+  EXPECT_EQ(points.outputs.vtk->directory, "pv");
+  EXPECT_EQ(points.outputs.vtk->particles, VtkParticles::points);
+  const Scene surfaces =
+      with({{"  friction: true", outputs + "vtk: {every: 1, particles: surfaces}"}});
+  EXPECT_EQ(surfaces.outputs.vtk->particles, VtkParticles::surfaces);
+}
+
 TEST(SceneValues, NamesWrittenForEachKind) {
   EXPECT_STREQ(to_string(WallKind::hopper), "hopper");
   EXPECT_STREQ(to_string(ContactModel::linear), "linear");
   EXPECT_STREQ(to_string(Probe::bed_height), "bed_height");
   EXPECT_STREQ(to_string(Backend::automatic), "auto");
   EXPECT_STREQ(to_string(Precision::float32), "float");
-  EXPECT_STREQ(to_string(TrajectoryFormat::vtk), "vtk");
+  EXPECT_STREQ(to_string(VtkParticles::surfaces), "surfaces");
+  EXPECT_STREQ(to_string(VtkParticles::points), "points");
 }
 
 }  // namespace
