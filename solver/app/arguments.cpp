@@ -1,6 +1,7 @@
 #include "solver/app/arguments.hpp"
 
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -76,6 +77,18 @@ ShapeTemplate load_shape_argument(const std::string& argument_name, const std::s
     // The loader's message already says what it expected.
     throw UsageError(describe(argument_name, spec) + ": " + reason);
   }
+}
+
+int parse_positive_count(const std::string& option, const std::string& text) {
+  const std::string expected = option + " '" + text + "': expected a whole number of at least 1";
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) {
+    throw UsageError(expected);
+  }
+  errno = 0;
+  const long value = std::strtol(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || value > INT_MAX) throw UsageError(option + " '" + text + "': too large");
+  if (value < 1) throw UsageError(expected);
+  return static_cast<int>(value);
 }
 
 }  // namespace talus

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "solver/core/quat.hpp"
 #include "solver/shape/shape.hpp"
@@ -24,5 +25,21 @@ Posed parse_pose(const std::string& argument_name, const std::string& text);
 // A built-in shape spec or a mesh file (solver/shape/mesh_io.hpp: make_shape); the loader's own
 // message is kept and prefixed with the argument's name and text.
 ShapeTemplate load_shape_argument(const std::string& argument_name, const std::string& spec);
+
+// A whole number >= 1 written in decimal (nothing else around it), or a UsageError naming the
+// option: "--threads '0': expected a whole number of at least 1".
+int parse_positive_count(const std::string& option, const std::string& text);
+
+// One of `choices` (as written), or a UsageError naming the option and listing them.
+template <class Value, std::size_t N>
+Value choose(const std::string& option, const std::string& text,
+             const std::pair<const char*, Value> (&choices)[N]) {
+  std::string listed;
+  for (const auto& [name, value] : choices) {
+    if (text == name) return value;
+    listed += (listed.empty() ? "" : ", ") + std::string(name);
+  }
+  throw UsageError(option + " '" + text + "': expected one of " + listed);
+}
 
 }  // namespace talus

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "solver/app/render_arguments.hpp"
 #include "solver/app/run_arguments.hpp"
 
 namespace talus {
@@ -27,6 +28,15 @@ class RunError : public std::runtime_error {
 // `talus run [options] scene.yaml`: runs the scene, writing its outputs as it goes and progress
 // lines on stderr; returns the run's summary as JSON. Throws SceneError for a bad scene file,
 // RunError as above, std::runtime_error for a failure while running (e.g. an unwritable output).
+// With no scene path: the built-in scene (solver/scene/builtin_scene.hpp) is written to
+// <output root>/scene.yaml (the root defaults to kBuiltinSceneOutput) and run from there; then,
+// where OpenCV is built in, its last frame is drawn; the summary adds the final bed height beside
+// the paper's and the picture, and a line on stderr says both.
 std::string run_json(const RunArguments& args);
+
+// `talus render [options] DIR`: pictures of a run (solver/render/render_run.hpp); returns a
+// summary as JSON. Throws RunError when talus was built without OpenCV, or for a run directory
+// it cannot draw; UsageError for bad options.
+std::string render_json(const RenderArguments& args);
 
 }  // namespace talus

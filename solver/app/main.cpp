@@ -16,10 +16,15 @@ constexpr int kExitFailure = 1;
 
 const char* const kUsage =
     "usage:\n"
-    "  talus                                  run a built-in overlap example\n"
+    "  talus                                  the built-in scene (as 'talus run')\n"
+    "  talus run [options] [SCENE.yaml]       run a scene (docs/scenes.md); summary as JSON.\n"
+    "                                         No scene: 63 dodecahedra poured into a 10 cm\n"
+    "                                         cylinder (paper section 3.3), outputs in\n"
+    "                                         talus-default/, its final bed height and picture\n"
+    "  talus render [options] DIR             draw a run's frames to PNG (DIR: its trajectory\n"
+    "                                         directory, with run.json)\n"
     "  talus overlap A POSE_A B POSE_B        overlap of two posed polyhedra, as JSON\n"
     "  talus shape A                          a shape template in its body frame, as JSON\n"
-    "  talus run [options] SCENE.yaml         run a scene (docs/scenes.md); summary as JSON\n"
     "  talus help | --help | -h               this text\n"
     "\n"
     "A, B     a built-in shape 'name:size' or an .obj/.stl file ('path' or 'path:scale')\n"
@@ -41,14 +46,22 @@ const char* const kUsage =
     "  --output DIR                    relative output paths of the scene go inside DIR\n"
     "  --threads N                     the host backend's threads (N >= 1; default: all\n"
     "                                  cores, or OMP_NUM_THREADS)\n"
-    "  --quiet                         no progress lines on stderr\n";
-
-// The example run by `talus` alone: two 10 mm dodecahedra, centres 7.07 mm apart (less than
-// twice the 3.97 mm inradius, so they overlap whatever their orientations), the second turned
-// 30 degrees about z.
-const std::vector<std::string> kExample = {"dodecahedron:0.01", "0,0,0,1,0,0,0",
-                                           "dodecahedron:0.01",
-                                           "0.007,0.001,0,0.9659258,0,0,0.2588190"};
+    "  --end T                         stop at T seconds instead of the scene's end time\n"
+    "  --quiet                         no progress lines on stderr\n"
+    "\n"
+    "render options (pictures, their projection and each particle's pixel position go to\n"
+    "DIR/render/ unless --output says otherwise; docs/scenes.md, \"Pictures\"):\n"
+    "  --view x|-x|y|-y|z|-z           the direction the camera looks along (default y)\n"
+    "  --color normal|velocity|id      faces shaded by normal, speed colours, or one flat\n"
+    "                                  colour per particle id (default normal)\n"
+    "  --width N, --height N           image size in pixels (default 800 x 800)\n"
+    "  --every K                       every K-th frame (the last always); --last: only it\n"
+    "  --fit all|particles             scale to fit particles and walls (default) or\n"
+    "                                  particles only\n"
+    "  --max-speed V                   m/s drawn red with --color velocity (default: the\n"
+    "                                  fastest particle of the frames)\n"
+    "  --scene FILE                    the scene, when run.json's path does not lead to it\n"
+    "  --output DIR, --no-label, --quiet\n";
 
 int usage_error(const std::string& message) {
   std::fprintf(stderr, "talus: error: %s\n\n%s", message.c_str(), kUsage);
@@ -58,14 +71,9 @@ int usage_error(const std::string& message) {
 int run(const std::vector<std::string>& args) {
   if (args.empty()) {
     std::fprintf(stderr,
-                 "talus: no command given; running the example 'talus overlap %s %s %s %s' (two "
-                 "10 mm dodecahedra, the second moved by (7, 1, 0) mm and turned 30 deg about z); "
-                 "'talus --help' lists the commands\n",
-                 kExample[0].c_str(), kExample[1].c_str(), kExample[2].c_str(),
-                 kExample[3].c_str());
-    const std::string json =
-        talus::overlap_json(kExample[0], kExample[1], kExample[2], kExample[3]);
-    std::fputs(json.c_str(), stdout);
+                 "talus: no command given: 'talus run' ('talus --help' lists the "
+                 "commands)\n");
+    std::fputs(talus::run_json(talus::RunArguments{}).c_str(), stdout);
     return 0;
   }
   const std::string& command = args[0];
@@ -89,8 +97,12 @@ int run(const std::vector<std::string>& args) {
   } else if (command == "run") {
     json = talus::run_json(
         talus::parse_run_arguments(std::vector<std::string>(args.begin() + 1, args.end())));
+  } else if (command == "render") {
+    json = talus::render_json(
+        talus::parse_render_arguments(std::vector<std::string>(args.begin() + 1, args.end())));
   } else {
-    return usage_error("unknown command '" + command + "'; expected overlap, shape, run or help");
+    return usage_error("unknown command '" + command +
+                       "'; expected run, render, overlap, shape or help");
   }
   std::fputs(json.c_str(), stdout);
   return 0;

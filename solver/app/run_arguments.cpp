@@ -2,41 +2,10 @@
 
 #include "solver/app/arguments.hpp"
 
-#include <cerrno>
-#include <climits>
+#include <cmath>
 #include <cstdlib>
 
 namespace talus {
-
-namespace {
-
-// A whole number >= 1 written in decimal (nothing else around it) or a UsageError naming the
-// option.
-int positive_count(const std::string& option, const std::string& text) {
-  const std::string expected = option + " '" + text + "': expected a whole number of at least 1";
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) {
-    throw UsageError(expected);
-  }
-  errno = 0;
-  const long value = std::strtol(text.c_str(), nullptr, 10);
-  if (errno == ERANGE || value > INT_MAX) throw UsageError(option + " '" + text + "': too large");
-  if (value < 1) throw UsageError(expected);
-  return static_cast<int>(value);
-}
-
-// One of `choices` (as written) or a UsageError naming the option and listing them.
-template <class Value, std::size_t N>
-Value choose(const std::string& option, const std::string& text,
-             const std::pair<const char*, Value> (&choices)[N]) {
-  std::string listed;
-  for (const auto& [name, value] : choices) {
-    if (text == name) return value;
-    listed += (listed.empty() ? "" : ", ") + std::string(name);
-  }
-  throw UsageError(option + " '" + text + "': expected one of " + listed);
-}
-
-}  // namespace
 
 const char* to_string(SolverKind solver) {
   return solver == SolverKind::reference ? "reference" : "production";
@@ -74,7 +43,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       name = word.substr(0, equals);
       value = word.substr(equals + 1);
     } else if (name == "--solver" || name == "--backend" || name == "--precision" ||
-               name == "--output" || name == "--threads") {
+               name == "--output" || name == "--threads" || name == "--end") {
       if (i + 1 >= operands.size()) throw UsageError(name + " expects a value");
       value = operands[++i];
     }
@@ -88,14 +57,19 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       if (value.empty()) throw UsageError("--output expects a directory");
       parsed.output_root = value;
     } else if (name == "--threads") {
-      parsed.threads = positive_count(name, value);
+      parsed.threads = parse_positive_count(name, value);
+    } else if (name == "--end") {
+      char* end = nullptr;
+      const double t = std::strtod(value.c_str(), &end);
+      if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(t) || t <= 0)
+        throw UsageError("--end '" + value + "': expected a positive time in s");
+      parsed.end_time = t;
     } else {
       throw UsageError("unknown option '" + name +
                        "' for run; expected --solver, --backend, --precision, --output, "
-                       "--threads, --quiet");
+                       "--threads, --end, --quiet");
     }
   }
-  if (!have_scene) throw UsageError("run expects a scene file (YAML, see docs/scenes.md)");
   return parsed;
 }
 

@@ -13,7 +13,9 @@ namespace talus {
 enum class SolverKind { production, reference };
 
 struct RunArguments {
-  std::string scene_path;                      // the scene file (required)
+  // The scene file; empty: the built-in scene (solver/scene/builtin_scene.hpp), written into
+  // the output root and run from there.
+  std::string scene_path;
   SolverKind solver = SolverKind::production;  // --solver production|reference
   std::optional<Backend> backend;              // --backend auto|cpu|cuda: overrides the scene's
   std::optional<Precision> precision;          // --precision double|float: overrides the scene's
@@ -24,9 +26,11 @@ struct RunArguments {
   // OMP_NUM_THREADS).
   int threads = 0;
   bool quiet = false;  // --quiet: no progress lines on stderr
+  // --end T: stop at T seconds instead of the scene's end time (s, > 0; shorter runs).
+  std::optional<double> end_time;
 };
 
-// The operands after `run`: options in any order (`--name value` or `--name=value`) and exactly
+// The operands after `run`: options in any order (`--name value` or `--name=value`) and at most
 // one scene path. Throws UsageError.
 RunArguments parse_run_arguments(const std::vector<std::string>& operands);
 

@@ -5,7 +5,9 @@
 // it, `auto` takes it where a device is usable. `--threads N` sets the host backend's threads
 // (default: OpenMP's, all cores or OMP_NUM_THREADS); the summary and the notice of `auto` name
 // the count when the host runs the scene.
+#include <cmath>
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,11 +16,16 @@
 #include "solver/app/json_writer.hpp"
 #include "solver/app/run_arguments.hpp"
 #include "solver/core/host_parallel.hpp"
+#include "solver/io/output_files.hpp"
+#include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
 #include "solver/step/production_run.hpp"
 
 #if TALUS_HAVE_REFERENCE
 #include "reference/run/scene_run.hpp"
+#endif
+#if TALUS_HAVE_OPENCV
+#include "solver/render/render_run.hpp"
 #endif
 #if TALUS_HAVE_CUDA
 #include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
@@ -46,10 +53,13 @@ void print_production_progress(const ProductionProgress& p) {
                       p.wall_seconds);
 }
 
+// Members a caller adds to the summary after the run (the built-in scene's bed height).
+using ExtraMembers = std::function<void(const ProductionReport&, JsonWriter&)>;
+
 // The production solver on the chosen backend (make_step: empty for the host); the summary adds
 // wall time per stage, contacts per step and peak memory.
-std::string run_production_json(const RunArguments& args, const Scene& scene,
-                                StepFactory make_step) {
+std::string run_production_json(const RunArguments& args, const Scene& scene, StepFactory make_step,
+                                const ExtraMembers& extra) {
   ProductionSettings settings;
   settings.make_step = std::move(make_step);
   settings.host_threads = args.threads;
@@ -85,8 +95,34 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   json.begin_array(JsonWriter::Layout::multi_line);
   for (const std::string& output : report.outputs) json.value(output);
   json.end_array();
+  if (extra) extra(report, json);
   json.end_object();
   return json.str();
+}
+
+// The built-in scene's closing: its last frame drawn where OpenCV is built in, the final bed
+// height beside the paper's (solver/scene/builtin_scene.hpp), on stderr and in the summary.
+void finish_builtin_run(const RunArguments& args, const ProductionReport& report,
+                        JsonWriter& json) {
+  std::string picture;
+#if TALUS_HAVE_OPENCV
+  RenderSettings render;
+  render.run_directory = args.output_root + "/frames";
+  render.last_only = true;
+  render.fit_walls = false;  // the bed fills the picture; the 0.5 m tube would dwarf it
+  render.width = 640;
+  render.height = 800;
+  const RenderReport drawn = render_run(render);
+  picture = drawn.images.back();
+#endif
+  json.member("bed_height", report.bed_height);
+  json.member("paper_bed_height", kPaperBedHeight);
+  json.member("picture", picture.empty() ? "none: this talus was built without OpenCV" : picture);
+  std::fprintf(stderr,
+               "talus run: final bed height %.1f cm after %.3g s; the paper (section 3.3) reports "
+               "about %.0f cm%s%s\n",
+               100 * report.bed_height, report.simulated_time, 100 * kPaperBedHeight,
+               picture.empty() ? "" : "; picture: ", picture.c_str());
 }
 
 #if TALUS_HAVE_REFERENCE
@@ -98,10 +134,33 @@ void print_progress(const reference::SceneRunProgress& p) {
 
 }  // namespace
 
-std::string run_json(const RunArguments& args) {
+std::string run_json(const RunArguments& given) {
+  RunArguments args = given;
+  const bool builtin = args.scene_path.empty();
+  if (builtin) {
+    // The built-in scene, written out so that the run directory holds what produced it (and
+    // `talus render` finds it through run.json).
+    if (args.output_root.empty()) args.output_root = kBuiltinSceneOutput;
+    create_output_directory(args.output_root);
+    args.scene_path = args.output_root + "/" + kBuiltinSceneFileName;
+    write_file_atomically(args.scene_path, builtin_scene_text());
+    if (!args.quiet)
+      std::fprintf(stderr,
+                   "talus run: no scene given; running the built-in scene (63 dodecahedra poured "
+                   "into a 10 cm cylinder, paper section 3.3), written to %s, outputs in %s/\n",
+                   args.scene_path.c_str(), args.output_root.c_str());
+  }
   Scene scene = load_scene(args.scene_path);  // SceneError: file:line:column: key: message
   if (args.backend) scene.backend = *args.backend;
   if (args.precision) scene.precision = *args.precision;
+  if (args.end_time) {
+    if (*args.end_time < scene.time_step)
+      throw RunError("--end " + exact_decimal(*args.end_time) + " s is shorter than the scene's " +
+                     "time step " + exact_decimal(scene.time_step) + " s");
+    scene.end_time = *args.end_time;
+  }
+  if (builtin && args.solver == SolverKind::reference)
+    throw RunError("the built-in scene runs on the production solver; drop --solver reference");
 
   if (args.solver == SolverKind::production) {
     StepFactory make_step;  // empty: the host
@@ -136,7 +195,12 @@ std::string run_json(const RunArguments& args) {
                    host_threads, host_threads == 1 ? "" : "s");
     }
 #endif
-    return run_production_json(args, scene, std::move(make_step));
+    ExtraMembers extra;
+    if (builtin)
+      extra = [&args](const ProductionReport& report, JsonWriter& json) {
+        finish_builtin_run(args, report, json);
+      };
+    return run_production_json(args, scene, std::move(make_step), extra);
   }
   if (args.threads > 0) {
     throw RunError(

@@ -45,6 +45,26 @@ const std::regex& frame_name_pattern() {
   return pattern;
 }
 
+// The JSON string after "key": in `text` (the escapes json_string writes undone), or false.
+bool json_string_member(const std::string& text, const std::string& key, std::string& value) {
+  const std::regex pattern("\"" + key + "\"\\s*:\\s*\"((?:[^\"\\\\]|\\\\.)*)\"");
+  std::smatch match;
+  if (!std::regex_search(text, match, pattern)) return false;
+  const std::string raw = match[1].str();
+  value.clear();
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (raw[i] != '\\' || i + 1 >= raw.size()) {
+      value += raw[i];
+    } else if (raw[i + 1] == 'u' && i + 5 < raw.size()) {
+      value += static_cast<char>(std::strtol(raw.substr(i + 2, 4).c_str(), nullptr, 16));
+      i += 5;
+    } else {
+      value += raw[++i];
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string trajectory_file_name(long long step) {
@@ -146,6 +166,38 @@ void write_run_info(const std::string& directory, const RunInfo& info) {
          << ", \"name\": " << json_string(info.templates[i]) << "}";
   json << (info.templates.empty() ? "]\n}\n" : "\n  ]\n}\n");
   write_file_atomically(directory + "/run.json", json.str());
+}
+
+RunInfo read_run_info(const std::string& directory) {
+  const std::string path = directory + "/run.json";
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw std::runtime_error(path +
+                             ": cannot open the file (expected the run.json that talus run "
+                             "writes beside its trajectory frames)");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  RunInfo info;
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error(path + ": expected " + what);
+  };
+  if (!json_string_member(text, "scene", info.scene_file)) fail("a string member \"scene\"");
+  if (!json_string_member(text, "solver", info.solver)) fail("a string member \"solver\"");
+  if (!json_string_member(text, "precision", info.precision)) fail("a string member \"precision\"");
+  std::smatch match;
+  const std::regex time_step("\"time_step\"\\s*:\\s*([-+0-9.eE]+)");
+  if (!std::regex_search(text, match, time_step) || !parse_double(match[1].str(), info.time_step) ||
+      !(info.time_step > 0))
+    fail("a positive number \"time_step\" (s)");
+  const std::regex name("\\{\"id\": [0-9]+, \"name\": (\"(?:[^\"\\\\]|\\\\.)*\")\\}");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), name); it != std::sregex_iterator();
+       ++it) {
+    std::string template_name;
+    json_string_member("\"n\": " + (*it)[1].str(), "n", template_name);
+    info.templates.push_back(template_name);
+  }
+  return info;
 }
 
 }  // namespace talus

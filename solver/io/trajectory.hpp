@@ -60,4 +60,8 @@ RunInfo run_info(const Scene& scene, const std::string& solver);
 //  "templates": [{"id": 0, "name": ...}, ...]}
 void write_run_info(const std::string& directory, const RunInfo& info);
 
+// Reads DIR/run.json as write_run_info writes it (scene, solver, precision, time_step, template
+// names). Throws std::runtime_error "<DIR>/run.json: ..." naming what is missing.
+RunInfo read_run_info(const std::string& directory);
+
 }  // namespace talus

@@ -4,7 +4,6 @@
 #include <cstdint>
 
 #include "solver/io/output_files.hpp"
-#include "solver/scene/wall_motion.hpp"
 
 namespace talus {
 namespace {
@@ -43,12 +42,6 @@ TemplateSurface sphere_surface(double radius) {
     s.faces.push_back({ring(kSphereBands - 1, k), south, ring(kSphereBands - 1, k + 1)});
   }
   return s;
-}
-
-// The triangles of wall w present at `time`: all but an opened outlet's plate.
-int present_triangles(const WallSpec& wall, const WallMesh& mesh, double time) {
-  return static_cast<int>(mesh.mesh.triangles.size()) -
-         (outlet_closed_at(wall, time) ? 0 : mesh.plate_triangles);
 }
 
 }  // namespace
@@ -121,14 +114,11 @@ VtkPolyData particle_points(const Scene& scene, const std::vector<TrajectoryRow>
 VtkPolyData wall_polygons(const Scene& scene, const std::vector<WallMesh>& meshes, double time) {
   VtkPolyData data;
   VtkArray wall("wall", VtkArray::Type::int32);
-  for (std::size_t w = 0; w < meshes.size(); ++w) {
-    const TriangleMesh& mesh = meshes[w].mesh;
-    const RigidTransform transform = wall_transform(scene.walls[w].motion, time);
+  const std::vector<TriangleMesh> walls = walls_at(scene, meshes, time);
+  for (std::size_t w = 0; w < walls.size(); ++w) {
     const auto first = static_cast<std::int64_t>(data.point_count());
-    for (const Vec3d& v : mesh.vertices) add_vec3(data.points, transform.apply(v));
-    const int present = present_triangles(scene.walls[w], meshes[w], time);
-    for (int t = 0; t < present; ++t) {
-      const auto& corners = mesh.triangles[t];
+    for (const Vec3d& v : walls[w].vertices) add_vec3(data.points, v);
+    for (const auto& corners : walls[w].triangles) {
       data.add_polygon({first + corners[0], first + corners[1], first + corners[2]});
       wall.add(std::int32_t(w));
     }
@@ -165,7 +155,7 @@ void VtkSeriesWriter::write_frame(long long step, double time,
 void VtkSeriesWriter::write_walls(long long step, double time) {
   std::vector<int> triangles;
   for (std::size_t w = 0; w < meshes_.size(); ++w)
-    triangles.push_back(present_triangles(scene_.walls[w], meshes_[w], time));
+    triangles.push_back(present_triangle_count(scene_.walls[w], meshes_[w], time));
   if (scene_.effects.moving_walls || triangles != written_triangles_) {
     walls_file_ = numbered_file_name("walls_", step, ".vtp");
     write_file_atomically(directory_ + "/" + walls_file_,

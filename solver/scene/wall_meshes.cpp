@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "solver/scene/wall_motion.hpp"
+
 namespace talus {
 namespace {
 
@@ -231,6 +233,21 @@ bool outlet_closed_at(const WallSpec& wall, double time) {
   if (wall.kind == WallKind::silo) outlet = &std::get<SiloWall>(wall.shape).outlet;
   if (!outlet || !outlet->closed) return false;
   return !outlet->opens_at || time < *outlet->opens_at;
+}
+
+int present_triangle_count(const WallSpec& wall, const WallMesh& mesh, double time) {
+  return static_cast<int>(mesh.mesh.triangles.size()) -
+         (outlet_closed_at(wall, time) ? 0 : mesh.plate_triangles);
+}
+
+std::vector<TriangleMesh> walls_at(const Scene& scene, const std::vector<WallMesh>& meshes,
+                                   double time) {
+  std::vector<TriangleMesh> walls;
+  for (std::size_t w = 0; w < meshes.size(); ++w) {
+    walls.push_back(transformed(meshes[w].mesh, wall_transform(scene.walls[w].motion, time)));
+    walls.back().triangles.resize(present_triangle_count(scene.walls[w], meshes[w], time));
+  }
+  return walls;
 }
 
 double mesh_area(const TriangleMesh& mesh) {

@@ -45,6 +45,15 @@ std::vector<WallMesh> make_wall_meshes(const Scene& scene);
 // with no opening time, or one whose opening time has not come. False for other walls.
 bool outlet_closed_at(const WallSpec& wall, double time);
 
+// The triangles of a wall present at `time`: all of its mesh but an opened outlet's plate.
+int present_triangle_count(const WallSpec& wall, const WallMesh& mesh, double time);
+
+// The walls as they stand at `time` (s): each mesh of make_wall_meshes moved by its wall's rigid
+// motion (wall_motion.hpp), with only its present triangles. ParaView's walls and the pictures
+// of `talus render` are drawn from these.
+std::vector<TriangleMesh> walls_at(const Scene& scene, const std::vector<WallMesh>& meshes,
+                                   double time);
+
 // Sum of the triangles' areas, m^2.
 double mesh_area(const TriangleMesh& mesh);
 

@@ -205,6 +205,7 @@ ProductionReport ProductionRunner::report() const {
   r.particle_bytes = m.step->bytes();
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;
+  if (m.scene.effects.gravity) r.bed_height = m.step->bed_height(*m.scene.effects.gravity);
   return r;
 }
 

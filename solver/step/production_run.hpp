@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -52,6 +53,9 @@ struct ProductionReport {
   std::size_t particle_bytes = 0;   // the step's arrays at the end
   long long peak_memory_bytes = 0;  // the process's peak resident set (getrusage)
   std::vector<std::string> outputs;
+  // At the end: the highest point of any particle along -g (the bed_height probe), m; NaN
+  // without gravity.
+  double bed_height = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Steps: round(end_time / time_step). Throws StepNotSupported naming the scene item for what

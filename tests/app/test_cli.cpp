@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -16,6 +17,7 @@
 
 #include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace {
 
@@ -196,25 +198,46 @@ TEST(TalusShape, CubeTemplate) {
 
 // ---- No arguments, help
 
-TEST(TalusExample, NoArgumentsRunsTheAdvertisedOverlap) {
-  const ProcessResult run = run_talus({});
+// `talus run` with no scene: the built-in scene (paper §3.3), here cut to 2 ms (50 steps), in a
+// directory of its own: the scene file it ran, its outputs, the bed height beside the paper's.
+TEST(TalusBuiltinScene, RunWithoutSceneRunsThePackingAndReportsTheBedHeight) {
+  const std::string dir = talus_test::fresh_test_directory("cli", "builtin");
+  const ProcessResult run = run_talus({"run", "--end", "0.002", "--output", dir});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json r = parse_or_fail(run.out);
-  EXPECT_EQ(r["status"].text, "overlapping");
-  EXPECT_GT(r["volume"].value, 0);
-  EXPECT_TRUE(r["gjk_intersecting"].flag);
-  // The header names the command it runs, and running that command gives the same document.
-  const std::string prefix = "talus overlap ";
-  const size_t start = run.err.find(prefix);
-  ASSERT_NE(start, std::string::npos) << run.err;
-  const size_t end = run.err.find('\'', start);
-  ASSERT_NE(end, std::string::npos);
-  std::istringstream words(run.err.substr(start + prefix.size(), end - start - prefix.size()));
-  std::vector<std::string> args = {"overlap"};
-  for (std::string w; words >> w;) args.push_back(w);
-  ASSERT_EQ(args.size(), 5u);
-  EXPECT_EQ(run_talus(args).out, run.out);
-  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << "one header line";
+  EXPECT_EQ(r["particles"].value, 63);
+  EXPECT_EQ(r["steps"].value, 50);  // 2 ms at the scene's time step of 40 us
+  EXPECT_EQ(r["paper_bed_height"].value, 0.16);
+  // At 2 ms the particles still sit where the random fill put them, bounding spheres inside the
+  // fill region (0 to 0.4 m): the highest vertex lies between the particles' size and the top.
+  EXPECT_GT(r["bed_height"].value, 0.03);
+  EXPECT_LE(r["bed_height"].value, 0.4);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/scene.yaml"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frames/run.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/probes.csv"));
+  EXPECT_NE(run.err.find("running the built-in scene"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("final bed height"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("reports about 16 cm"), std::string::npos) << run.err;
+#if TALUS_HAVE_OPENCV
+  EXPECT_TRUE(std::filesystem::exists(r["picture"].text)) << r["picture"].text;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frames/render/render.json"));
+#else
+  EXPECT_NE(r["picture"].text.find("without OpenCV"), std::string::npos);
+#endif
+}
+
+// A run directory that is not one: exit 2 and one line naming it (or, without OpenCV, saying
+// that render is not built in).
+TEST(TalusRender, MissingDirectoryIsNamed) {
+  const ProcessResult run = run_talus({"render", "/nonexistent/talus-run"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_TRUE(run.out.empty());
+#if TALUS_HAVE_OPENCV
+  EXPECT_NE(run.err.find("/nonexistent/talus-run: no such directory"), std::string::npos)
+      << run.err;
+#else
+  EXPECT_NE(run.err.find("built without OpenCV"), std::string::npos) << run.err;
+#endif
 }
 
 TEST(TalusHelp, HelpPrintsUsageAndSucceeds) {
@@ -251,7 +274,17 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
       {{"shape", "cube:abc"}, "A 'cube:abc'"},
       {{"shape", "/nonexistent/particle.obj"}, "A '/nonexistent/particle.obj'"},
       {{"overlap", "cylinder:0.01,0.01,200", id, "cylinder:0.01,0.01,200", id}, "at most 256"},
-      {{"run"}, "run expects a scene file"},
+      {{"run", "--end", "-1"}, "--end '-1': expected a positive time"},
+      {{"render"}, "render expects a run directory"},
+      {{"render", "a", "b"}, "'a' and 'b'"},
+      {{"render", "d", "--view", "w"}, "--view 'w': expected one of x, -x, y, -y, z, -z"},
+      {{"render", "d", "--color=red"}, "--color 'red': expected one of normal, velocity, id"},
+      {{"render", "d", "--width", "0"}, "--width '0': expected a whole number"},
+      {{"render", "d", "--every", "x"}, "--every 'x'"},
+      {{"render", "d", "--fit", "walls"}, "--fit 'walls'"},
+      {{"render", "d", "--max-speed", "-3"}, "--max-speed '-3'"},
+      {{"render", "d", "--height", "20"}, "more than 32 px"},
+      {{"render", "--fast", "d"}, "unknown option '--fast' for render"},
       {{"run", "a.yaml", "b.yaml"}, "'a.yaml' and 'b.yaml'"},
       {{"run", "--fast", "a.yaml"}, "unknown option '--fast'"},
       {{"run", "--solver", "exact", "a.yaml"}, "--solver 'exact': expected one of production"},
