@@ -108,27 +108,27 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
   ContactForce out;
   out.normal_force = normal_force(n, contact.elastic, c_n, v_n);
   if (!law.with_friction) {
-    history.spring.setZero();
+    history.elastic_force.setZero();
     return out;
   }
-  // Eq. 18's spring, turned onto the current tangent plane with its length kept.
-  Eigen::Vector3d& s = history.spring;
-  const double length = s.norm();
-  s -= s.dot(n) * n;
-  const double projected = s.norm();
-  if (projected > 0) s *= length / projected;
+  // Eq. 18's elastic force, turned onto the current tangent plane with its length kept, then
+  // advanced by -k_t v_t dt (see the header).
+  Eigen::Vector3d& f_e = history.elastic_force;
+  const double length = f_e.norm();
+  f_e -= f_e.dot(n) * n;
+  const double projected = f_e.norm();
+  if (projected > 0) f_e *= length / projected;
   const Eigen::Vector3d v_t = relative_velocity - v_n * n;
-  s += dt * v_t;
   const double k_t = contact.tangential_stiffness;
+  f_e -= (k_t * dt) * v_t;
   const double c_t = damping_coefficient(law.restitution, k_t, law.effective_mass);  // Eq. 20
-  Eigen::Vector3d f_t = -k_t * s - c_t * v_t;  // Eqs. 17, 18, 20
+  Eigen::Vector3d f_t = f_e - c_t * v_t;                                             // Eqs. 17, 20
   const double cap = law.friction * out.normal_force.norm();
   const double f_t_norm = f_t.norm();
   if (f_t_norm > cap) {
     out.sliding = true;
     f_t *= f_t_norm > 0 ? cap / f_t_norm : 0.0;
-    // The spring that gives the capped force; with k_t = 0 (no area) nothing can be stored.
-    s = k_t > 0 ? Eigen::Vector3d(-(f_t + c_t * v_t) / k_t) : Eigen::Vector3d::Zero();
+    f_e = f_t + c_t * v_t;  // the elastic part of the capped force
   }
   out.tangential_force = f_t;
   return out;

@@ -99,11 +99,11 @@ struct VolumeLawParameters {
   double time_step = 0;
 };
 
-// What a contact carries across steps: the tangential spring Delta-s of Eqs. 17-20 (m), and the
-// largest normal approach speed v0 seen since it began (m/s; kCalibrated; < 0 before the first
-// force evaluation).
+// What a contact carries across steps: the elastic tangential force F_t^e = -k_t Delta-s of
+// Eq. 18 (N, advanced incrementally: volume_contact_force), and the largest normal approach speed
+// v0 seen since it began (m/s; kCalibrated; < 0 before the first force evaluation).
 struct ContactHistory {
-  Eigen::Vector3d spring = Eigen::Vector3d::Zero();
+  Eigen::Vector3d elastic_force = Eigen::Vector3d::Zero();
   double approach_speed = -1;
 };
 
@@ -125,11 +125,14 @@ double damping_coefficient(double restitution, double stiffness, double mass);
 //   F_n = -(|F_n^e| + c_n v_n) n, with v_n = v_r . n, and no tension: a contact never pulls,
 //         so F_n . n is kept <= 0 (when the damping would exceed the elastic force near the end
 //         of an impact, the normal force is zero instead);
-//   F_t = -k_t Delta-s - c_t v_t, |F_t| <= mu |F_n| (Eqs. 17-20).
-// The spring: its previous value is turned onto the plane normal to n keeping its length (the
-// contact frame turned with the bodies), then grows by v_t dt; where the cap binds, it is reset
-// to the value that gives the capped force, Delta-s = -(F_t + c_t v_t) / k_t. dt = 0 leaves the
-// spring's length unchanged (the force evaluation before the first step).
+//   F_t = F_t^e - c_t v_t, |F_t| <= mu |F_n| (Eqs. 17-20), F_t^e = -k_t Delta-s (Eq. 18).
+// F_t^e is advanced by increments: its previous value is turned onto the plane normal to n
+// keeping its length (the contact frame turned with the bodies), then changes by -k_t v_t dt
+// with the present k_t; where the cap binds, it is reset to the capped force plus c_t v_t.
+// For a constant k_t that is Eq. 18; with k_t proportional to the overlap's area (Eq. 19), Eq. 18
+// taken literally would change the force at a fixed Delta-s whenever the area changes, which
+// creates elastic energy (a rocking polyhedron gains energy without bound). dt = 0 leaves
+// F_t^e's length unchanged (the force evaluation before the first step).
 ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawParameters& law,
                                   const Eigen::Vector3d& relative_velocity, double dt,
                                   ContactHistory& history);

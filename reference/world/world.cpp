@@ -262,12 +262,12 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     const auto key = std::minmax(pa.id, pb.id);
     ContactHistory history;
     if (auto it = pair_histories_.find(key); it != pair_histories_.end()) history = it->second;
-    // The spring is stored for the lower id as A: flip it for the other order.
+    // The elastic force is stored for the lower id as A: flip it for the other order.
     const double sign = pa.id == key.first ? 1.0 : -1.0;
-    history.spring *= sign;
+    history.elastic_force *= sign;
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
-    history.spring *= sign;
-    next[key] = history;  // the spring (with friction) and v0 (kCalibrated)
+    history.elastic_force *= sign;
+    next[key] = history;  // the elastic tangential force (with friction) and v0 (kCalibrated)
     // Feng's potential: F = -K dV^(1/3) S = -grad (3/4) K dV^(4/3), K = E_a/R_a + E_b/R_b.
     c.elastic_energy = 0.75 * stiffness * std::pow(g.volume, 4.0 / 3.0);
     c.volume = g.volume, c.area = g.area;

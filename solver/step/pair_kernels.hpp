@@ -147,11 +147,11 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
     c.area = g.area;
     const VolumeLawData<Real> law = volume_law(t, pair, a.mass * b.mass / (a.mass + b.mass));
     ContactHistoryData<Real> history = previous;
-    // The spring is stored as seen from the lower id as A.
+    // The elastic force is stored as on the lower id as A.
     const Real sign = p.global_id[ia] == r.key.low ? Real(1) : Real(-1);
-    history.spring *= sign;
+    history.elastic_force *= sign;
     f = volume_contact_force(c, law, v_r, spring_dt, history);
-    history.spring *= sign;
+    history.elastic_force *= sign;
     r.history = history;
   } else {
     c.elastic = t.linear.stiffness * g.depth;

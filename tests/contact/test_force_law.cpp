@@ -64,9 +64,11 @@ TEST(ForceLaw, LinearFrictionIsTheSmallerOfCapAndViscous) {
   EXPECT_TRUE(fast.sliding);
 }
 
-// The Cundall-Strack spring is turned onto the new tangent plane with its length kept, grows by
-// v_t dt, and is reset to the capped force where Coulomb binds (Eqs. 17-20).
-TEST(ForceLaw, VolumeSpringTurnsKeepsLengthAndRescalesAtTheCap) {
+// The elastic tangential force F_t^e = -k_t Delta-s is turned onto the new tangent plane with
+// its length kept, changes by -k_t v_t dt, keeps its value when k_t changes (the incremental
+// form; force_law.hpp says why), and is reset to the capped force where Coulomb binds (Eqs.
+// 17-20).
+TEST(ForceLaw, VolumeElasticForceTurnsKeepsLengthAndRescalesAtTheCap) {
   NormalContactData<double> c;
   c.normal = Vec3d(0, 0, 1);
   c.elastic = 10.0;
@@ -76,16 +78,26 @@ TEST(ForceLaw, VolumeSpringTurnsKeepsLengthAndRescalesAtTheCap) {
   VolumeLawData<double> law;
   law.effective_mass = 0.01, law.restitution = 1, law.friction = 0.5, law.with_friction = true;
   ContactHistoryData<double> h;
-  h.spring = Vec3d(3e-4, 0, 4e-4);  // length 5e-4, partly along the normal
+  h.elastic_force = Vec3d(-0.3, 0, -0.4);  // 0.5 N, partly along the normal
   const ContactForceData<double> f = volume_contact_force(c, law, Vec3d(), 1e-3, h);
-  EXPECT_NEAR(norm(h.spring), 5e-4, 1e-18);
-  EXPECT_NEAR(h.spring.z, 0.0, 1e-18);
-  EXPECT_NEAR(f.tangential_force.x, -0.5, 1e-12);  // -k_t s, under the cap mu |F_n| = 5
-  h.spring = Vec3d(0.02, 0, 0);                    // k_t s = 20 > 5: capped
+  EXPECT_NEAR(norm(h.elastic_force), 0.5, 1e-15);
+  EXPECT_NEAR(h.elastic_force.z, 0.0, 1e-15);
+  EXPECT_NEAR(f.tangential_force.x, -0.5, 1e-12);  // under the cap mu |F_n| = 5
+  // Twice the stiffness (twice the area) at rest: the force stays; Eq. 18 read literally at a
+  // fixed Delta-s would double it, and with it the spring's energy.
+  c.tangential_stiffness = 2e3;
+  const ContactForceData<double> stiffer = volume_contact_force(c, law, Vec3d(), 1e-3, h);
+  EXPECT_NEAR(stiffer.tangential_force.x, -0.5, 1e-12);
+  // A tangential speed of 0.1 m/s for 1 ms: -k_t v dt = -0.2 N more (the normal part of the
+  // velocity does not count; restitution 1: no damping).
+  const ContactForceData<double> moved = volume_contact_force(c, law, Vec3d(0.1, 0, 3.0), 1e-3, h);
+  EXPECT_NEAR(moved.tangential_force.x, -0.7, 1e-12);
+  EXPECT_NEAR(h.elastic_force.x, -0.7, 1e-12);
+  h.elastic_force = Vec3d(-20, 0, 0);  // over the cap mu |F_n| = 5
   const ContactForceData<double> capped = volume_contact_force(c, law, Vec3d(), 1e-3, h);
   EXPECT_TRUE(capped.sliding);
   EXPECT_NEAR(capped.tangential_force.x, -5.0, 1e-12);
-  EXPECT_NEAR(h.spring.x, 5e-3, 1e-15);  // the spring of the capped force
+  EXPECT_NEAR(h.elastic_force.x, -5.0, 1e-12);  // the elastic part of the capped force
 }
 
 // The calibrated damping: eta = beta m^(1/4) K^(3/4) / sqrt(v0), c_n = eta A_n, with v0 the

@@ -86,36 +86,40 @@ TEST(ReferenceContactLaw, DampingOpposesTheNormalApproach) {
   EXPECT_THROW(damping_coefficient(1.5, k, m), std::invalid_argument);
 }
 
-TEST(ReferenceContactLaw, TangentialSpringTurnsOntoTheNewPlaneAndIsCappedByCoulomb) {
+TEST(ReferenceContactLaw, TangentialElasticForceTurnsOntoTheNewPlaneAndIsCappedByCoulomb) {
   NormalContact nc;
   nc.elastic = 10.0, nc.normal_stiffness = 1e4, nc.tangential_stiffness = 5e3;
   VolumeLawParameters law;
   law.effective_mass = 1e-3, law.restitution = 1.0, law.friction = 0.5, law.with_friction = true;
   ContactHistory h;
-  h.spring = Eigen::Vector3d(1e-4, 0, 0);  // in the plane of n = z
-  // The normal turns by 0.3 rad about y: the spring keeps its length, lies in the new plane, and
-  // (v = 0, dt = 0, under the cap) gives F_t = -k_t s (Eq. 18).
+  h.elastic_force = Eigen::Vector3d(-0.5, 0, 0);  // -k_t Delta-s, in the plane of n = z
+  // The normal turns by 0.3 rad about y: the force keeps its length, lies in the new plane, and
+  // (v = 0, dt = 0, under the cap) is the tangential force (Eq. 18).
   const double angle = 0.3;
   nc.normal = Eigen::Vector3d(std::sin(angle), 0, std::cos(angle));
   ContactForce f = volume_contact_force(nc, law, Eigen::Vector3d::Zero(), 0, h);
   EXPECT_FALSE(f.sliding);
-  EXPECT_NEAR(h.spring.norm(), 1e-4, 1e-18);       // length kept (a few ulps of 1e-4)
-  EXPECT_NEAR(h.spring.dot(nc.normal), 0, 1e-19);  // in the tangent plane
-  EXPECT_NEAR(h.spring.x(), 1e-4 * std::cos(angle), 1e-18);
-  EXPECT_NEAR((f.tangential_force + 5e3 * h.spring).norm(), 0, 1e-15);
-  // A spring whose force exceeds mu |F_n| = 5 N: the force is capped to 5 N along -s and the
-  // spring rescaled to s = -F_t / k_t = 1e-3 m (Eq. 17).
-  h.spring = Eigen::Vector3d(0, 1e-2, 0);
+  EXPECT_NEAR(h.elastic_force.norm(), 0.5, 1e-15);
+  EXPECT_NEAR(h.elastic_force.dot(nc.normal), 0, 1e-16);  // in the tangent plane
+  EXPECT_NEAR(h.elastic_force.x(), -0.5 * std::cos(angle), 1e-15);
+  EXPECT_NEAR((f.tangential_force - h.elastic_force).norm(), 0, 1e-15);
+  // An elastic force over mu |F_n| = 5 N: the force is capped to 5 N along it, and so is the
+  // stored elastic part (Eq. 17).
+  h.elastic_force = Eigen::Vector3d(0, -50, 0);
   f = volume_contact_force(nc, law, Eigen::Vector3d::Zero(), 0, h);
   EXPECT_TRUE(f.sliding);
   EXPECT_NEAR(f.tangential_force.norm(), 0.5 * 10.0, 1e-12);
   EXPECT_NEAR(f.tangential_force.normalized().dot(-Eigen::Vector3d::UnitY()), 1, 1e-12);
-  EXPECT_NEAR(h.spring.norm(), 5.0 / 5e3, 1e-15);
-  // The spring grows by v_t dt (the normal part of v does not count).
-  h.spring.setZero();
+  EXPECT_NEAR(h.elastic_force.norm(), 5.0, 1e-12);
+  // It changes by -k_t v_t dt (the normal part of v does not count), with the present k_t: a
+  // stiffer contact at rest keeps its force.
+  h.elastic_force.setZero();
   nc.normal = Eigen::Vector3d::UnitZ();
   volume_contact_force(nc, law, Eigen::Vector3d(1e-3, 0, 7.0), 1e-3, h);
-  EXPECT_NEAR((h.spring - Eigen::Vector3d(1e-6, 0, 0)).norm(), 0, 1e-20);
+  EXPECT_NEAR((h.elastic_force - Eigen::Vector3d(-5e-3, 0, 0)).norm(), 0, 1e-17);
+  nc.tangential_stiffness = 2e4;
+  f = volume_contact_force(nc, law, Eigen::Vector3d::Zero(), 1e-3, h);
+  EXPECT_NEAR((f.tangential_force - Eigen::Vector3d(-5e-3, 0, 0)).norm(), 0, 1e-17);
 }
 
 TEST(ReferenceContactLaw, LinearModelNumbers) {
