@@ -20,6 +20,7 @@ const char* const kUsage =
     "  talus overlap A POSE_A B POSE_B        overlap of two posed polyhedra, as JSON\n"
     "  talus shape A                          a shape template in its body frame, as JSON\n"
     "  talus run [options] SCENE.yaml         run a scene (docs/scenes.md); summary as JSON\n"
+    "  talus run --resume DIR [options]       continue a run from its last checkpoint\n"
     "  talus help | --help | -h               this text\n"
     "\n"
     "A, B     a built-in shape 'name:size' or an .obj/.stl file ('path' or 'path:scale')\n"
@@ -41,6 +42,9 @@ const char* const kUsage =
     "  --output DIR                    relative output paths of the scene go inside DIR\n"
     "  --threads N                     the host backend's threads (N >= 1; default: all\n"
     "                                  cores, or OMP_NUM_THREADS)\n"
+    "  --resume DIR                    continue the run from the newest checkpoint in DIR\n"
+    "                                  (outputs.checkpoint) instead of a scene file; takes\n"
+    "                                  --backend, --threads and --quiet only\n"
     "  --quiet                         no progress lines on stderr\n";
 
 // The example run by `talus` alone: two 10 mm dodecahedra, centres 7.07 mm apart (less than
@@ -112,6 +116,9 @@ int main(int argc, char** argv) {
   } catch (const talus::SceneError& error) {
     std::fprintf(stderr, "talus: error: %s\n", error.what());
     return kExitUsage;
+  } catch (const talus::RunInterrupted& error) {
+    std::fprintf(stderr, "talus: %s\n", error.what());
+    return 128 + error.signal();
   } catch (const talus::RunError& error) {
     std::fprintf(stderr, "talus: error: %s\n", error.what());
     return kExitUsage;

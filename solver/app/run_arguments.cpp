@@ -52,6 +52,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
 
   RunArguments parsed;
   bool have_scene = false;
+  std::vector<std::string> fixed_by_checkpoint;  // options --resume does not take
   for (std::size_t i = 0; i < operands.size(); ++i) {
     const std::string& word = operands[i];
     if (word == "--quiet") {
@@ -74,7 +75,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       name = word.substr(0, equals);
       value = word.substr(equals + 1);
     } else if (name == "--solver" || name == "--backend" || name == "--precision" ||
-               name == "--output" || name == "--threads") {
+               name == "--output" || name == "--threads" || name == "--resume") {
       if (i + 1 >= operands.size()) throw UsageError(name + " expects a value");
       value = operands[++i];
     }
@@ -89,11 +90,26 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       parsed.output_root = value;
     } else if (name == "--threads") {
       parsed.threads = positive_count(name, value);
+    } else if (name == "--resume") {
+      if (value.empty()) throw UsageError("--resume expects a checkpoint directory");
+      parsed.resume_directory = value;
     } else {
       throw UsageError("unknown option '" + name +
                        "' for run; expected --solver, --backend, --precision, --output, "
-                       "--threads, --quiet");
+                       "--threads, --resume, --quiet");
     }
+    if (name == "--solver" || name == "--precision" || name == "--output")
+      fixed_by_checkpoint.push_back(name);
+  }
+  if (!parsed.resume_directory.empty()) {
+    if (have_scene)
+      throw UsageError("--resume continues the run its checkpoint names; drop the scene file '" +
+                       parsed.scene_path + "'");
+    if (!fixed_by_checkpoint.empty())
+      throw UsageError("--resume continues the run as it was set up; drop " +
+                       fixed_by_checkpoint.front() +
+                       " (the checkpoint fixes the solver, precision and output directory)");
+    return parsed;
   }
   if (!have_scene) throw UsageError("run expects a scene file (YAML, see docs/scenes.md)");
   return parsed;

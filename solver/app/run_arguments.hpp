@@ -24,10 +24,14 @@ struct RunArguments {
   // OMP_NUM_THREADS).
   int threads = 0;
   bool quiet = false;  // --quiet: no progress lines on stderr
+  // --resume DIR: continue the run whose checkpoints are in DIR (no scene path; the checkpoint
+  // names the scene, the output root and the precision). Empty: a new run.
+  std::string resume_directory;
 };
 
 // The operands after `run`: options in any order (`--name value` or `--name=value`) and exactly
-// one scene path. Throws UsageError.
+// one scene path, or --resume DIR and no scene path (with --backend, --threads, --quiet only).
+// Throws UsageError.
 RunArguments parse_run_arguments(const std::vector<std::string>& operands);
 
 const char* to_string(SolverKind solver);
