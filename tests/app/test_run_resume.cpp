@@ -29,17 +29,10 @@ using talus_test::read_file;
 using talus_test::run_talus;
 
 std::string resume_directory(const std::string& name) {
-  const fs::path dir = fs::path(TALUS_BINARY_DIR) / "test-run-resume" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return talus_test::fresh_directory("test-run-resume", name);
 }
 
-std::string write_scene(const std::string& dir, const std::string& text) {
-  const std::string path = dir + "/scene.yaml";
-  std::ofstream(path) << text;
-  return path;
-}
+using talus_test::write_scene;
 
 // The restart scene run for `steps` steps of 2e-5 s, frames every 20 steps.
 std::string scene_text(int steps) {

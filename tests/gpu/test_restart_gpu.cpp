@@ -50,28 +50,6 @@ struct TempDir {
 };
 
 template <class Real>
-void expect_same_arrays(const StepState<Real>& a, const StepState<Real>& b) {
-  EXPECT_EQ(std::memcmp(&a.time, &b.time, sizeof(double)), 0);
-  EXPECT_EQ(a.steps, b.steps);
-  ASSERT_EQ(a.arrays.size(), b.arrays.size());
-  for (std::size_t k = 0; k < a.arrays.size(); ++k) {
-    ASSERT_EQ(a.arrays[k].second.size(), b.arrays[k].second.size());
-    EXPECT_EQ(std::memcmp(a.arrays[k].second.data(), b.arrays[k].second.data(),
-                          a.arrays[k].second.size() * sizeof(Real)),
-              0)
-        << a.arrays[k].first;
-  }
-  ASSERT_EQ(a.pair_histories.size(), b.pair_histories.size());
-  EXPECT_EQ(std::memcmp(a.pair_histories.data(), b.pair_histories.data(),
-                        a.pair_histories.size() * sizeof(ContactHistoryData<Real>)),
-            0);
-  ASSERT_EQ(a.wall_histories.size(), b.wall_histories.size());
-  EXPECT_EQ(std::memcmp(a.wall_histories.data(), b.wall_histories.data(),
-                        a.wall_histories.size() * sizeof(ContactHistoryData<Real>)),
-            0);
-}
-
-template <class Real>
 void check_cuda_round_trip(const std::string& precision) {
   TempDir dir;
   const Scene scene = talus_test::write_restart_scene(dir.path, precision);
@@ -87,7 +65,7 @@ void check_cuda_round_trip(const std::string& precision) {
   const StepState<Real> a = whole.export_state(), b = second.export_state();
   EXPECT_GT(a.pair_keys.size(), 0u);
   EXPECT_GT(a.wall_keys.size(), 0u);
-  expect_same_arrays(a, b);
+  talus_test::expect_same_state(a, b);
 }
 
 TEST(RestartGpu, CudaStepStateRoundTripIsExactDouble) {
@@ -112,7 +90,7 @@ TEST(RestartGpu, StateMovesBetweenBackends) {
   device.import_state(host.export_state());
   const StepState<double> back = device.export_state();
   EXPECT_EQ(back.pair_keys.size(), host.export_state().pair_keys.size());
-  expect_same_arrays(host.export_state(), back);
+  talus_test::expect_same_state(host.export_state(), back);
   for (int k = 0; k < 10; ++k) host.step(), device.step();
   const std::vector<TrajectoryRow> a = host.trajectory_rows(), b = device.trajectory_rows();
   ASSERT_EQ(a.size(), b.size());

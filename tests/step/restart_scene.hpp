@@ -3,14 +3,19 @@
 // turning drum under a lid that moves down, with gravity, the volume model, friction and rotation,
 // so that pair and wall histories (a moving wall's among them) are there when a checkpoint is
 // written; every output every step or few, checkpoints every 40 of its 120 steps. No feed: the
-// production step does not insert particles yet (plan_step refuses feeds).
+// production step does not insert particles yet (plan_step refuses feeds). And the comparison of
+// two steps' states, to the bit.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "solver/scene/scene_loader.hpp"
+#include "solver/step/step_state.hpp"
 
 namespace talus_test {
 
@@ -52,6 +57,35 @@ inline talus::Scene write_restart_scene(const std::string& directory,
   const std::string path = directory + "/scene.yaml";
   std::ofstream(path) << restart_scene_yaml(precision);
   return talus::load_scene(path);
+}
+
+// The same time (bits), step count, arrays (bits), ids and history stores (keys and bits).
+template <class Real>
+void expect_same_state(const talus::StepState<Real>& a, const talus::StepState<Real>& b) {
+  EXPECT_EQ(std::memcmp(&a.time, &b.time, sizeof(double)), 0);
+  EXPECT_EQ(a.steps, b.steps);
+  ASSERT_EQ(a.arrays.size(), b.arrays.size());
+  for (std::size_t k = 0; k < a.arrays.size(); ++k) {
+    EXPECT_EQ(a.arrays[k].first, b.arrays[k].first);
+    ASSERT_EQ(a.arrays[k].second.size(), b.arrays[k].second.size());
+    EXPECT_EQ(std::memcmp(a.arrays[k].second.data(), b.arrays[k].second.data(),
+                          a.arrays[k].second.size() * sizeof(Real)),
+              0)
+        << a.arrays[k].first;
+  }
+  EXPECT_EQ(a.global_ids, b.global_ids);
+  EXPECT_EQ(a.template_ids, b.template_ids);
+  for (const auto& [x, y] : {std::pair{&a.pair_histories, &b.pair_histories},
+                             std::pair{&a.wall_histories, &b.wall_histories}}) {
+    ASSERT_EQ(x->size(), y->size());
+    EXPECT_EQ(
+        std::memcmp(x->data(), y->data(), x->size() * sizeof(talus::ContactHistoryData<Real>)), 0);
+  }
+  for (const auto& [x, y] :
+       {std::pair{&a.pair_keys, &b.pair_keys}, std::pair{&a.wall_keys, &b.wall_keys}}) {
+    ASSERT_EQ(x->size(), y->size());
+    for (std::size_t k = 0; k < x->size(); ++k) EXPECT_TRUE(talus::key_equal((*x)[k], (*y)[k]));
+  }
 }
 
 }  // namespace talus_test

@@ -65,31 +65,6 @@ ProductionReport run(const Scene& scene, const std::string& root,
   return run_production(scene, settings);
 }
 
-template <class Real>
-void expect_same_state(const StepState<Real>& a, const StepState<Real>& b) {
-  EXPECT_EQ(std::memcmp(&a.time, &b.time, sizeof(double)), 0);
-  EXPECT_EQ(a.steps, b.steps);
-  ASSERT_EQ(a.arrays.size(), b.arrays.size());
-  for (std::size_t k = 0; k < a.arrays.size(); ++k) {
-    EXPECT_EQ(a.arrays[k].first, b.arrays[k].first);
-    ASSERT_EQ(a.arrays[k].second.size(), b.arrays[k].second.size());
-    EXPECT_EQ(std::memcmp(a.arrays[k].second.data(), b.arrays[k].second.data(),
-                          a.arrays[k].second.size() * sizeof(Real)),
-              0)
-        << a.arrays[k].first;
-  }
-  EXPECT_EQ(a.global_ids, b.global_ids);
-  EXPECT_EQ(a.template_ids, b.template_ids);
-  for (const auto& [x, y] : {std::pair{&a.pair_histories, &b.pair_histories},
-                             std::pair{&a.wall_histories, &b.wall_histories}}) {
-    ASSERT_EQ(x->size(), y->size());
-    EXPECT_EQ(std::memcmp(x->data(), y->data(), x->size() * sizeof(ContactHistoryData<Real>)), 0);
-  }
-  ASSERT_EQ(a.pair_keys.size(), b.pair_keys.size());
-  for (std::size_t k = 0; k < a.pair_keys.size(); ++k)
-    EXPECT_TRUE(key_equal(a.pair_keys[k], b.pair_keys[k]));
-}
-
 // The step itself: 70 steps, or 30, a checkpoint's round trip through the file's bytes into a
 // new step, and 40 more; every array and both history stores equal to the bit.
 template <class Real>
@@ -109,7 +84,7 @@ void check_step_round_trip(const std::string& precision) {
   const StepState<Real> a = whole.export_state(), b = second.export_state();
   EXPECT_GT(a.pair_keys.size(), 0u) << "the scene should have pair contacts to carry over";
   EXPECT_GT(a.wall_keys.size(), 0u) << "and wall contacts";
-  expect_same_state(a, b);
+  talus_test::expect_same_state(a, b);
 }
 
 TEST(Restart, HostStepStateRoundTripIsExactDouble) {
