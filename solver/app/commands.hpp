@@ -25,13 +25,27 @@ class RunError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A run stopped by a signal (Ctrl-C: SIGINT, or SIGTERM) at a step boundary, after writing its
+// checkpoint when the scene asks for checkpoints. main prints the message (where the run stopped,
+// the checkpoint, how to resume) and exits with status 128 + the signal's number.
+class RunInterrupted : public std::runtime_error {
+ public:
+  RunInterrupted(const std::string& message, int signal)
+      : std::runtime_error(message), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
 // `talus run [options] scene.yaml`: runs the scene, writing its outputs as it goes and progress
 // lines on stderr; returns the run's summary as JSON. Throws SceneError for a bad scene file,
-// RunError as above, std::runtime_error for a failure while running (e.g. an unwritable output).
-// With no scene path: the built-in scene (solver/scene/builtin_scene.hpp) is written to
-// <output root>/scene.yaml (the root defaults to kBuiltinSceneOutput) and run from there; then,
-// where OpenCV is built in, its last frame is drawn; the summary adds the final bed height beside
-// the paper's and the picture, and a line on stderr says both.
+// RunError as above (also for a checkpoint that --resume cannot use), RunInterrupted, and
+// std::runtime_error for a failure while running (e.g. an unwritable output).
+// With no scene path (and no --resume): the built-in scene (solver/scene/builtin_scene.hpp) is
+// written to <output root>/scene.yaml (the root defaults to kBuiltinSceneOutput) and run from
+// there; then, where OpenCV is built in, its last frame is drawn; the summary adds the final bed
+// height beside the paper's and the picture, and a line on stderr says both.
 std::string run_json(const RunArguments& args);
 
 // `talus render [options] DIR`: pictures of a run (solver/render/render_run.hpp); returns a

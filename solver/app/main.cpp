@@ -21,6 +21,7 @@ const char* const kUsage =
     "                                         No scene: 63 dodecahedra poured into a 10 cm\n"
     "                                         cylinder (paper section 3.3), outputs in\n"
     "                                         talus-default/, its final bed height and picture\n"
+    "  talus run --resume DIR [options]       continue a run from its last checkpoint\n"
     "  talus render [options] DIR             draw a run's frames to PNG (DIR: its trajectory\n"
     "                                         directory, with run.json)\n"
     "  talus overlap A POSE_A B POSE_B        overlap of two posed polyhedra, as JSON\n"
@@ -47,6 +48,9 @@ const char* const kUsage =
     "  --threads N                     the host backend's threads (N >= 1; default: all\n"
     "                                  cores, or OMP_NUM_THREADS)\n"
     "  --end T                         stop at T seconds instead of the scene's end time\n"
+    "  --resume DIR                    continue the run from the newest checkpoint in DIR\n"
+    "                                  (outputs.checkpoint) instead of a scene file; takes\n"
+    "                                  --backend, --threads and --quiet only\n"
     "  --quiet                         no progress lines on stderr\n"
     "\n"
     "render options (pictures, their projection and each particle's pixel position go to\n"
@@ -124,6 +128,9 @@ int main(int argc, char** argv) {
   } catch (const talus::SceneError& error) {
     std::fprintf(stderr, "talus: error: %s\n", error.what());
     return kExitUsage;
+  } catch (const talus::RunInterrupted& error) {
+    std::fprintf(stderr, "talus: %s\n", error.what());
+    return 128 + error.signal();
   } catch (const talus::RunError& error) {
     std::fprintf(stderr, "talus: error: %s\n", error.what());
     return kExitUsage;

@@ -21,6 +21,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
 
   RunArguments parsed;
   bool have_scene = false;
+  std::vector<std::string> fixed_by_checkpoint;  // options --resume does not take
   for (std::size_t i = 0; i < operands.size(); ++i) {
     const std::string& word = operands[i];
     if (word == "--quiet") {
@@ -43,7 +44,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       name = word.substr(0, equals);
       value = word.substr(equals + 1);
     } else if (name == "--solver" || name == "--backend" || name == "--precision" ||
-               name == "--output" || name == "--threads" || name == "--end") {
+               name == "--output" || name == "--threads" || name == "--end" || name == "--resume") {
       if (i + 1 >= operands.size()) throw UsageError(name + " expects a value");
       value = operands[++i];
     }
@@ -64,11 +65,28 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(t) || t <= 0)
         throw UsageError("--end '" + value + "': expected a positive time in s");
       parsed.end_time = t;
+    } else if (name == "--resume") {
+      if (value.empty()) throw UsageError("--resume expects a checkpoint directory");
+      parsed.resume_directory = value;
     } else {
       throw UsageError("unknown option '" + name +
                        "' for run; expected --solver, --backend, --precision, --output, "
-                       "--threads, --end, --quiet");
+                       "--threads, --end, --resume, --quiet");
     }
+    if (name == "--solver" || name == "--precision" || name == "--output")
+      fixed_by_checkpoint.push_back(name);
+  }
+  if (!parsed.resume_directory.empty()) {
+    if (have_scene)
+      throw UsageError("--resume continues the run its checkpoint names; drop the scene file '" +
+                       parsed.scene_path + "'");
+    if (!fixed_by_checkpoint.empty())
+      throw UsageError("--resume continues the run as it was set up; drop " +
+                       fixed_by_checkpoint.front() +
+                       " (the checkpoint fixes the solver, precision and output directory)");
+    if (parsed.end_time)
+      throw UsageError(
+          "--resume runs to the end time of the scene its checkpoint names; drop --end");
   }
   return parsed;
 }

@@ -28,10 +28,14 @@ struct RunArguments {
   bool quiet = false;  // --quiet: no progress lines on stderr
   // --end T: stop at T seconds instead of the scene's end time (s, > 0; shorter runs).
   std::optional<double> end_time;
+  // --resume DIR: continue the run whose checkpoints are in DIR (no scene path; the checkpoint
+  // names the scene, the output root and the precision). Empty: a new run.
+  std::string resume_directory;
 };
 
 // The operands after `run`: options in any order (`--name value` or `--name=value`) and at most
-// one scene path. Throws UsageError.
+// one scene path (none: the built-in scene), or --resume DIR and no scene path (with --backend,
+// --threads, --quiet only; not --end). Throws UsageError.
 RunArguments parse_run_arguments(const std::vector<std::string>& operands);
 
 const char* to_string(SolverKind solver);

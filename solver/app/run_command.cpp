@@ -4,9 +4,13 @@
 // (TALUS_HAVE_CUDA), on the CUDA backend (solver/step/cuda_step.hpp): `--backend cuda` asks for
 // it, `auto` takes it where a device is usable. `--threads N` sets the host backend's threads
 // (default: OpenMP's, all cores or OMP_NUM_THREADS); the summary and the notice of `auto` name
-// the count when the host runs the scene.
+// the count when the host runs the scene. `--resume DIR` continues a production run from the
+// newest checkpoint in DIR (solver/io/checkpoint.hpp); SIGINT and SIGTERM stop a production run
+// at a step boundary, with a checkpoint when the scene asks for them.
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -16,6 +20,7 @@
 #include "solver/app/json_writer.hpp"
 #include "solver/app/run_arguments.hpp"
 #include "solver/core/host_parallel.hpp"
+#include "solver/io/checkpoint.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
@@ -56,21 +61,68 @@ void print_production_progress(const ProductionProgress& p) {
 // Members a caller adds to the summary after the run (the built-in scene's bed height).
 using ExtraMembers = std::function<void(const ProductionReport&, JsonWriter&)>;
 
-// The production solver on the chosen backend (make_step: empty for the host); the summary adds
-// wall time per stage, contacts per step and peak memory.
+// The signal that asked the run to stop (0: none). The handler only records it and puts the
+// default action back, so that a second Ctrl-C ends the process at once.
+volatile std::sig_atomic_t stop_signal = 0;
+
+void request_stop(int signal) {
+  stop_signal = signal;
+  std::signal(signal, SIG_DFL);
+}
+
+// Ctrl-C and SIGTERM stop the run at the next step boundary while it runs.
+class StopSignals {
+ public:
+  StopSignals() {
+    stop_signal = 0;
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+};
+
+// The production solver on the chosen backend (make_step: empty for the host), from the scene's
+// start or from `resume`; the summary adds wall time per stage, contacts per step and peak
+// memory (and what `extra` adds). A stop signal ends it with RunInterrupted.
 std::string run_production_json(const RunArguments& args, const Scene& scene, StepFactory make_step,
-                                const ExtraMembers& extra) {
+                                const ResumePoint* resume, const ExtraMembers& extra = {}) {
   ProductionSettings settings;
   settings.make_step = std::move(make_step);
   settings.host_threads = args.threads;
-  settings.output_root = args.output_root;
+  settings.output_root = resume ? resume->output_root : args.output_root;
+  if (resume) settings.resume = resume->checkpoint;
+  settings.stop_requested = [] { return stop_signal != 0; };
   if (!args.quiet) settings.progress = print_production_progress;
   ProductionReport report;
   try {
+    const StopSignals signals;
     report = run_production(scene, settings);
   } catch (const StepNotSupported& e) {
     // What the production step cannot simulate yet is the run's setting, not an internal fault.
     throw RunError(e.what());
+  } catch (const CheckpointError& e) {
+    throw RunError(e.what());  // a checkpoint that does not fit the scene
+  }
+  if (report.interrupted) {
+    const int signal = stop_signal;
+    std::string message = std::string("run interrupted by ") +
+                          (signal == SIGINT ? "SIGINT" : "SIGTERM") + " at step " +
+                          std::to_string(report.steps) +
+                          " (t = " + std::to_string(report.simulated_time) + " s); ";
+    if (report.last_checkpoint.empty()) {
+      message +=
+          "no checkpoint (the scene has no outputs.checkpoint); the outputs up to this "
+          "step are complete";
+    } else {
+      message += "checkpoint " + report.last_checkpoint + "; continue with 'talus run --resume " +
+                 std::filesystem::path(report.last_checkpoint).parent_path().string() + "'";
+    }
+    throw RunInterrupted(message, signal);
   }
   JsonWriter json;
   json.begin_object();
@@ -78,7 +130,8 @@ std::string run_production_json(const RunArguments& args, const Scene& scene, St
   json.member("backend", report.backend);
   if (report.host_threads > 0) json.member("host_threads", report.host_threads);
   json.member("precision", to_string(scene.precision));
-  json.member("scene", args.scene_path);
+  json.member("scene", resume ? resume->scene_file : args.scene_path);
+  if (resume) json.member("resumed_from_step", static_cast<double>(report.resumed_from_step));
   json.member("steps", static_cast<double>(report.steps));
   json.member("simulated_time", report.simulated_time);
   json.member("wall_seconds", report.wall_seconds);
@@ -125,6 +178,64 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
                picture.empty() ? "" : "; picture: ", picture.c_str());
 }
 
+// The production step's backend for the scene: the CUDA step where the scene (or --backend) asks
+// for it or for auto and a device is usable, else the host (empty); `auto` falling back says so.
+StepFactory production_backend(const RunArguments& args, const Scene& scene) {
+  StepFactory make_step;  // empty: the host
+  const int host_threads = host_thread_count(args.threads);
+#if TALUS_HAVE_CUDA
+  std::string why;
+  if (scene.backend != Backend::cpu) {
+    if (cuda_device_available(&why)) {
+      make_step = make_cuda_step;
+    } else if (scene.backend == Backend::cuda) {
+      throw RunError("--backend cuda: " + why +
+                     "; run this scene with --backend cpu (or "
+                     "--backend auto, which falls back to the host)");
+    }
+  }
+  if (scene.backend == Backend::automatic && !make_step && !args.quiet) {
+    std::fprintf(stderr,
+                 "talus run: no usable GPU backend (%s); running on the host (cpu, %d "
+                 "thread%s)\n",
+                 why.c_str(), host_threads, host_threads == 1 ? "" : "s");
+  }
+#else
+  if (scene.backend == Backend::cuda) {
+    throw RunError(
+        "this talus was built without CUDA (no nvcc at configure time); run this scene with "
+        "--backend cpu (or --backend auto)");
+  }
+  if (scene.backend == Backend::automatic && !args.quiet) {
+    std::fprintf(stderr,
+                 "talus run: no usable GPU backend (this talus was built without CUDA); running "
+                 "on the host (cpu, %d thread%s)\n",
+                 host_threads, host_threads == 1 ? "" : "s");
+  }
+#endif
+  return make_step;
+}
+
+// `talus run --resume DIR`: the newest checkpoint of DIR, the scene it names (unchanged since:
+// its hash), in the checkpoint's precision, on its backend unless --backend says otherwise.
+std::string resume_json(const RunArguments& args) {
+  ResumePoint point;
+  try {
+    point = read_resume_point(args.resume_directory);
+  } catch (const CheckpointError& e) {
+    throw RunError(e.what());
+  }
+  Scene scene = load_scene(point.scene_file);
+  scene.precision = point.precision == "float" ? Precision::float32 : Precision::float64;
+  scene.backend =
+      args.backend ? *args.backend : (point.backend == "cuda" ? Backend::cuda : Backend::cpu);
+  if (!args.quiet) {
+    std::fprintf(stderr, "talus run: resuming %s from step %lld (%s)\n", point.scene_file.c_str(),
+                 point.step, point.checkpoint_path.c_str());
+  }
+  return run_production_json(args, scene, production_backend(args, scene), &point);
+}
+
 #if TALUS_HAVE_REFERENCE
 void print_progress(const reference::SceneRunProgress& p) {
   print_progress_line(p.step, p.total_steps, p.time, p.end_time, p.particles, p.contacts,
@@ -135,6 +246,7 @@ void print_progress(const reference::SceneRunProgress& p) {
 }  // namespace
 
 std::string run_json(const RunArguments& given) {
+  if (!given.resume_directory.empty()) return resume_json(given);
   RunArguments args = given;
   const bool builtin = args.scene_path.empty();
   if (builtin) {
@@ -163,44 +275,12 @@ std::string run_json(const RunArguments& given) {
     throw RunError("the built-in scene runs on the production solver; drop --solver reference");
 
   if (args.solver == SolverKind::production) {
-    StepFactory make_step;  // empty: the host
-    const int host_threads = host_thread_count(args.threads);
-#if TALUS_HAVE_CUDA
-    std::string why;
-    if (scene.backend != Backend::cpu) {
-      if (cuda_device_available(&why)) {
-        make_step = make_cuda_step;
-      } else if (scene.backend == Backend::cuda) {
-        throw RunError("--backend cuda: " + why +
-                       "; run this scene with --backend cpu (or "
-                       "--backend auto, which falls back to the host)");
-      }
-    }
-    if (scene.backend == Backend::automatic && !make_step && !args.quiet) {
-      std::fprintf(stderr,
-                   "talus run: no usable GPU backend (%s); running on the host (cpu, %d "
-                   "thread%s)\n",
-                   why.c_str(), host_threads, host_threads == 1 ? "" : "s");
-    }
-#else
-    if (scene.backend == Backend::cuda) {
-      throw RunError(
-          "this talus was built without CUDA (no nvcc at configure time); run this scene with "
-          "--backend cpu (or --backend auto)");
-    }
-    if (scene.backend == Backend::automatic && !args.quiet) {
-      std::fprintf(stderr,
-                   "talus run: no usable GPU backend (this talus was built without CUDA); running "
-                   "on the host (cpu, %d thread%s)\n",
-                   host_threads, host_threads == 1 ? "" : "s");
-    }
-#endif
     ExtraMembers extra;
     if (builtin)
       extra = [&args](const ProductionReport& report, JsonWriter& json) {
         finish_builtin_run(args, report, json);
       };
-    return run_production_json(args, scene, std::move(make_step), extra);
+    return run_production_json(args, scene, production_backend(args, scene), nullptr, extra);
   }
   if (args.threads > 0) {
     throw RunError(
@@ -208,6 +288,11 @@ std::string run_json(const RunArguments& given) {
         "runs on one thread (drop --threads)");
   }
 #if TALUS_HAVE_REFERENCE
+  if (scene.outputs.checkpoint && !args.quiet)
+    std::fprintf(stderr,
+                 "talus run: the reference solver writes no checkpoints (%s: "
+                 "outputs.checkpoint is ignored)\n",
+                 args.scene_path.c_str());
   if (scene.precision != Precision::float64) {
     throw RunError(
         "--solver reference computes in double only; drop --precision float or set "

@@ -39,6 +39,31 @@ ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> colum
     throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
 }
 
+ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns,
+                         long long last_step)
+    : path_(path), columns_(std::move(columns)) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot resume probe file '" + path + "': it is missing");
+  std::string header = "time,step", line, kept;
+  for (const std::string& column : columns_) header += "," + column;
+  if (!std::getline(in, line) || line != header)
+    throw std::runtime_error("cannot resume probe file '" + path + "': its header is not '" +
+                             header + "'");
+  kept = header + "\n";
+  // Whole rows (a newline at the end) of steps up to last_step, in order.
+  while (std::getline(in, line) && !in.eof()) {
+    const std::vector<std::string> fields = split_csv_line(line);
+    double step = 0;
+    if (fields.size() < 2 || !parse_double(fields[1], step) || step > double(last_step)) break;
+    kept += line + "\n";
+  }
+  in.close();
+  write_file_atomically(path, kept);
+  file_ = std::fopen(path.c_str(), "ab");
+  if (!file_)
+    throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
+}
+
 ProbeWriter::~ProbeWriter() {
   if (file_) std::fclose(file_);
 }

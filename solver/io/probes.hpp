@@ -21,6 +21,12 @@ class ProbeWriter {
   // Creates the file's directory when missing, creates (or empties) the file and writes the
   // header. Throws std::runtime_error naming the path and the reason.
   ProbeWriter(const std::string& path, std::vector<std::string> columns);
+  // Continues the file of a run resumed after step `last_step` (a restart): the rows of later
+  // steps, which the interrupted run may have written after its checkpoint, and a partial last
+  // line are dropped (the file rewritten through a temporary name), then rows are appended.
+  // Throws std::runtime_error naming the path when the file is missing or its header is not
+  // time,step and `columns`.
+  ProbeWriter(const std::string& path, std::vector<std::string> columns, long long last_step);
   ~ProbeWriter();
   ProbeWriter(const ProbeWriter&) = delete;
   ProbeWriter& operator=(const ProbeWriter&) = delete;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <sstream>
+#include <stdexcept>
 
 #include "solver/io/output_files.hpp"
 
@@ -163,6 +165,49 @@ void VtkSeriesWriter::write_walls(long long step, double time) {
     written_triangles_ = triangles;
   }
   wall_frames_.push_back({time, walls_file_});
+}
+
+// Lines: "particles <count>" and a "<time> <file>" line per frame, the same for "walls", then
+// "walls_file <name or ->" and "written <per wall: triangles>". Times with 17 digits: exact.
+std::string VtkSeriesWriter::save() const {
+  std::ostringstream out;
+  for (const auto* frames : {&particle_frames_, &wall_frames_}) {
+    out << (frames == &particle_frames_ ? "particles " : "walls ") << frames->size() << "\n";
+    for (const PvdEntry& e : *frames) out << exact_decimal(e.time) << " " << e.file << "\n";
+  }
+  out << "walls_file " << (walls_file_.empty() ? "-" : walls_file_) << "\nwritten";
+  for (const int t : written_triangles_) out << " " << t;
+  out << "\n";
+  return out.str();
+}
+
+void VtkSeriesWriter::restore(const std::string& state) {
+  std::istringstream in(state);
+  const auto fail = [&]() {
+    throw std::runtime_error(directory_ + ": the checkpoint's ParaView series state is not one");
+  };
+  std::vector<PvdEntry> frames[2];
+  for (int k = 0; k < 2; ++k) {
+    std::string word;
+    std::size_t count = 0;
+    if (!(in >> word >> count) || word != (k == 0 ? "particles" : "walls")) fail();
+    for (std::size_t f = 0; f < count; ++f) {
+      std::string time, file;
+      PvdEntry e;
+      if (!(in >> time >> file) || !parse_double(time, e.time)) fail();
+      e.file = file;
+      frames[k].push_back(e);
+    }
+  }
+  std::string word, file;
+  if (!(in >> word >> file) || word != "walls_file" || !(in >> word) || word != "written") fail();
+  std::vector<int> written(written_triangles_.size());
+  for (int& t : written)
+    if (!(in >> t)) fail();
+  particle_frames_ = frames[0];
+  wall_frames_ = frames[1];
+  walls_file_ = file == "-" ? "" : file;
+  written_triangles_ = written;
 }
 
 }  // namespace talus

@@ -67,6 +67,13 @@ class VtkSeriesWriter {
   const std::string& directory() const { return directory_; }
   VtkParticles particles() const { return particles_; }
 
+  // What the series needs to go on (the frames the collections list, the last walls file and
+  // what it held) as text; restore() on a writer of the same scene and directory continues the
+  // collections as this one would (a restart). Throws std::runtime_error when the text is not a
+  // saved state.
+  std::string save() const;
+  void restore(const std::string& state);
+
  private:
   void write_walls(long long step, double time);
 

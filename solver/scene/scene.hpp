@@ -241,10 +241,18 @@ struct ProbeOutput {
   std::string file;     // CSV, as written
   std::vector<Probe> quantities;
 };
+// Checkpoints of the production solver (solver/io/checkpoint.hpp), from which `talus run
+// --resume DIRECTORY` continues the run exactly.
+struct CheckpointOutput {
+  long long every = 0;    // steps
+  std::string directory;  // as written
+  int keep = 2;           // the newest files kept; older ones are removed
+};
 struct Outputs {
   std::optional<TrajectoryOutput> trajectories;
   std::optional<ProbeOutput> probes;
   std::optional<VtkOutput> vtk;
+  std::optional<CheckpointOutput> checkpoint;
 };
 
 enum class Backend { automatic, cpu, cuda };

@@ -116,6 +116,18 @@ VtkOutput parse_vtk(const SceneNode& node) {
   return output;
 }
 
+CheckpointOutput parse_checkpoint(const SceneNode& node) {
+  node.keys({"every", "directory", "keep"}, "checkpoint: a map with keys every, directory, keep");
+  CheckpointOutput output;
+  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.directory = "checkpoints";
+  if (auto directory = node.find("directory"))
+    output.directory = directory->text("a directory path");
+  const std::string keep = "a positive integer number of checkpoint files";
+  if (auto count = node.find("keep")) output.keep = static_cast<int>(count->integer(keep, 1, 1000));
+  return output;
+}
+
 ProbeOutput parse_probes(const SceneNode& node, const Scene& scene) {
   node.keys({"every", "file", "quantities"}, "probes: a map with keys every, file, quantities");
   ProbeOutput output;
@@ -150,11 +162,14 @@ ProbeOutput parse_probes(const SceneNode& node, const Scene& scene) {
 }  // namespace
 
 void parse_outputs(const SceneNode& node, Scene& scene) {
-  node.keys({"trajectories", "probes", "vtk"}, "a map of outputs (trajectories, probes, vtk)");
+  node.keys({"trajectories", "probes", "vtk", "checkpoint"},
+            "a map of outputs (trajectories, probes, vtk, checkpoint)");
   if (auto trajectories = node.find("trajectories"))
     scene.outputs.trajectories = parse_trajectories(*trajectories);
   if (auto probes = node.find("probes")) scene.outputs.probes = parse_probes(*probes, scene);
   if (auto vtk = node.find("vtk")) scene.outputs.vtk = parse_vtk(*vtk);
+  if (auto checkpoint = node.find("checkpoint"))
+    scene.outputs.checkpoint = parse_checkpoint(*checkpoint);
 }
 
 }  // namespace talus

@@ -10,6 +10,7 @@
 #include "solver/io/trajectory.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/step_plan.hpp"
+#include "solver/step/step_state.hpp"
 
 namespace talus {
 
@@ -31,6 +32,10 @@ class AnyStep {
   virtual double bed_height(const Vec3d& gravity) const = 0;
   virtual const std::array<double, 9>& stage_seconds() const = 0;
   virtual std::size_t bytes() const = 0;
+  // The step's state as checkpoint sections (step_state.hpp), and the state set back from them
+  // on a step made from the same scene (CheckpointError when they do not fit it).
+  virtual void save_state(Checkpoint& checkpoint) const = 0;
+  virtual void restore_state(const Checkpoint& checkpoint) = 0;
 };
 
 // AnyStep over a step class with HostStep's interface (HostStep<Real>, CudaStep<Real>); `args`
@@ -56,6 +61,12 @@ class StepAdapter : public AnyStep {
   double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
   const std::array<double, 9>& stage_seconds() const override { return step_.stage_seconds(); }
   std::size_t bytes() const override { return step_.allocated_bytes(); }
+  void save_state(Checkpoint& checkpoint) const override {
+    put_step_state(checkpoint, step_.export_state());
+  }
+  void restore_state(const Checkpoint& checkpoint) override {
+    step_.import_state(get_step_state<typename Step::real_type>(checkpoint));
+  }
 
  private:
   Step step_;

@@ -16,6 +16,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "solver/contact/damping_calibration.hpp"
@@ -169,6 +170,14 @@ class PairContactStage {
   const PairLawTables<Real>& tables() const { return tables_; }
   const std::vector<PairContactRecord<Real>>& contacts() const { return contacts_; }
   std::size_t history_count() const { return keys_.size(); }
+  // The history store (the touching pairs of the last evaluation, sorted by key), and setting it
+  // (a restart: the next evaluation looks its histories up in it).
+  const std::vector<PairKey>& history_keys() const { return keys_; }
+  const std::vector<ContactHistoryData<Real>>& histories() const { return histories_; }
+  void set_histories(std::vector<PairKey> keys, std::vector<ContactHistoryData<Real>> histories) {
+    keys_ = std::move(keys);
+    histories_ = std::move(histories);
+  }
   int threads() const { return threads_; }
   std::size_t allocated_bytes() const {
     std::size_t bytes =

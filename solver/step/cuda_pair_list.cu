@@ -186,9 +186,31 @@ void DevicePairList<Real>::build_csr() {
 }
 
 template <class Real>
+void DevicePairList<Real>::export_histories(std::vector<PairKey>& keys,
+                                            std::vector<ContactHistoryData<Real>>& histories) {
+  const int stored = imported_ >= 0 ? imported_ : store_touching_histories();
+  keys = download(store_keys_.data(), stored);
+  histories = download(store_histories_.data(), stored);
+}
+
+template <class Real>
+void DevicePairList<Real>::import_histories(
+    const std::vector<PairKey>& keys, const std::vector<ContactHistoryData<Real>>& histories) {
+  imported_ = shared_.tables.volume_model ? static_cast<int>(keys.size()) : 0;
+  if (imported_ == 0) return;
+  store_keys_.grow_to(imported_), store_histories_.grow_to(imported_);
+  TALUS_CUDA_CHECK(cudaMemcpy(store_keys_.data(), keys.data(), imported_ * sizeof(PairKey),
+                              cudaMemcpyHostToDevice));
+  TALUS_CUDA_CHECK(cudaMemcpy(store_histories_.data(), histories.data(),
+                              imported_ * sizeof(ContactHistoryData<Real>),
+                              cudaMemcpyHostToDevice));
+}
+
+template <class Real>
 void DevicePairList<Real>::update() {
-  if (!expired()) return;
-  const int stored = store_touching_histories();
+  if (imported_ < 0 && !expired()) return;
+  const int stored = imported_ >= 0 ? imported_ : store_touching_histories();
+  imported_ = -1;
   broad_phase_.build();
   candidates_ = static_cast<int>(broad_phase_.pair_count());
   ++builds_;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "solver/neighbor/contact_pairs_gpu.hpp"
 #include "solver/step/cuda_step_common.cuh"
@@ -21,8 +22,17 @@ class DevicePairList {
   // (0: rebuilt every step); the scene's deterministic mode adds the slot forces and the CSR.
   DevicePairList(DeviceStepShared<Real>& shared, Real skin);
 
-  // Rebuilds the list when it has expired (always on the first call).
+  // Rebuilds the list when it has expired (always on the first call, and after import_histories).
   void update();
+
+  // The touching slots' keys and histories, sorted by key (volume model; else none). After
+  // import_histories and before the next update: the imported store.
+  void export_histories(std::vector<PairKey>& keys,
+                        std::vector<ContactHistoryData<Real>>& histories);
+  // A store (sorted by key) that the next update builds the list with, as a rebuild carries the
+  // touching slots' histories over (a restart).
+  void import_histories(const std::vector<PairKey>& keys,
+                        const std::vector<ContactHistoryData<Real>>& histories);
 
   int candidates() const { return candidates_; }
   long long builds() const { return builds_; }
@@ -58,6 +68,7 @@ class DevicePairList {
   Real skin_ = 0;
   long long builds_ = 0;
   int candidates_ = 0;
+  int imported_ = -1;  // entries of an imported store awaiting the next build; -1: none
   DeviceBuffer<Real> built_x_, built_y_, built_z_;  // positions when the list was built
   DeviceBuffer<unsigned long long> largest_move_;   // squared, as double bits
   DeviceBuffer<unsigned char> slot_state_;

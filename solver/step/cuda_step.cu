@@ -469,6 +469,47 @@ void CudaStep<Real>::step() {
 }
 
 template <class Real>
+StepState<Real> CudaStep<Real>::export_state() const {
+  const Impl& m = *impl_;
+  const int n = m.count();
+  StepState<Real> s;
+  s.time = m.time;
+  s.steps = m.steps;
+  s.forces_ready = m.forces_ready;
+  s.count = n;
+  for (const auto& [name, values] : m.storage)
+    s.arrays.emplace_back(name, download(values.data(), n));
+  s.template_ids = download(m.template_ids.data(), n);
+  s.material_ids = download(m.material_ids.data(), n);
+  s.global_ids = download(m.shared.global_ids.data(), n);
+  if (m.list) m.list->export_histories(s.pair_keys, s.pair_histories);
+  if (m.walls) m.walls->export_histories(s.wall_keys, s.wall_histories);
+  return s;
+}
+
+template <class Real>
+void CudaStep<Real>::import_state(const StepState<Real>& s) {
+  Impl& m = *impl_;
+  const int n = m.count();
+  std::vector<std::string> names;
+  for (const auto& entry : m.storage) names.push_back(entry.first);
+  check_state_fits(s, n, names, static_cast<int>(m.host_bodies.size()));
+  for (std::size_t k = 0; k < m.storage.size() && n > 0; ++k) {
+    TALUS_CUDA_CHECK(cudaMemcpy(m.storage[k].second.data(), s.arrays[k].second.data(),
+                                n * sizeof(Real), cudaMemcpyHostToDevice));
+  }
+  // Same sizes: the buffers stay where the view points.
+  m.template_ids.upload(s.template_ids);
+  m.material_ids.upload(s.material_ids);
+  m.shared.global_ids.upload(s.global_ids);
+  if (m.list) m.list->import_histories(s.pair_keys, s.pair_histories);
+  if (m.walls) m.walls->import_histories(s.wall_keys, s.wall_histories);
+  m.time = s.time;
+  m.steps = s.steps;
+  m.forces_ready = s.forces_ready;
+}
+
+template <class Real>
 double CudaStep<Real>::time() const {
   return impl_->time;
 }

@@ -31,6 +31,7 @@
 #include "solver/scene/scene.hpp"
 #include "solver/step/any_step.hpp"
 #include "solver/step/step_plan.hpp"
+#include "solver/step/step_state.hpp"
 #include "solver/walls/facet_grid.hpp"
 
 namespace talus {
@@ -46,6 +47,7 @@ struct CudaStepOptions {
 template <class Real>
 class CudaStep {
  public:
+  using real_type = Real;
   // As HostStep: the scene's initial particles (global id = index), copied to the device.
   // Throws StepNotSupported for what the step cannot simulate, std::runtime_error from CUDA.
   explicit CudaStep(const Scene& scene, CudaStepOptions options = CudaStepOptions());
@@ -56,6 +58,12 @@ class CudaStep {
   // As HostStep::step and HostStep::evaluate_forces (the same errors, the same messages).
   void step();
   void evaluate_forces();
+
+  // As HostStep's (step_state.hpp): the arrays downloaded, the pair histories from the touching
+  // slots (the store a rebuild of the list carries over), the wall histories from the wall
+  // stage's store; an imported pair store is carried over by the next build of the list.
+  StepState<Real> export_state() const;
+  void import_state(const StepState<Real>& state);
 
   double time() const;
   long long steps() const;

@@ -305,6 +305,28 @@ std::size_t DeviceWallStage<Real>::bytes() const {
          (index_.size() + sorted_index_.size() + wall_slot_.size()) * sizeof(int);
 }
 
+template <class Real>
+void DeviceWallStage<Real>::export_histories(
+    std::vector<PairKey>& keys, std::vector<ContactHistoryData<Real>>& histories) const {
+  keys = download(history_.keys[history_.current].data(), history_.count);
+  histories = download(history_.values(), history_.count);
+}
+
+template <class Real>
+void DeviceWallStage<Real>::import_histories(
+    const std::vector<PairKey>& keys, const std::vector<ContactHistoryData<Real>>& histories) {
+  const int n = static_cast<int>(keys.size());
+  PairKey* next_keys = history_.next_keys(n);
+  ContactHistoryData<Real>* next = history_.next_histories(n);
+  if (n > 0) {
+    TALUS_CUDA_CHECK(
+        cudaMemcpy(next_keys, keys.data(), n * sizeof(PairKey), cudaMemcpyHostToDevice));
+    TALUS_CUDA_CHECK(cudaMemcpy(next, histories.data(), n * sizeof(ContactHistoryData<Real>),
+                                cudaMemcpyHostToDevice));
+  }
+  history_.flip(n);
+}
+
 template class DeviceWallStage<double>;
 template class DeviceWallStage<float>;
 

@@ -38,6 +38,12 @@ class DeviceWallStage {
   Vec3d force(int w) const;
   Vec3d torque(int w) const;
   std::size_t bytes() const;
+  // The history store (the touching contacts of the last evaluation, sorted by key), and setting
+  // it (a restart).
+  void export_histories(std::vector<PairKey>& keys,
+                        std::vector<ContactHistoryData<Real>>& histories) const;
+  void import_histories(const std::vector<PairKey>& keys,
+                        const std::vector<ContactHistoryData<Real>>& histories);
 
  private:
   void upload(double time);

@@ -259,6 +259,43 @@ void HostStep<Real>::step() {
 }
 
 template <class Real>
+StepState<Real> HostStep<Real>::export_state() const {
+  StepState<Real> s;
+  s.time = time_;
+  s.steps = steps_;
+  s.forces_ready = forces_ready_;
+  s.count = count_;
+  s.arrays = storage_;
+  s.template_ids = template_ids_;
+  s.material_ids = material_ids_;
+  s.global_ids = global_ids_;
+  if (contacts_) s.pair_keys = contacts_->history_keys(), s.pair_histories = contacts_->histories();
+  if (walls_) s.wall_keys = walls_->history_keys(), s.wall_histories = walls_->histories();
+  return s;
+}
+
+template <class Real>
+void HostStep<Real>::import_state(const StepState<Real>& s) {
+  std::vector<std::string> names;
+  for (const auto& entry : storage_) names.push_back(entry.first);
+  check_state_fits(s, count_, names, static_cast<int>(bodies_.size()));
+  // Copied into the arrays in place: view_ keeps pointing at them.
+  for (std::size_t k = 0; k < storage_.size(); ++k)
+    std::copy(s.arrays[k].second.begin(), s.arrays[k].second.end(), storage_[k].second.begin());
+  template_ids_ = s.template_ids;
+  material_ids_ = s.material_ids;
+  global_ids_ = s.global_ids;
+  view_.template_id = template_ids_.data();
+  view_.material_id = material_ids_.data();
+  view_.global_id = global_ids_.data();
+  if (contacts_) contacts_->set_histories(s.pair_keys, s.pair_histories);
+  if (walls_) walls_->set_histories(s.wall_keys, s.wall_histories);
+  time_ = s.time;
+  steps_ = s.steps;
+  forces_ready_ = s.forces_ready;
+}
+
+template <class Real>
 std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>& view) {
   std::vector<TrajectoryRow> rows(view.count);
   for (int i = 0; i < view.count; ++i) {

@@ -15,6 +15,7 @@
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/particle_kernels.hpp"
 #include "solver/step/step_plan.hpp"
+#include "solver/step/step_state.hpp"
 #include "solver/walls/facet_grid.hpp"
 
 namespace talus {
@@ -45,6 +46,7 @@ double particle_bed_height(const ParticleView<Real>& view,
 template <class Real>
 class HostStep {
  public:
+  using real_type = Real;
   // The scene's initial particles (global id = index), its templates and effects; the loops run
   // on `threads` threads (<= 0: OpenMP's default, all cores or OMP_NUM_THREADS; 1 in a build
   // without OpenMP). `wall_search`: the facet grid, or brute force (the same results; for the
@@ -62,6 +64,12 @@ class HostStep {
   void step();
   // The force stages alone at the current state (as the first step does): for step 0's outputs.
   void evaluate_forces();
+
+  // The state to go on from (restart; step_state.hpp), and setting it on a step made from the
+  // same scene: the next step() continues as this one's would, to the bit. import_state throws
+  // CheckpointError when the state does not fit the step (particle count, arrays, ids).
+  StepState<Real> export_state() const;
+  void import_state(const StepState<Real>& state);
 
   double time() const { return time_; }
   long long steps() const { return steps_; }

@@ -4,9 +4,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "solver/core/host_parallel.hpp"
+#include "solver/io/checkpoint.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
 #include "solver/io/vtk_output.hpp"
@@ -24,6 +26,10 @@ double clock_seconds() {
 std::string joined(const std::string& root, const std::string& path) {
   if (root.empty() || path.empty() || path.front() == '/') return path;
   return root + (root.back() == '/' ? "" : "/") + path;
+}
+
+std::string absolute_path(const std::string& path) {
+  return std::filesystem::absolute(path.empty() ? "." : path).lexically_normal().string();
 }
 
 long long peak_resident_bytes() {
@@ -53,6 +59,12 @@ struct ProductionRunner::Impl {
   std::vector<std::string> outputs;
   double contacts_sum = 0, output_seconds = 0;
   double started = 0, last_progress = 0;
+  // Checkpoints: their directory (empty: none asked for), the scene file's fingerprint.
+  std::string checkpoint_dir;
+  std::uint64_t scene_hash = 0;
+  long long resumed_from = -1, last_checkpoint_step = -1;
+  std::string last_checkpoint;
+  bool interrupted = false;
 
   Impl(const Scene& s, ProductionSettings set) : scene(s), settings(std::move(set)) {}
 
@@ -96,6 +108,35 @@ struct ProductionRunner::Impl {
     }
     output_seconds += clock_seconds() - start;
   }
+
+  // The run's state at this step (step, outputs, what resuming needs to find the run again),
+  // through a temporary name and a rename; then all but the newest `keep` files are removed.
+  void write_checkpoint_now() {
+    const double start = clock_seconds();
+    Checkpoint c;
+    const std::filesystem::path root = absolute_path(settings.output_root);
+    c.put_text("run.scene_file", absolute_path(scene.file));
+    c.put_value("run.scene_hash", scene_hash);
+    c.put_text("run.output_root",
+               root.lexically_relative(absolute_path(checkpoint_dir)).generic_string());
+    c.put_text("run.backend", step->backend());
+    c.put_text("run.precision", to_string(scene.precision));
+    c.put_value("run.total_steps", total_steps);
+    c.put_value("run.contacts_sum", contacts_sum);
+    // The feeds' states (Feeder::save, one line each): none while the production step has no
+    // feeds (plan_step refuses them); the section is there so that the format need not change.
+    c.put_text("feeds.states", "");
+    if (vtk) c.put_text("outputs.vtk", vtk->save());
+    step->save_state(c);
+    const std::string path = checkpoint_dir + "/" + checkpoint_file_name(step_index);
+    write_checkpoint(path, c);
+    last_checkpoint = path;
+    last_checkpoint_step = step_index;
+    const std::vector<std::string> files = list_checkpoints(checkpoint_dir);
+    const std::size_t keep = static_cast<std::size_t>(scene.outputs.checkpoint->keep);
+    for (std::size_t k = 0; k + keep < files.size(); ++k) std::filesystem::remove(files[k]);
+    output_seconds += clock_seconds() - start;
+  }
 };
 
 ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settings)
@@ -116,6 +157,25 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.step = make_host_step(scene, m.host_threads);
   }
   m.total_steps = std::llround(scene.end_time / scene.time_step);
+  const Checkpoint* resume = m.settings.resume.get();
+  if (resume) {
+    if (resume->text("run.precision") != to_string(scene.precision))
+      resume->fail("run.precision", "written in " + resume->text("run.precision") +
+                                        " precision, the run asks for " +
+                                        to_string(scene.precision));
+    if (!resume->text("feeds.states").empty())
+      resume->fail("feeds.states", "the production step has no feeds to give them to");
+    m.step->restore_state(*resume);
+    m.step_index = resume->get_value<long long>("step.steps");
+    m.contacts_sum = resume->get_value<double>("run.contacts_sum");
+    m.resumed_from = m.step_index;
+  }
+  if (scene.outputs.checkpoint) {
+    m.checkpoint_dir = joined(m.settings.output_root, scene.outputs.checkpoint->directory);
+    create_output_directory(m.checkpoint_dir);
+    m.scene_hash = file_hash(scene.file);  // resuming checks that the scene is unchanged
+    m.outputs.push_back(m.checkpoint_dir);
+  }
   if (scene.outputs.trajectories) {
     m.trajectory_dir = joined(m.settings.output_root, scene.outputs.trajectories->directory);
     create_output_directory(m.trajectory_dir);
@@ -123,17 +183,20 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.outputs.push_back(m.trajectory_dir);
   }
   if (scene.outputs.probes) {
-    m.probes =
-        std::make_unique<ProbeWriter>(joined(m.settings.output_root, scene.outputs.probes->file),
-                                      probe_columns(*scene.outputs.probes, scene.walls));
+    const std::string path = joined(m.settings.output_root, scene.outputs.probes->file);
+    std::vector<std::string> columns = probe_columns(*scene.outputs.probes, scene.walls);
+    m.probes = resume ? std::make_unique<ProbeWriter>(path, std::move(columns), m.step_index)
+                      : std::make_unique<ProbeWriter>(path, std::move(columns));
     m.outputs.push_back(m.probes->path());
   }
   if (scene.outputs.vtk) {
     m.vtk = std::make_unique<VtkSeriesWriter>(
         scene, joined(m.settings.output_root, scene.outputs.vtk->directory),
         vtk_particles_for(scene, m.step->particles()));
+    if (resume) m.vtk->restore(resume->text("outputs.vtk"));
     m.outputs.push_back(m.vtk->directory());
   }
+  if (resume) return;         // the checkpoint's step has its outputs already
   m.step->evaluate_forces();  // step 0's contacts
   m.write_outputs(done());
 }
@@ -166,11 +229,25 @@ void ProductionRunner::advance() {
   ++m.step_index;
   m.contacts_sum += static_cast<double>(m.step->pair_contacts() + m.step->wall_contacts());
   m.write_outputs(done());
+  if (!m.checkpoint_dir.empty() && m.step_index % m.scene.outputs.checkpoint->every == 0 && !done())
+    m.write_checkpoint_now();
   const double now = clock_seconds();
   if (now - m.last_progress >= m.settings.progress_interval) {
     report_progress();
     m.last_progress = now;
   }
+}
+
+void ProductionRunner::interrupt() {
+  Impl& m = *impl_;
+  m.interrupted = true;
+  if (!m.checkpoint_dir.empty() && m.last_checkpoint_step != m.step_index &&
+      m.resumed_from != m.step_index)
+    m.write_checkpoint_now();
+}
+
+bool ProductionRunner::interrupted() const {
+  return impl_->interrupted;
 }
 
 void ProductionRunner::report_progress() {
@@ -206,14 +283,57 @@ ProductionReport ProductionRunner::report() const {
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;
   if (m.scene.effects.gravity) r.bed_height = m.step->bed_height(*m.scene.effects.gravity);
+  r.resumed_from_step = m.resumed_from;
+  r.interrupted = m.interrupted;
+  r.last_checkpoint = m.last_checkpoint;
   return r;
 }
 
 ProductionReport run_production(const Scene& scene, const ProductionSettings& settings) {
   ProductionRunner runner(scene, settings);
-  while (!runner.done()) runner.advance();
+  while (!runner.done()) {
+    if (settings.stop_requested && settings.stop_requested()) {
+      runner.interrupt();
+      break;
+    }
+    runner.advance();
+  }
   runner.report_progress();
   return runner.report();
+}
+
+ResumePoint read_resume_point(const std::string& directory) {
+  const std::vector<std::string> files = list_checkpoints(directory);
+  if (files.empty())
+    throw CheckpointError(directory +
+                          ": no checkpoint to resume from (checkpoint_<step>.bin; a "
+                          "run writes them when its scene has outputs.checkpoint)");
+  ResumePoint r;
+  r.checkpoint_path = files.back();
+  auto checkpoint = std::make_shared<Checkpoint>(read_checkpoint(r.checkpoint_path));
+  r.scene_file = checkpoint->text("run.scene_file");
+  const auto hash = checkpoint->get_value<std::uint64_t>("run.scene_hash");
+  std::uint64_t now = 0;
+  try {
+    now = file_hash(r.scene_file);
+  } catch (const CheckpointError&) {
+    throw CheckpointError(r.checkpoint_path + ": the run's scene file '" + r.scene_file +
+                          "' cannot be read");
+  }
+  if (now != hash)
+    throw CheckpointError(r.checkpoint_path + ": the scene file '" + r.scene_file +
+                          "' has changed since the checkpoint was written (its hash differs); "
+                          "restore it, or start a new run");
+  r.output_root =
+      (std::filesystem::path(absolute_path(directory)) / checkpoint->text("run.output_root"))
+          .lexically_normal()
+          .string();
+  if (r.output_root.size() > 1 && r.output_root.back() == '/') r.output_root.pop_back();
+  r.backend = checkpoint->text("run.backend");
+  r.precision = checkpoint->text("run.precision");
+  r.step = checkpoint->get_value<long long>("step.steps");
+  r.checkpoint = std::move(checkpoint);
+  return r;
 }
 
 }  // namespace talus

@@ -25,7 +25,8 @@ struct ProductionProgress {
   double wall_seconds = 0;   // since the run started
 };
 
-class AnyStep;  // any_step.hpp
+class AnyStep;     // any_step.hpp
+class Checkpoint;  // solver/io/checkpoint.hpp
 using StepFactory = std::function<std::unique_ptr<AnyStep>(const Scene&)>;
 
 struct ProductionSettings {
@@ -38,7 +39,30 @@ struct ProductionSettings {
   int host_threads = 0;
   std::function<void(const ProductionProgress&)> progress;
   double progress_interval = 1.0;  // s of wall time
+  // Continue from this checkpoint (read_resume_point) instead of the scene's initial state: the
+  // step's state set back, the outputs continued (probe rows after its step dropped, then
+  // appended; frames numbered on; the ParaView collections as they were). Null: a new run.
+  std::shared_ptr<const Checkpoint> resume;
+  // Asked after each step; true stops the run there (Ctrl-C, SIGTERM), with a checkpoint when
+  // the scene asks for checkpoints (report().interrupted).
+  std::function<bool()> stop_requested;
 };
+
+// Where `talus run --resume DIRECTORY` goes on from: the newest checkpoint of the directory,
+// read and checked, and what it says of the run.
+struct ResumePoint {
+  std::string checkpoint_path;
+  std::shared_ptr<const Checkpoint> checkpoint;
+  std::string scene_file;   // absolute, as the run loaded it
+  std::string output_root;  // the run's output root, found from the checkpoint directory
+  std::string backend;      // "cpu" or "cuda": the step that wrote it
+  std::string precision;    // "double" or "float"
+  long long step = 0;
+};
+// Throws CheckpointError (solver/io/checkpoint.hpp) naming the file: no checkpoint in the
+// directory, a corrupt or truncated one (checksum, size), another format version, or a scene
+// file that is gone or has changed since the checkpoint was written (its hash).
+ResumePoint read_resume_point(const std::string& directory);
 
 struct ProductionReport {
   std::string backend = "cpu";  // the step's: "cpu" or "cuda"
@@ -56,6 +80,9 @@ struct ProductionReport {
   // At the end: the highest point of any particle along -g (the bed_height probe), m; NaN
   // without gravity.
   double bed_height = std::numeric_limits<double>::quiet_NaN();
+  long long resumed_from_step = -1;  // the checkpoint's step; -1: a new run
+  bool interrupted = false;          // stopped by stop_requested before the end
+  std::string last_checkpoint;       // the newest checkpoint written (empty: none)
 };
 
 // Steps: round(end_time / time_step). Throws StepNotSupported naming the scene item for what
@@ -68,7 +95,11 @@ class ProductionRunner {
   ProductionRunner& operator=(const ProductionRunner&) = delete;
 
   bool done() const;
-  void advance();  // one step and its outputs
+  void advance();  // one step and its outputs (and its checkpoint when one is due)
+  // Stops the run at the present step: writes a checkpoint there when the scene asks for
+  // checkpoints (and none is there yet); report().interrupted becomes true.
+  void interrupt();
+  bool interrupted() const;
   long long step() const;
   const StepPlan& plan() const;
   // The current particles as trajectory rows (world-frame angular velocity).

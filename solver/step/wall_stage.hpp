@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "solver/core/host_parallel.hpp"
@@ -174,6 +175,14 @@ class WallContactStage {
   // The touching records of the last compute, wall-major (the serial order).
   const std::vector<WallContactRecord<Real>>& contacts() const { return contacts_; }
   const std::vector<WallMotionData<Real>>& motions() const { return motion_; }
+  // The history store (the touching contacts of the last evaluation, sorted by key), and setting
+  // it (a restart).
+  const std::vector<PairKey>& history_keys() const { return keys_; }
+  const std::vector<ContactHistoryData<Real>>& histories() const { return histories_; }
+  void set_histories(std::vector<PairKey> keys, std::vector<ContactHistoryData<Real>> histories) {
+    keys_ = std::move(keys);
+    histories_ = std::move(histories);
+  }
   const Vec3d& wall_force(int w) const { return wall_force_.at(w); }
   const Vec3d& wall_torque(int w) const { return wall_torque_.at(w); }
   std::size_t allocated_bytes() const {

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -18,6 +19,21 @@ struct ProcessResult {
   int exit_code = -1;
   std::string out, err;
 };
+
+// A fresh, empty directory <build>/<group>/<name> for one test's files.
+inline std::string fresh_directory(const std::string& group, const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(TALUS_BINARY_DIR) / group / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+// `text` written to <dir>/scene.yaml; returns that path.
+inline std::string write_scene(const std::string& dir, const std::string& text) {
+  const std::string path = dir + "/scene.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
 
 inline std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

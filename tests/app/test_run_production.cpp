@@ -15,24 +15,16 @@
 
 namespace {
 
-namespace fs = std::filesystem;
 using talus_test::Json;
 using talus_test::parse_or_fail;
 using talus_test::ProcessResult;
 using talus_test::run_talus;
 
 std::string production_directory(const std::string& name) {
-  const fs::path dir = fs::path(TALUS_BINARY_DIR) / "test-run-production" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return talus_test::fresh_directory("test-run-production", name);
 }
 
-std::string write_scene(const std::string& dir, const std::string& text) {
-  const std::string path = dir + "/scene.yaml";
-  std::ofstream(path) << text;
-  return path;
-}
+using talus_test::write_scene;
 
 // Two spheres thrown at each other along x, linear model, elastic: 2000 steps.
 const char* const kTwoBalls = R"(time: {step: 1.0e-5, end: 0.02}

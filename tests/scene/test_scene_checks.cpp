@@ -186,6 +186,26 @@ TEST(SceneChecks, OutputsNeedWhatTheyMeasure) {
          "  friction: true\noutputs:\n  trajectories: {every: 5, format: vtk}"}},
        "errors.yaml:22:36: outputs.trajectories.format: trajectories are CSV files; for "
        "ParaView's VTK files write outputs.vtk"},
+      {"checkpoints every zero steps",
+       {{"  friction: true", "  friction: true\noutputs:\n  checkpoint: {every: 0}"}},
+       "errors.yaml:22:23: outputs.checkpoint.every: expected a positive integer number of "
+       "steps, got '0'"},
+      {"checkpoints without every",
+       {{"  friction: true", "  friction: true\noutputs:\n  checkpoint: {keep: 3}"}},
+       "errors.yaml:22:15: outputs.checkpoint.every: missing required key; expected a positive "
+       "integer number of steps"},
+      {"keeping no checkpoint",
+       {{"  friction: true", "  friction: true\noutputs:\n  checkpoint: {every: 5, keep: 0}"}},
+       "errors.yaml:22:32: outputs.checkpoint.keep: expected a positive integer number of "
+       "checkpoint files, got '0'"},
+      {"a misspelt checkpoint key",
+       {{"  friction: true", "  friction: true\noutputs:\n  checkpoint: {every: 5, dir: ck}"}},
+       "errors.yaml:22:26: outputs.checkpoint.dir: unknown key; expected one of every, "
+       "directory, keep"},
+      {"an unknown output",
+       {{"  friction: true", "  friction: true\noutputs:\n  restart: {every: 5}"}},
+       "errors.yaml:22:3: outputs.restart: unknown key; expected one of trajectories, probes, "
+       "vtk, checkpoint"},
   };
   for (const CheckCase& c : cases) expect_message(c);
 }

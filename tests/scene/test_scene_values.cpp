@@ -162,6 +162,21 @@ TEST(SceneValues, VtkOutputDefaultsAndParticleForms) {
   EXPECT_EQ(surfaces.outputs.vtk->particles, VtkParticles::surfaces);
 }
 
+TEST(SceneValues, CheckpointOutputDefaults) {
+  const std::string outputs = "  friction: true\noutputs:\n  ";
+  EXPECT_FALSE(with({}).outputs.checkpoint.has_value());
+  const Scene plain = with({{"  friction: true", outputs + "checkpoint: {every: 50}"}});
+  ASSERT_TRUE(plain.outputs.checkpoint.has_value());
+  EXPECT_EQ(plain.outputs.checkpoint->every, 50);
+  EXPECT_EQ(plain.outputs.checkpoint->directory, "checkpoints");
+  EXPECT_EQ(plain.outputs.checkpoint->keep, 2);
+  const Scene given =
+      with({{"  friction: true", outputs + "checkpoint: {every: 7, directory: ck, keep: 5}"}});
+  EXPECT_EQ(given.outputs.checkpoint->every, 7);
+  EXPECT_EQ(given.outputs.checkpoint->directory, "ck");
+  EXPECT_EQ(given.outputs.checkpoint->keep, 5);
+}
+
 TEST(SceneValues, NamesWrittenForEachKind) {
   EXPECT_STREQ(to_string(WallKind::hopper), "hopper");
   EXPECT_STREQ(to_string(ContactModel::linear), "linear");

@@ -1,0 +1,152 @@
+// `talus run --resume DIR` through the built binary: a run resumed from the middle checkpoint of
+// a finished run's copy rewrites its later outputs to the same bytes; SIGTERM stops a run at a
+// step boundary with a checkpoint and a message, and resuming it ends where the uninterrupted run
+// ends; the refusals (no checkpoint, a scene path or a fixed option or --end beside --resume).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "solver/io/checkpoint.hpp"
+#include "tests/app/json_reader.hpp"
+#include "tests/app/run_talus.hpp"
+#include "tests/step/restart_scene.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using talus_test::Json;
+using talus_test::parse_or_fail;
+using talus_test::ProcessResult;
+using talus_test::read_file;
+using talus_test::run_talus;
+
+std::string resume_directory(const std::string& name) {
+  return talus_test::fresh_directory("test-run-resume", name);
+}
+
+using talus_test::write_scene;
+
+// The restart scene run for `steps` steps of 2e-5 s, frames every 20 steps.
+std::string scene_text(int steps) {
+  std::string text = talus_test::restart_scene_yaml();
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    text.replace(text.find(from), from.size(), to);
+  };
+  replace("end: 2.4e-3", "end: " + std::to_string(steps * 2.0e-5));
+  replace("trajectories: {every: 1,", "trajectories: {every: 20,");
+  return text;
+}
+
+TEST(TalusRunResume, ResumesACopyFromItsMiddleCheckpoint) {
+  const std::string dir = resume_directory("copy");
+  const std::string scene = write_scene(dir, scene_text(120));
+  const ProcessResult first =
+      run_talus({"run", "--backend", "cpu", "--quiet", "--output", dir + "/whole", scene});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  fs::copy(dir + "/whole", dir + "/copy", fs::copy_options::recursive);
+  fs::remove(dir + "/copy/checkpoints/checkpoint_000000080.bin");
+  fs::remove(dir + "/copy/frames/trajectory_000000120.csv");
+  const ProcessResult resumed =
+      run_talus({"run", "--resume", dir + "/copy/checkpoints", "--threads", "1"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.err.find("resuming " + scene + " from step 40"), std::string::npos)
+      << resumed.err;
+  const Json summary = parse_or_fail(resumed.out);
+  EXPECT_EQ(summary["resumed_from_step"].value, 40);
+  EXPECT_EQ(summary["steps"].value, 120);
+  EXPECT_EQ(summary["backend"].text, "cpu");
+  for (const char* file :
+       {"/frames/trajectory_000000060.csv", "/frames/trajectory_000000120.csv", "/probes.csv",
+        "/paraview/particles.pvd", "/paraview/walls.pvd", "/paraview/particles_000000120.vtp"}) {
+    const std::string a = read_file(dir + "/whole" + file), b = read_file(dir + "/copy" + file);
+    EXPECT_FALSE(a.empty()) << file;
+    EXPECT_TRUE(a == b) << file;
+  }
+}
+
+// Starts talus with `args`, stdout and stderr to files in `dir`; returns its process id.
+pid_t start_talus(const std::vector<std::string>& args, const std::string& dir) {
+  const std::string binary = TALUS_BINARY_DIR "/talus";
+  std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const std::string out = dir + "/stdout", err = dir + "/stderr";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(126);
+    execv(binary.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+TEST(TalusRunResume, SigtermStopsAtAStepWithACheckpointAndResumes) {
+  const std::string dir = resume_directory("sigterm");
+  const std::string scene = write_scene(dir, scene_text(3000));
+  const ProcessResult whole =
+      run_talus({"run", "--backend", "cpu", "--quiet", "--output", dir + "/whole", scene});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+
+  const pid_t pid =
+      start_talus({"run", "--backend", "cpu", "--quiet", "--output", dir + "/cut", scene}, dir);
+  ASSERT_GT(pid, 0);
+  // Once the run is under way (some probe rows, the first checkpoint), stop it.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (talus::list_checkpoints(dir + "/cut/checkpoints").empty() &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string err = read_file(dir + "/stderr");
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
+    GTEST_SKIP() << "the run ended before the signal came (a very fast machine)";
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal instead of stopping: " << err;
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << err;
+  EXPECT_NE(err.find("run interrupted by SIGTERM at step "), std::string::npos) << err;
+  EXPECT_NE(err.find("continue with 'talus run --resume " + dir + "/cut/checkpoints'"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(read_file(dir + "/stdout"), "");
+
+  const ProcessResult resumed = run_talus({"run", "--resume", dir + "/cut/checkpoints", "--quiet"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(parse_or_fail(resumed.out)["steps"].value, 3000);
+  for (const char* file : {"/frames/trajectory_000003000.csv", "/probes.csv"}) {
+    const std::string a = read_file(dir + "/whole" + file), b = read_file(dir + "/cut" + file);
+    EXPECT_FALSE(a.empty()) << file;
+    EXPECT_TRUE(a == b) << file;
+  }
+}
+
+TEST(TalusRunResume, Refusals) {
+  const std::string dir = resume_directory("refusals");
+  const std::string scene = write_scene(dir, scene_text(120));
+  ProcessResult run = run_talus({"run", "--resume", dir});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(dir + ": no checkpoint to resume from"), std::string::npos) << run.err;
+  run = run_talus({"run", "--resume", dir, scene});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--resume continues the run its checkpoint names; drop the scene file"),
+            std::string::npos)
+      << run.err;
+  run = run_talus({"run", "--resume", dir, "--precision", "float"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("drop --precision"), std::string::npos) << run.err;
+  run = run_talus({"run", "--resume", dir, "--end", "0.01"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("drop --end"), std::string::npos) << run.err;
+  run = run_talus({"run", "--resume"});
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--resume expects a value"), std::string::npos) << run.err;
+}
+
+}  // namespace
