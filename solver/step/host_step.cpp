@@ -59,7 +59,7 @@ template BodyProperties<float> body_properties(const Scene&, const ParticleTempl
 template <class Real>
 HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search)
     : scene_(scene),
-      plan_(plan_step(scene)),
+      plan_(plan_step(scene, true)),
       dt_(Real(scene.time_step)),
       threads_(host_thread_count(threads)) {
   for (const ParticleTemplate& t : scene.templates) {
@@ -70,50 +70,37 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
   }
   const std::vector<ParticleState> initial = initial_particles(scene);
   count_ = static_cast<int>(initial.size());
-  view_.count = count_;
   const auto soa3 = [&](const std::string& name) {
-    Soa3<Real> s;
-    s.x = allocate(name + ".x"), s.y = allocate(name + ".y"), s.z = allocate(name + ".z");
-    return s;
+    allocate(name + ".x"), allocate(name + ".y"), allocate(name + ".z");
   };
-  view_.position = soa3("position");
-  view_.velocity = soa3("velocity");
-  view_.orientation.w = allocate("orientation.w");
-  view_.orientation.x = allocate("orientation.x");
-  view_.orientation.y = allocate("orientation.y");
-  view_.orientation.z = allocate("orientation.z");
+  soa3("position");
+  soa3("velocity");
+  allocate("orientation.w");
+  allocate("orientation.x");
+  allocate("orientation.y");
+  allocate("orientation.z");
   if (plan_.arrays.force) {
-    view_.force = soa3("force");
-    view_.step_start_acceleration = soa3("step_start_acceleration");
+    soa3("force");
+    soa3("step_start_acceleration");
   }
-  if (plan_.arrays.angular_velocity) view_.angular_velocity = soa3("angular_velocity");
+  if (plan_.arrays.angular_velocity) soa3("angular_velocity");
   if (plan_.arrays.torque) {
-    view_.torque = soa3("torque");
-    view_.step_start_torque = soa3("step_start_torque");
+    soa3("torque");
+    soa3("step_start_torque");
   }
-  if (plan_.arrays.bounding_radius) view_.bounding_radius = allocate("bounding_radius");
+  if (plan_.arrays.bounding_radius) allocate("bounding_radius");
+  for (auto* ids : {&template_ids_, &material_ids_}) ids->reserve(std::max(count_, 1));
+  global_ids_.reserve(std::max(count_, 1));
   template_ids_.resize(count_);
   material_ids_.resize(count_);
   global_ids_.resize(count_);
-  view_.template_id = template_ids_.data();
-  view_.material_id = material_ids_.data();
-  view_.global_id = global_ids_.data();
-
-  for (int i = 0; i < count_; ++i) {
-    const ParticleState& p = initial[i];
-    const BodyProperties<Real>& body = bodies_.at(p.template_index);
-    template_ids_[i] = p.template_index;
-    material_ids_[i] = body.material;
-    global_ids_[i] = i;
-    view_.position.set(i, Vec3<Real>(p.position));
-    view_.velocity.set(i, Vec3<Real>(p.velocity));
-    const Quatd q = p.orientation.normalized();
-    view_.orientation.set(i, Quat<Real>(q));
-    if (view_.angular_velocity.present()) {
-      // The scene gives it in the world frame; Euler's equations want the body frame.
-      view_.angular_velocity.set(i, Vec3<Real>(rotate_inverse(q, p.angular_velocity)));
-    }
-    if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
+  bind_view();
+  for (int i = 0; i < count_; ++i) set_particle(i, initial[i]);
+  for (std::size_t f = 0; f < scene.feeds.size(); ++f)
+    feeders_.emplace_back(scene, static_cast<int>(f));
+  if (!feeders_.empty()) {
+    feed_walls_ = make_wall_meshes(scene);
+    for (const ParticleTemplate& t : scene.templates) feed_radii_.push_back(t.bounding_radius);
   }
   if (plan_.contacts) {
     contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_, threads_);
@@ -127,8 +114,112 @@ HostStep<Real>::~HostStep() = default;
 
 template <class Real>
 Real* HostStep<Real>::allocate(const std::string& name) {
-  storage_.emplace_back(name, std::vector<Real>(count_, Real(0)));
+  std::vector<Real> values;
+  values.reserve(std::max(count_, 1));  // never a null pointer: present() tells arrays apart
+  values.resize(count_, Real(0));
+  storage_.emplace_back(name, std::move(values));
   return storage_.back().second.data();
+}
+
+template <class Real>
+void HostStep<Real>::bind_view() {
+  const auto array = [&](const std::string& name) -> Real* {
+    for (auto& entry : storage_)
+      if (entry.first == name) return entry.second.data();
+    return nullptr;  // an array the plan does not need
+  };
+  const auto soa3 = [&](const std::string& name) {
+    Soa3<Real> s;
+    s.x = array(name + ".x"), s.y = array(name + ".y"), s.z = array(name + ".z");
+    return s;
+  };
+  view_.count = count_;
+  view_.position = soa3("position");
+  view_.velocity = soa3("velocity");
+  view_.orientation.w = array("orientation.w");
+  view_.orientation.x = array("orientation.x");
+  view_.orientation.y = array("orientation.y");
+  view_.orientation.z = array("orientation.z");
+  view_.force = soa3("force");
+  view_.step_start_acceleration = soa3("step_start_acceleration");
+  view_.angular_velocity = soa3("angular_velocity");
+  view_.torque = soa3("torque");
+  view_.step_start_torque = soa3("step_start_torque");
+  view_.bounding_radius = array("bounding_radius");
+  view_.template_id = template_ids_.data();
+  view_.material_id = material_ids_.data();
+  view_.global_id = global_ids_.data();
+}
+
+template <class Real>
+void HostStep<Real>::grow(int count) {
+  const auto resize = [&](auto& values) {
+    if (values.capacity() < static_cast<std::size_t>(count))
+      values.reserve(std::max<std::size_t>(count, 2 * values.capacity()));
+    values.resize(count);
+  };
+  for (auto& entry : storage_) resize(entry.second);
+  resize(template_ids_);
+  resize(material_ids_);
+  resize(global_ids_);
+  count_ = count;
+  bind_view();
+}
+
+template <class Real>
+void HostStep<Real>::set_particle(int i, const ParticleState& p) {
+  const BodyProperties<Real>& body = bodies_.at(p.template_index);
+  template_ids_[i] = p.template_index;
+  material_ids_[i] = body.material;
+  global_ids_[i] = i;
+  view_.position.set(i, Vec3<Real>(p.position));
+  view_.velocity.set(i, Vec3<Real>(p.velocity));
+  const Quatd q = p.orientation.normalized();
+  view_.orientation.set(i, Quat<Real>(q));
+  if (view_.angular_velocity.present()) {
+    // The scene gives it in the world frame; Euler's equations want the body frame.
+    view_.angular_velocity.set(i, Vec3<Real>(rotate_inverse(q, p.angular_velocity)));
+  }
+  if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
+}
+
+template <class Real>
+void HostStep<Real>::feed() {
+  std::vector<Vec3d> positions;
+  std::vector<double> radii;
+  bool due = false;
+  for (const Feeder& feeder : feeders_) due = due || feeder.due(time_) > feeder.inserted();
+  if (!due) return;  // the feeds' insert() would return nothing and draw nothing
+  positions.reserve(count_);
+  radii.reserve(count_);
+  for (int i = 0; i < count_; ++i) {
+    positions.push_back(Vec3d(view_.position.get(i)));
+    radii.push_back(feed_radii_[template_ids_[i]]);
+  }
+  const std::vector<TriangleMesh> walls_now = walls_at(scene_, feed_walls_, time_);
+  for (Feeder& feeder : feeders_) {
+    const std::vector<ParticleState> added = feeder.insert(time_, positions, radii, walls_now);
+    if (added.empty()) continue;
+    const int first = count_;
+    grow(count_ + static_cast<int>(added.size()));
+    const ParticleView<Real> p = view_;
+    for (std::size_t k = 0; k < added.size(); ++k) {
+      const int i = first + static_cast<int>(k);
+      set_particle(i, added[k]);
+      positions.push_back(added[k].position);
+      radii.push_back(feed_radii_[added[k].template_index]);
+      // The first half-step uses the stored forces: the new particle's body forces now (it
+      // touches nothing: the feed places it clear of particles and walls), as the reference's
+      // add_body gives them.
+      if (p.force.present()) {
+        clear_forces(p, i);
+        if (plan_.gravity) add_gravity(p, bodies_.data(), i, Vec3<Real>(*scene_.effects.gravity));
+        if (plan_.drag) add_drag(p, i, Real(*scene_.effects.drag_alpha));
+      } else if (p.torque.present()) {
+        p.torque.set(i, Vec3<Real>());
+      }
+    }
+  }
 }
 
 template <class Real>
@@ -236,6 +327,7 @@ template <class Real>
 void HostStep<Real>::step() {
   if (!forces_ready_) evaluate_forces();  // F_0, T_0 for the first half-step
   if (walls_) walls_->open_outlets(time_);
+  if (!feeders_.empty()) feed();
   const ParticleView<Real> p = view_;
   const BodyProperties<Real>* bodies = bodies_.data();
   timed(Stage::integrate_begin, [&] {
@@ -271,6 +363,7 @@ StepState<Real> HostStep<Real>::export_state() const {
   s.global_ids = global_ids_;
   if (contacts_) s.pair_keys = contacts_->history_keys(), s.pair_histories = contacts_->histories();
   if (walls_) s.wall_keys = walls_->history_keys(), s.wall_histories = walls_->histories();
+  for (const Feeder& feeder : feeders_) s.feed_states.push_back(feeder.save());
   return s;
 }
 
@@ -278,16 +371,21 @@ template <class Real>
 void HostStep<Real>::import_state(const StepState<Real>& s) {
   std::vector<std::string> names;
   for (const auto& entry : storage_) names.push_back(entry.first);
+  if (s.feed_states.size() != feeders_.size())
+    throw CheckpointError(
+        "the checkpoint does not fit the scene: " + std::to_string(s.feed_states.size()) +
+        " feed states, the scene has " + std::to_string(feeders_.size()) + " feeds");
+  // A feeding run's particles: the initial ones and those inserted by the checkpoint's step.
+  if (!feeders_.empty() && s.count > count_) grow(s.count);
   check_state_fits(s, count_, names, static_cast<int>(bodies_.size()));
+  for (std::size_t f = 0; f < feeders_.size(); ++f) feeders_[f].restore(s.feed_states[f]);
   // Copied into the arrays in place: view_ keeps pointing at them.
   for (std::size_t k = 0; k < storage_.size(); ++k)
     std::copy(s.arrays[k].second.begin(), s.arrays[k].second.end(), storage_[k].second.begin());
   template_ids_ = s.template_ids;
   material_ids_ = s.material_ids;
   global_ids_ = s.global_ids;
-  view_.template_id = template_ids_.data();
-  view_.material_id = material_ids_.data();
-  view_.global_id = global_ids_.data();
+  bind_view();
   if (contacts_) contacts_->set_histories(s.pair_keys, s.pair_histories);
   if (walls_) walls_->set_histories(s.wall_keys, s.wall_histories);
   time_ = s.time;

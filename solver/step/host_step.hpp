@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
+#include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
+#include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/particle_kernels.hpp"
 #include "solver/step/step_plan.hpp"
@@ -58,7 +60,11 @@ class HostStep {
   HostStep& operator=(const HostStep&) = delete;
 
   // One step of dt: integrate_begin, the force stages at the new state, integrate_end. The
-  // first call evaluates the forces at t = 0 first (springs do not grow then). Throws
+  // first call evaluates the forces at t = 0 first (springs do not grow then). Before
+  // integrate_begin the scene's feeds insert the particles due at the step's start time, as the
+  // reference solver's run does (scene/feeder.hpp, the same Feeder calls in the same order):
+  // appended with the next global ids, their body forces (gravity, drag) set at once, every
+  // particle array grown (capacity doubling, so insertions do not reallocate every step). Throws
   // std::runtime_error when a particle's rotation does not converge (|w| dt too large), naming the
   // lowest such index whatever the thread count.
   void step();
@@ -100,6 +106,10 @@ class HostStep {
 
  private:
   Real* allocate(const std::string& name);
+  void bind_view();                                  // view_'s pointers into the arrays
+  void grow(int count);                              // every particle array to `count`
+  void set_particle(int i, const ParticleState& p);  // index i's state and ids from p
+  void feed();                                       // the feeds' insertions at time_
   void run_force_stages(Real spring_dt);
   template <class Body>
   void timed(Stage stage, Body&& body);
@@ -118,6 +128,9 @@ class HostStep {
   ParticleView<Real> view_;
   std::unique_ptr<PairContactStage<Real>> contacts_;
   std::unique_ptr<WallContactStage<Real>> walls_;
+  std::vector<Feeder> feeders_;       // per scene feed
+  std::vector<WallMesh> feed_walls_;  // the walls' meshes at t = 0, for the feeds
+  std::vector<double> feed_radii_;    // per template: its bounding radius in double
   std::array<double, 9> stage_seconds_{};
   double time_ = 0;
   long long steps_ = 0;

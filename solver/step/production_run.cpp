@@ -123,9 +123,6 @@ struct ProductionRunner::Impl {
     c.put_text("run.precision", to_string(scene.precision));
     c.put_value("run.total_steps", total_steps);
     c.put_value("run.contacts_sum", contacts_sum);
-    // The feeds' states (Feeder::save, one line each): none while the production step has no
-    // feeds (plan_step refuses them); the section is there so that the format need not change.
-    c.put_text("feeds.states", "");
     if (vtk) c.put_text("outputs.vtk", vtk->save());
     step->save_state(c);
     const std::string path = checkpoint_dir + "/" + checkpoint_file_name(step_index);
@@ -163,8 +160,6 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
       resume->fail("run.precision", "written in " + resume->text("run.precision") +
                                         " precision, the run asks for " +
                                         to_string(scene.precision));
-    if (!resume->text("feeds.states").empty())
-      resume->fail("feeds.states", "the production step has no feeds to give them to");
     m.step->restore_state(*resume);
     m.step_index = resume->get_value<long long>("step.steps");
     m.contacts_sum = resume->get_value<double>("run.contacts_sum");

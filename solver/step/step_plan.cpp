@@ -32,14 +32,15 @@ bool StepPlan::has(Stage stage) const {
   return std::find(stages.begin(), stages.end(), stage) != stages.end();
 }
 
-StepPlan plan_step(const Scene& scene) {
+StepPlan plan_step(const Scene& scene, bool feeds) {
   const Effects& fx = scene.effects;
-  if (!scene.feeds.empty()) {
+  if (!scene.feeds.empty() && !feeds) {
     throw StepNotSupported(scene.feeds.front().source.where() +
-                           ": the production solver does not insert particles during a run "
-                           "yet; run this scene with --solver reference");
+                           ": feed: the CUDA step does not insert particles during a run yet; "
+                           "run this scene with --backend cpu or --solver reference");
   }
   StepPlan plan;
+  plan.feed = !scene.feeds.empty();
   plan.gravity = fx.gravity.has_value();
   plan.drag = fx.drag_alpha.has_value();
   plan.contacts = fx.contact.has_value();

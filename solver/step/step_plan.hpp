@@ -43,13 +43,15 @@ struct ParticleArrayNeeds {
 struct StepPlan {
   bool gravity = false, drag = false, contacts = false, friction = false, rotation = false;
   bool walls = false;
+  bool feed = false;          // feeds insert particles between steps (host step only, for now)
   std::vector<Stage> stages;  // in the order they run within one step
   ParticleArrayNeeds arrays;
   bool has(Stage stage) const;
 };
 
-// The plan of a scene. Throws StepNotSupported naming the scene file and item for what the
-// production step does not provide yet (feeds).
-StepPlan plan_step(const Scene& scene);
+// The plan of a scene. `feeds`: whether the step asking inserts the particles of the scene's
+// feeds (the host step does; the CUDA step not yet). Without it a scene with a feed throws
+// StepNotSupported naming the feed and what to run instead.
+StepPlan plan_step(const Scene& scene, bool feeds = false);
 
 }  // namespace talus

@@ -31,6 +31,8 @@ struct StepState {
   std::vector<long long> global_ids;
   std::vector<PairKey> pair_keys, wall_keys;  // sorted (key_less)
   std::vector<ContactHistoryData<Real>> pair_histories, wall_histories;
+  // The feeds' states (Feeder::save), one per scene feed; empty for a step without feeds.
+  std::vector<std::string> feed_states;
 };
 
 namespace detail {
@@ -89,7 +91,8 @@ void check_state_fits(const StepState<Real>& s, int count, const std::vector<std
     refuse("history keys and values differ in number");
 }
 
-// The state as checkpoint sections "step.*", "particles.<array>", "pairs.*", "walls.*".
+// The state as checkpoint sections "step.*", "particles.<array>", "pairs.*", "walls.*",
+// "feeds.states".
 template <class Real>
 void put_step_state(Checkpoint& c, const StepState<Real>& s) {
   c.put_value<std::uint32_t>("step.real_size", sizeof(Real));
@@ -108,6 +111,9 @@ void put_step_state(Checkpoint& c, const StepState<Real>& s) {
   c.put("particles.global_id", s.global_ids);
   detail::put_histories(c, "pairs", s.pair_keys, s.pair_histories);
   detail::put_histories(c, "walls", s.wall_keys, s.wall_histories);
+  std::string feeds;  // one line per feed (a saved state is one line)
+  for (const std::string& state : s.feed_states) feeds += state + "\n";
+  c.put_text("feeds.states", feeds);
 }
 
 // The state back from put_step_state's sections. CheckpointError when one is missing, of another
@@ -141,6 +147,9 @@ StepState<Real> get_step_state(const Checkpoint& c) {
   check("particles.global_id", s.global_ids.size());
   detail::get_histories(c, "pairs", s.pair_keys, s.pair_histories);
   detail::get_histories(c, "walls", s.wall_keys, s.wall_histories);
+  const std::string feeds = c.text("feeds.states");
+  for (std::size_t at = 0, end; (end = feeds.find('\n', at)) != std::string::npos; at = end + 1)
+    s.feed_states.push_back(feeds.substr(at, end - at));
   return s;
 }
 

@@ -186,18 +186,19 @@ TEST(TalusRunProduction, WritesParaViewFramesBesideTheTrajectories) {
   EXPECT_NE(frame.find("NumberOfPolys=\"144\""), std::string::npos);
 }
 
-// What the host step cannot do yet is refused with exit 2 and what to do.
-TEST(TalusRunProduction, RefusesFeeds) {
-  const std::string dir = production_directory("refusals");
+// A feed runs on the host step: the particle it inserts is counted at the end.
+TEST(TalusRunProduction, HostStepRunsFeeds) {
+  const std::string dir = production_directory("feeds");
   std::string fed_text = kTwoBalls;
   const std::string list = "particles:\n";
   fed_text.insert(fed_text.find(list) + list.size(),
                   "  - feed: {template: ball, region: {box: {min: [0, 0, 0.1], max: [0.1, 0.1, "
                   "0.2]}}, rate: 100}\n");
   const std::string feed = write_scene(dir, fed_text);
-  const ProcessResult fed = run_talus({"run", "--quiet", "--output", dir + "/out", feed});
-  EXPECT_EQ(fed.exit_code, 2) << fed.err;
-  EXPECT_NE(fed.err.find("--solver reference"), std::string::npos) << fed.err;
+  const ProcessResult fed = run_talus({"run", "--backend", "cpu", "--output", dir + "/out", feed});
+  ASSERT_EQ(fed.exit_code, 0) << fed.err;
+  // 100 per second from 0 until the last step's start, 0.01999 s: floor(1.999) = 1 more.
+  EXPECT_EQ(parse_or_fail(fed.out)["particles"].value, 3);
 }
 
 }  // namespace

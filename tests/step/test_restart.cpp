@@ -16,6 +16,7 @@
 
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/probes.hpp"
+#include "solver/scene/scene_loader.hpp"
 #include "solver/step/host_step.hpp"
 #include "solver/step/production_run.hpp"
 #include "tests/step/restart_scene.hpp"
@@ -93,6 +94,90 @@ TEST(Restart, HostStepStateRoundTripIsExactDouble) {
 
 TEST(Restart, HostStepStateRoundTripIsExactFloat) {
   check_step_round_trip<float>("float");
+}
+
+// A feed into a box: 20 balls in 10 ms thrown down onto the floor; 30 ms.
+const std::string kFeedScene = R"(time: {step: 5.0e-6, end: 0.03}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
+          restitution: 0.5}
+templates:
+  ball: {sphere: 0.003, material: glass}
+walls:
+  - box: {min: [-0.02, -0.02, 0], max: [0.02, 0.02, 0.04], material: glass}
+particles:
+  - feed:
+      template: ball
+      region: {box: {min: [-0.016, -0.016, 0.004], max: [0.016, 0.016, 0.02]}}
+      rate: 2000
+      stop: 0.01
+      velocity: [0, 0, -1]
+effects:
+  gravity: [0, 0, -9.81]
+  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
+  friction: true
+  rotation: true
+)";
+
+// A feeding run: a checkpoint in the middle of a feed (half of its 20 balls inserted) carries the
+// feeder's state (count and generator, "feeds.states"); the resumed step inserts the same balls
+// at the same steps and ends equal to the uninterrupted one, to the bit.
+TEST(Restart, FeedingHostStepResumesExactly) {
+  StepTempDir dir;
+  const Scene scene = parse_scene(kFeedScene, "feed.yaml", ".");
+  HostStep<double> whole(scene, 1), first(scene, 2);
+  EXPECT_EQ(whole.particle_count(), 0);
+  for (int k = 0; k < 6000; ++k) whole.step();
+  for (int k = 0; k < 1000; ++k) first.step();
+  EXPECT_EQ(first.particle_count(), 9);  // floor(2000 * 999 * 5e-6) at the last step's start
+  Checkpoint written;
+  put_step_state(written, first.export_state());
+  const std::string path = dir.path() + "/state.bin";
+  write_checkpoint(path, written);
+  HostStep<double> second(scene, 2);
+  second.import_state(get_step_state<double>(read_checkpoint(path)));
+  std::size_t contacts = 0;  // the resumed steps go through the landing's contacts
+  for (int k = 0; k < 5000; ++k) {
+    second.step();
+    contacts += second.wall_contact_count() + second.pair_contact_count();
+  }
+  EXPECT_GT(contacts, 100u);
+  EXPECT_EQ(whole.particle_count(), 20);
+  const StepState<double> a = whole.export_state(), b = second.export_state();
+  talus_test::expect_same_state(a, b);
+  EXPECT_EQ(a.feed_states, b.feed_states);
+
+  // A state without the feed's (another scene's) does not fit.
+  StepState<double> lacking = first.export_state();
+  lacking.feed_states.clear();
+  HostStep<double> third(scene, 1);
+  EXPECT_THROW(third.import_state(lacking), CheckpointError);
+}
+
+// The same through the runner: a feeding run's checkpoint in the middle of the feed, resumed,
+// writes the same last frame and probe rows as the uninterrupted run.
+TEST(Restart, FeedingRunResumesExactly) {
+  StepTempDir dir;
+  const std::string whole = dir.path() + "/whole", copy = dir.path() + "/copy";
+  fs::create_directories(whole);
+  std::ofstream(whole + "/scene.yaml")
+      << kFeedScene
+      << "outputs:\n  trajectories: {every: 1000, directory: frames}\n"
+         "  probes: {every: 100, file: probes.csv, quantities: [kinetic_energy]}\n"
+         "  checkpoint: {every: 1000, keep: 10}\n";
+  const Scene scene = load_scene(whole + "/scene.yaml");
+  const ProductionReport full = run(scene, whole);
+  EXPECT_EQ(full.particles, 20u);
+  fs::copy(whole, copy, fs::copy_options::recursive);
+  for (const std::string& file : list_checkpoints(copy + "/checkpoints"))
+    if (fs::path(file).filename() != "checkpoint_000001000.bin") fs::remove(file);
+  const ResumePoint point = read_resume_point(copy + "/checkpoints");
+  EXPECT_EQ(point.step, 1000);
+  EXPECT_NE(point.checkpoint->text("feeds.states"), "");
+  const ProductionReport resumed = run(scene, point.output_root, point.checkpoint);
+  EXPECT_EQ(resumed.particles, 20u);
+  for (const std::string name : {"frames/trajectory_000006000.csv", "probes.csv"})
+    EXPECT_EQ(bytes_of(whole + "/" + name), bytes_of(copy + "/" + name)) << name;
 }
 
 TEST(Restart, ResumedRunEqualsUninterruptedRun) {

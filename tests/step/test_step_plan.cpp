@@ -119,5 +119,37 @@ TEST(StepPlan, VolumeModelRefusesSpheresWithPolyhedra) {
   }
 }
 
+// A feed: the host step runs it (plan.feed) and its arrays grow with the inserted particles,
+// capacity doubling; a step that does not insert particles (the CUDA step asks plan_step without
+// `feeds`) refuses the scene, naming the feed and what to run instead.
+TEST(StepPlan, FeedRunsOnTheHostStepAndIsRefusedWithoutFeeds) {
+  const Scene scene =
+      scene_from(std::string(kHead) +
+                 "  - feed: {template: ball, region: {box: {min: [-1, -1, 1], "
+                 "max: [1, 1, 2]}}, rate: 5000}\neffects: {gravity: [0, 0, -9.81]}\n");
+  try {
+    plan_step(scene);
+    FAIL() << "expected StepNotSupported";
+  } catch (const StepNotSupported& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("feed"), std::string::npos) << what;
+    EXPECT_NE(what.find("--backend cpu"), std::string::npos) << what;
+  }
+  EXPECT_TRUE(plan_step(scene, true).feed);
+  HostStep<double> step(scene, 1);
+  EXPECT_TRUE(step.plan().feed);
+  const std::size_t bytes = step.allocated_bytes();
+  for (int k = 0; k < 10; ++k) step.step();
+  // floor(5000 * 9e-4) = 4 at the last step's start, ids after the two explicit particles.
+  ASSERT_EQ(step.particle_count(), 2 + 4);
+  EXPECT_GT(step.allocated_bytes(), bytes);
+  const std::vector<TrajectoryRow> rows = step.trajectory_rows();
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(rows[i].id, i);
+  for (int i = 2; i < 6; ++i) {
+    EXPECT_GE(rows[i].position.z, 1.0 - 0.01);  // placed in the region, then falling
+    EXPECT_LT(rows[i].velocity.z, 0.0);         // under gravity from their first step
+  }
+}
+
 }  // namespace
 }  // namespace talus
