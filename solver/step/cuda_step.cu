@@ -1,5 +1,6 @@
 // The production step on the CUDA backend (see cuda_step.hpp): the device particle state and its
-// set-up from a scene, the per-particle stages and the accumulation, and the order of the stages.
+// set-up from a scene, the per-particle stages and the accumulation (their kernels in
+// cuda_particle_kernels.cuh), and the order of the stages.
 // The pair list, the pair contacts and the wall contacts are parts of their own
 // (cuda_pair_list.cuh, cuda_pair_stage.cuh, cuda_wall_stage.cuh) over the state they share
 // (DeviceStepShared, cuda_step_common.cuh).
@@ -16,6 +17,7 @@
 #include "solver/scene/initial_particles.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/cuda_pair_stage.cuh"
+#include "solver/step/cuda_particle_kernels.cuh"
 #include "solver/step/cuda_wall_stage.cuh"
 #include "solver/step/host_step.hpp"
 #include "solver/step/particle_kernels.hpp"
@@ -44,87 +46,6 @@ void release_template_region(int r) {
   if (r < 0) return;
   const std::lock_guard<std::mutex> lock(region_mutex);
   region_in_use[r] = false;
-}
-
-// ---- Per-particle stages (particle_kernels.hpp) ----
-
-template <class Real>
-__global__ void integrate_begin_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                                       Real dt, int* flag) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= p.count) return;
-  if (!integrate_begin(p, bodies, i, dt)) atomicMin(flag + failed_rotation, i);
-}
-
-template <class Real>
-__global__ void clear_forces_kernel(ParticleView<Real> p) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) clear_forces(p, i);
-}
-
-template <class Real>
-__global__ void gravity_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                               Vec3<Real> g) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) add_gravity(p, bodies, i, g);
-}
-
-template <class Real>
-__global__ void drag_kernel(ParticleView<Real> p, Real alpha) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) add_drag(p, i, alpha);
-}
-
-template <class Real>
-__global__ void integrate_end_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                                     Real dt) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) integrate_end(p, bodies, i, dt);
-}
-
-// ---- Accumulation: one thread per particle, its touching slots in pair order, then its walls ----
-
-template <class Real>
-__global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __restrict__ pairs,
-                                  const unsigned char* __restrict__ slot_state,
-                                  const SlotForce<Real>* __restrict__ forces,
-                                  const int* __restrict__ sorted_slot,
-                                  const int* __restrict__ begin, const int* __restrict__ end,
-                                  const WallContactRecord<Real>* __restrict__ wall_contacts,
-                                  const int* __restrict__ wall_slot, int walls) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= p.count) return;
-  // The same additions, in the same order, as add_pair_force and add_wall_force on the host: the
-  // list is sorted by (a, b), so a particle's touching slots come in the host's contact order.
-  Vec3<Real> f = p.force.get(i), t;
-  const bool torque = p.torque.present();
-  if (torque) t = p.torque.get(i);
-  const Vec3<Real> x = p.position.get(i);
-  if (forces) {
-    for (int s = begin[i]; s < end[i]; ++s) {
-      const int k = sorted_slot[s];
-      const unsigned char state = slot_state[k];
-      if (state == slot_apart) continue;
-      const SlotForce<Real> c = forces[k];
-      const int a = state == slot_a_first ? pairs[k].a : pairs[k].b;
-      if (a == i) {
-        f = f + c.force_on_a;
-        if (torque) t = t + cross(c.point - x, c.force_on_a);
-      } else {
-        f = f - c.force_on_a;
-        if (torque) t = t + cross(c.point - x, -c.force_on_a);
-      }
-    }
-  }
-  for (int w = 0; w < walls; ++w) {
-    const int slot = wall_slot[static_cast<long long>(w) * p.count + i];
-    if (slot < 0) continue;
-    const WallContactRecord<Real>& c = wall_contacts[slot];
-    f = f + c.force;
-    if (torque) t = t + cross(c.point - x, c.force);
-  }
-  p.force.set(i, f);
-  if (torque) p.torque.set(i, t);
 }
 
 // The host law tables copied into one device buffer `storage`, in the same layout; the returned

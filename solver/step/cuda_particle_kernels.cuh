@@ -1,0 +1,97 @@
+// The CUDA step's per-particle kernels (the stages of particle_kernels.hpp, one thread per
+// particle) and the deterministic accumulation over each particle's slots and wall contacts.
+// Included only by cuda_step.cu.
+#pragma once
+
+#include "solver/step/cuda_step_common.cuh"
+#include "solver/step/particle_kernels.hpp"
+#include "solver/step/wall_stage.hpp"
+
+namespace talus {
+
+namespace {
+
+// ---- Per-particle stages (particle_kernels.hpp) ----
+
+template <class Real>
+__global__ void integrate_begin_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                                       Real dt, int* flag) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= p.count) return;
+  if (!integrate_begin(p, bodies, i, dt)) atomicMin(flag + failed_rotation, i);
+}
+
+template <class Real>
+__global__ void clear_forces_kernel(ParticleView<Real> p) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) clear_forces(p, i);
+}
+
+template <class Real>
+__global__ void gravity_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                               Vec3<Real> g) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) add_gravity(p, bodies, i, g);
+}
+
+template <class Real>
+__global__ void drag_kernel(ParticleView<Real> p, Real alpha) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) add_drag(p, i, alpha);
+}
+
+template <class Real>
+__global__ void integrate_end_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                                     Real dt) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < p.count) integrate_end(p, bodies, i, dt);
+}
+
+// ---- Accumulation: one thread per particle, its touching slots in pair order, then its walls ----
+
+template <class Real>
+__global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __restrict__ pairs,
+                                  const unsigned char* __restrict__ slot_state,
+                                  const SlotForce<Real>* __restrict__ forces,
+                                  const int* __restrict__ sorted_slot,
+                                  const int* __restrict__ begin, const int* __restrict__ end,
+                                  const WallContactRecord<Real>* __restrict__ wall_contacts,
+                                  const int* __restrict__ wall_slot, int walls) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= p.count) return;
+  // The same additions, in the same order, as add_pair_force and add_wall_force on the host: the
+  // list is sorted by (a, b), so a particle's touching slots come in the host's contact order.
+  Vec3<Real> f = p.force.get(i), t;
+  const bool torque = p.torque.present();
+  if (torque) t = p.torque.get(i);
+  const Vec3<Real> x = p.position.get(i);
+  if (forces) {
+    for (int s = begin[i]; s < end[i]; ++s) {
+      const int k = sorted_slot[s];
+      const unsigned char state = slot_state[k];
+      if (state == slot_apart) continue;
+      const SlotForce<Real> c = forces[k];
+      const int a = state == slot_a_first ? pairs[k].a : pairs[k].b;
+      if (a == i) {
+        f = f + c.force_on_a;
+        if (torque) t = t + cross(c.point - x, c.force_on_a);
+      } else {
+        f = f - c.force_on_a;
+        if (torque) t = t + cross(c.point - x, -c.force_on_a);
+      }
+    }
+  }
+  for (int w = 0; w < walls; ++w) {
+    const int slot = wall_slot[static_cast<long long>(w) * p.count + i];
+    if (slot < 0) continue;
+    const WallContactRecord<Real>& c = wall_contacts[slot];
+    f = f + c.force;
+    if (torque) t = t + cross(c.point - x, c.force);
+  }
+  p.force.set(i, f);
+  if (torque) p.torque.set(i, t);
+}
+
+}  // namespace
+
+}  // namespace talus
