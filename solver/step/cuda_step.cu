@@ -88,7 +88,6 @@ struct CudaStep<Real>::Impl {
   std::vector<std::pair<std::string, DeviceBuffer<Real>>> storage;
   DeviceBuffer<int> template_ids, material_ids;
   DeviceBuffer<Real> table_values;  // the pair-law tables' numbers
-  int constant_region = -1;         // the templates' region of constant memory; -1: global
   // The stages the plan names (null when absent).
   std::unique_ptr<DevicePairList<Real>> list;
   std::unique_ptr<DevicePairStage<Real>> pairs;
@@ -100,7 +99,7 @@ struct CudaStep<Real>::Impl {
   bool forces_ready = false;
 
   explicit Impl(const Scene& s) : plan(plan_step(s)), dt(Real(s.time_step)), shared(s), scene(s) {}
-  ~Impl() { release_template_region(constant_region); }
+  ~Impl() { release_template_region(shared.constant_region); }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
@@ -235,8 +234,7 @@ void CudaStep<Real>::Impl::upload_templates(const CudaStepOptions& options) {
   // A region is claimed here and filled by the stages that read it (fill_template_region).
   if (options.constant_templates &&
       device_bodies.size() <= static_cast<std::size_t>(templates_per_region<Real>())) {
-    constant_region = claim_template_region();
-    shared.constant_region = constant_region;
+    shared.constant_region = claim_template_region();
   }
 }
 
@@ -312,7 +310,7 @@ void CudaStep<Real>::Impl::upload_particles() {
 template <class Real>
 void CudaStep<Real>::Impl::set_up_pairs(const PairLawTables<Real>& host_tables) {
   shared.tables = upload_law_tables(host_tables, bodies.data(), table_values);
-  shared.tables.bodies.constant_region = constant_region;
+  shared.tables.bodies.constant_region = shared.constant_region;
   double largest_radius = 0;
   for (const BodyProperties<Real>& b : host_bodies)
     largest_radius = std::max(largest_radius, double(b.bounding_radius));
@@ -489,7 +487,7 @@ std::size_t CudaStep<Real>::allocated_bytes() const {
 
 template <class Real>
 bool CudaStep<Real>::templates_in_constant_memory() const {
-  return impl_->constant_region >= 0;
+  return impl_->shared.constant_region >= 0;
 }
 
 template <class Real>
