@@ -45,6 +45,9 @@ struct OverlapResult {
   Real depth_hint = 0;  // inradius of the intersection (Chebyshev-centre LP value), m
   int hull_points = 0;  // dual points that entered the hull (planes that bound the intersection)
   bool workspace_overrun = false;  // asserted false by the tests
+  // Decided by the vertex enumeration (vertex_enumeration.hpp) rather than the LP and the dual
+  // hull; depth_hint is then a lower bound of the inradius, not the LP's value.
+  bool enumerated = false;
 };
 
 // Which planes enter the dual hull. Both filters are exact (docs/geometry.md); they are switches
@@ -56,19 +59,26 @@ struct OverlapOptions {
   // Also drop a plane whose face polygon lies outside the other body (needs the templates' face
   // loops; only with cull_planes).
   bool cull_faces = true;
+  // Try the vertex enumeration first when at most kEnumerationPlanes planes are kept
+  // (vertex_enumeration.hpp); it declines whatever it cannot certify, which then goes to the LP
+  // and the dual hull as without it.
+  bool enumerate = true;
 };
 
-// The benchmarks' named variants: "naive" (every plane), "planes" (cull_planes only) and
-// "faces" (both, the default). Host only.
+// The benchmarks' named variants: "naive" (every plane), "planes" (cull_planes only), "faces"
+// (both) — these three always build the dual hull — and "vertices" (both culls and the vertex
+// enumeration: the default options). Host only.
 inline OverlapOptions overlap_options_named(const std::string& name) {
   OverlapOptions options;
+  if (name == "vertices") return options;
+  options.enumerate = false;
   if (name == "naive") {
     options.cull_planes = options.cull_faces = false;
   } else if (name == "planes") {
     options.cull_faces = false;
   } else if (name != "faces") {
     throw std::invalid_argument("overlap variant '" + name +
-                                "': expected one of naive, planes, faces");
+                                "': expected one of naive, planes, faces, vertices");
   }
   return options;
 }

@@ -207,6 +207,18 @@ __global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
   if (keys && keys[i] == 0) return;
   const Pose<Real> pose_a{position_a[i], orientation_a[i]};
   const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+  if constexpr (Capacity == kEnumerationPlanes) {
+    // The fewest planes: the vertex enumeration alone, with no workspace; what it declines goes
+    // to the deferred launch, which runs the whole overlap (and declines there too).
+    if (args.options.enumerate && args.overflow) {
+      OverlapResult<Real> result;
+      if (overlap_enumerate_from_mask(a, pose_a, b, pose_b, masks[i], result))
+        out[i] = result;
+      else
+        defer_pair(args, i);
+      return;
+    }
+  }
   OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
   const OverlapResult<Real> result =
       overlap_from_mask(a, pose_a, b, pose_b, masks[i], workspace, args.options);

@@ -4,6 +4,8 @@
 //     inside cannot bound the intersection and is dropped, and so is one whose face polygon lies
 //     outside the other body (face_outside); a plane with every vertex of the other body outside
 //     is a separating plane (docs/geometry.md gives the argument);
+//  (2b. with at most 8 kept planes, the vertex enumeration of vertex_enumeration.hpp answers
+//      instead of steps 3-5 whenever it can certify its result;)
 //  3. the reference point x_o: the Chebyshev centre of the kept planes (chebyshev_lp.hpp), which
 //     also decides separate / touching;
 //  4. the polar transform about x_o (Algorithm II, Eqs. 4-5) and the dual hull (Algs. III-V);
@@ -22,6 +24,7 @@
 #include "solver/geometry/chebyshev_lp.hpp"
 #include "solver/geometry/dual_hull.hpp"
 #include "solver/geometry/overlap.hpp"
+#include "solver/geometry/vertex_enumeration.hpp"
 
 namespace talus {
 
@@ -259,6 +262,11 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   const ConvexView<Real>* body[2] = {&a, &b};
   auto& hull = ws.hull;
   Vec3<Real>* plane_normal = hull.plane_normal;
+  // The fast path for a few planes (vertex_enumeration.hpp); what it declines goes on below.
+  if (options.enumerate && m <= kEnumerationPlanes &&
+      enumerate_overlap(a, b, rot, center, round_off, plane_normal, ws.plane_offset,
+                        ws.plane_owner, m, pose_a.position, result))
+    return result;
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
   const Vec3<Real> start = center[1] * (a.bounding_radius / radius_sum);
@@ -507,6 +515,44 @@ TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
     ++m;
   }
   return overlap_finish(a, pose_a, b, frame, ws, m, options);
+}
+
+// The vertex enumeration alone for the planes of `mask` (overlap_cull_mask), with no workspace:
+// true with `result` as overlap_from_mask gives it (bit for bit: the same planes in the same
+// order through the same function) when the enumeration answers; false when it declines (more
+// than kEnumerationPlanes planes, or a case it cannot certify), for the caller to run
+// overlap_polyhedra or overlap_from_mask. For a GPU kernel over the pairs with few kept planes:
+// its threads then hold neither the LP nor the hull.
+template <class Real>
+TALUS_HD inline bool overlap_enumerate_from_mask(const ConvexView<Real>& a,
+                                                 const Pose<Real>& pose_a,
+                                                 const ConvexView<Real>& b,
+                                                 const Pose<Real>& pose_b,
+                                                 unsigned long long mask,
+                                                 OverlapResult<Real>& result) {
+  using namespace overlap_detail;
+  OverlapFrame<Real> frame;
+  OverlapResult<Real> scratch;
+  if (!overlap_frame(a, pose_a, b, pose_b, frame, scratch)) return false;
+  Vec3<Real> normal[kEnumerationPlanes];
+  Real offset[kEnumerationPlanes];
+  signed char owner[kEnumerationPlanes];
+  int m = 0;
+  while (mask != 0) {
+#ifdef __CUDA_ARCH__
+    const int p = __ffsll(static_cast<long long>(mask)) - 1;
+#else
+    const int p = __builtin_ctzll(mask);
+#endif
+    mask &= mask - 1;
+    if (m == kEnumerationPlanes) return false;
+    const int o = p < a.n_faces ? 0 : 1;
+    frame_plane(o == 0 ? a : b, frame, o, o == 0 ? p : p - a.n_faces, normal[m], offset[m]);
+    owner[m] = static_cast<signed char>(o);
+    ++m;
+  }
+  return enumerate_overlap(a, b, frame.rot, frame.center, frame.round_off, normal, offset, owner,
+                           m, pose_a.position, result);
 }
 
 }  // namespace talus

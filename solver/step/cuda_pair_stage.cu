@@ -185,8 +185,9 @@ __global__ void __launch_bounds__(kBlock, 4)
 }
 
 // Phase 2 over the sorted slots order[begin .. begin + count): the polytope from the slot's mask
-// in a workspace of Cap planes, then the force. A pair the workspace cannot hold (the hull
-// needs more room than its planes suggest; rare) is appended to `deferred` for pair_kernel.
+// in a workspace of Cap planes (by the vertex enumeration alone for 8), then the force. A pair
+// the workspace cannot hold (the hull needs more room than its planes suggest; rare) or the
+// enumeration declines is appended to `deferred` for pair_kernel.
 template <class Real, int Cap, bool Atomic>
 __global__ void __launch_bounds__(kBlock)
     polytope_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s,
@@ -204,9 +205,17 @@ __global__ void __launch_bounds__(kBlock)
     const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
     const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
     const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
-    OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
-    const OverlapResult<Real> overlap =
-        overlap_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], workspace);
+    OverlapResult<Real> overlap;
+    if constexpr (Cap == kEnumerationPlanes) {
+      // The fewest planes: the vertex enumeration alone, no workspace and no hull in the
+      // thread; a pair it declines (a vertex of four planes, twins, ...) is deferred to
+      // pair_kernel, whose overlap_polyhedra gives the host's result (it declines there too).
+      if (!overlap_enumerate_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], overlap))
+        overlap.workspace_overrun = true;
+    } else {
+      OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
+      overlap = overlap_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], workspace);
+    }
     if (overlap.workspace_overrun) {
       deferred[atomicAdd(deferred_count, 1)] = k;
     } else {
