@@ -5,7 +5,8 @@
 // per step and device bytes per particle. The second argument is the mode: 0 the defaults
 // (deterministic sums, the default skin), 1 atomic sums (deterministic: false), 2 no skin (the
 // list rebuilt every step, the worst case of a fast flow), 3 the templates read from global
-// memory instead of constant memory. Each iteration is one step (the
+// memory instead of constant memory, 4 no GJK filter before the culling
+// (CudaStepOptions::gjk_filter). Each iteration is one step (the
 // stages synchronise at their ends; the time is the wall time of the step).
 // And the wall stage on a rotating drum of many facets (drum_bed.hpp), with the facet grid and
 // by brute force.
@@ -34,6 +35,7 @@ void gpu_step(benchmark::State& state) {
   if (mode == 2) scene.skin = 0.0;
   talus::CudaStepOptions options;
   options.constant_templates = mode != 3;
+  options.gjk_filter = mode != 4;
   talus::CudaStep<double> step(scene, options);
   step.step();  // the first step evaluates the forces at t = 0 too
   const std::array<double, 9> before = step.stage_seconds();
@@ -73,6 +75,7 @@ BENCHMARK(gpu_step)
     ->Args({100, 1})
     ->Args({100, 2})
     ->Args({100, 3})
+    ->Args({100, 4})
     ->Args({159, 0})
     ->Unit(benchmark::kMillisecond);
 

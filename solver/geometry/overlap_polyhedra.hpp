@@ -248,6 +248,122 @@ TALUS_HD inline bool uses_face_test(const ConvexView<Real>& self, OverlapOptions
   return options.cull_planes && options.cull_faces && self.face_loop_offsets != nullptr;
 }
 
+// Step 2 by vertex masks, for templates of at most 64 vertices and 64 faces together, both with
+// their face loops: the decisions of cull_plane (the same sphere test and the same vertex
+// heights in the other body's frame: dropped, beyond or kept), with the face test read from bit
+// masks instead of a loop over the other body's planes per face. Each plane's pass over the
+// other body's vertices records which of them lie above it by more than the round-off; face f
+// of `self` lies outside `other` when some plane of `other` has every corner of f in its mask.
+// Every plane costs one pass over the other body's vertices with no early exit, so the threads
+// of a warp run the same loops (the GPU's culling kernel), and the face test, which re-posed the
+// other body's planes for every face, becomes a few AND operations.
+template <class Real>
+TALUS_HD inline bool culls_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                                    OverlapOptions options) {
+  return uses_face_test(a, options) && uses_face_test(b, options) && a.n_faces + b.n_faces <= 64 &&
+         a.n_vertices <= 64 && b.n_vertices <= 64;
+}
+
+// Returns the number of kept planes with bit p of `kept` set for each (A's faces first, then
+// B's), or -1 when `result` is final (a separating plane: the first in that order, as
+// overlap_polyhedra's loop finds it).
+template <class Real>
+TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                                  const OverlapFrame<Real>& frame, unsigned long long& kept,
+                                  OverlapResult<Real>& result) {
+  const ConvexView<Real>* body[2] = {&a, &b};
+  const Real round_off = frame.round_off;
+  // above[p]: the other body's vertices more than round_off above plane p (0 when dropped).
+  unsigned long long above[64];
+  unsigned long long candidates = 0;
+  for (int owner = 0; owner < 2; ++owner) {
+    const ConvexView<Real>& self = *body[owner];
+    const ConvexView<Real>& other = *body[1 - owner];
+    const int o = 1 - owner, first = owner == 0 ? 0 : a.n_faces;
+    for (int f = 0; f < self.n_faces; ++f) {
+      const int p = first + f;
+      above[p] = 0;
+      Vec3<Real> n;
+      Real h;
+      frame_plane(self, frame, owner, f, n, h);
+      // The bounding sphere first, as cull_plane.
+      if (dot(n, frame.center[o]) - h + other.bounding_radius < -round_off) continue;
+      // The heights as plane_side computes them.
+      const Vec3<Real> n_body = frame.rot[o].transpose_times(n);
+      const Real h_body = h - dot(n, frame.center[o]);
+      Real low = dot(n_body, other.vertices[0]), high = low;
+      unsigned long long mask = low - h_body > round_off ? 1ull : 0ull;
+      for (int v = 1; v < other.n_vertices; ++v) {
+        const Real height = dot(n_body, other.vertices[v]);
+        low = min_of(low, height);
+        high = max_of(high, height);
+        if (height - h_body > round_off) mask |= 1ull << v;
+      }
+      const Real lowest = low - h_body;
+      if (lowest > -round_off) {  // the other body lies beyond: a separating plane
+        result.status = beyond_status(lowest, round_off);
+        return -1;
+      }
+      if (high - h_body < -round_off) continue;  // strictly inside: bounds nothing
+      above[p] = mask;
+      candidates |= 1ull << p;
+    }
+  }
+  // The face test (face_outside's argument) on the planes that cut the other body.
+  kept = 0;
+  int m = 0;
+  while (candidates != 0) {
+#ifdef __CUDA_ARCH__
+    const int p = __ffsll(static_cast<long long>(candidates)) - 1;
+#else
+    const int p = __builtin_ctzll(candidates);
+#endif
+    candidates &= candidates - 1;
+    const int owner = p < a.n_faces ? 0 : 1;
+    const ConvexView<Real>& self = *body[owner];
+    const int f = owner == 0 ? p : p - a.n_faces;
+    unsigned long long corners = 0;
+    for (int k = self.face_loop_offsets[f]; k < self.face_loop_offsets[f + 1]; ++k)
+      corners |= 1ull << self.face_loop_vertices[k];
+    const int other_first = owner == 0 ? a.n_faces : 0;
+    const int other_end = owner == 0 ? a.n_faces + b.n_faces : a.n_faces;
+    bool outside = false;
+    for (int q = other_first; q < other_end && !outside; ++q) outside = (corners & ~above[q]) == 0;
+    if (outside) continue;
+    kept |= 1ull << p;
+    ++m;
+  }
+  return m;
+}
+
+// The planes of `mask` (A's faces first, then B's) into ws, in that order: their count, or -1
+// when more than the workspace holds.
+template <class Real, class Workspace>
+TALUS_HD inline int planes_from_mask(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                                     const OverlapFrame<Real>& frame, unsigned long long mask,
+                                     Workspace& ws) {
+  int m = 0;
+  while (mask != 0) {
+#ifdef __CUDA_ARCH__
+    const int p = __ffsll(static_cast<long long>(mask)) - 1;
+#else
+    const int p = __builtin_ctzll(mask);
+#endif
+    mask &= mask - 1;
+    const int owner = p < a.n_faces ? 0 : 1;
+    if (m >= Workspace::kMaxPlanes) return -1;
+    Vec3<Real> n;
+    Real h;
+    frame_plane(owner == 0 ? a : b, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
+    ws.hull.plane_normal[m] = n;
+    ws.plane_offset[m] = h;
+    ws.plane_owner[m] = static_cast<signed char>(owner);
+    ws.plane_twin[m] = 0;
+    ++m;
+  }
+  return m;
+}
+
 // Steps 3-5 on the m planes in ws (hull.plane_normal, plane_offset, plane_owner; twins cleared).
 template <class Real, class Workspace>
 TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
@@ -264,8 +380,8 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   Vec3<Real>* plane_normal = hull.plane_normal;
   // The fast path for a few planes (vertex_enumeration.hpp); what it declines goes on below.
   if (options.enumerate && m <= kEnumerationPlanes &&
-      enumerate_overlap(a, b, rot, center, round_off, plane_normal, ws.plane_offset,
-                        ws.plane_owner, m, pose_a.position, result))
+      enumerate_overlap(a, b, rot, center, round_off, plane_normal, ws.plane_offset, ws.plane_owner,
+                        m, pose_a.position, result))
     return result;
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
@@ -401,7 +517,19 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   const ConvexView<Real>* body[2] = {&a, &b};
 
   // Step 2. Planes of both bodies, culled against the other body's vertices and, where the
-  // templates carry their face loops, by the face-polygon test (face_outside).
+  // templates carry their face loops, by the face-polygon test (face_outside); by vertex masks
+  // where they apply (cull_by_masks, the same decisions).
+  if (culls_by_masks(a, b, options)) {
+    unsigned long long kept = 0;
+    if (cull_by_masks(a, b, frame, kept, result) < 0) return result;
+    const int m = planes_from_mask(a, b, frame, kept, ws);
+    if (m < 0) {
+      result.workspace_overrun = true;
+      result.status = OverlapStatus::degenerate;
+      return result;
+    }
+    return overlap_finish(a, pose_a, b, frame, ws, m, options);
+  }
   int m = 0;
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
@@ -449,6 +577,7 @@ TALUS_HD inline int overlap_cull_mask(const ConvexView<Real>& a, const Pose<Real
   mask = 0;
   OverlapFrame<Real> frame;
   if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return -1;
+  if (culls_by_masks(a, b, options)) return cull_by_masks(a, b, frame, mask, result);
   const ConvexView<Real>* body[2] = {&a, &b};
   int m = 0;
   for (int owner = 0; owner < 2; ++owner) {
@@ -491,28 +620,11 @@ TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
   OverlapResult<Real> result;
   OverlapFrame<Real> frame;
   if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return result;
-  int m = 0;
-  while (mask != 0) {
-#ifdef __CUDA_ARCH__
-    const int p = __ffsll(static_cast<long long>(mask)) - 1;
-#else
-    const int p = __builtin_ctzll(mask);
-#endif
-    mask &= mask - 1;
-    const int owner = p < a.n_faces ? 0 : 1;
-    if (m >= Workspace::kMaxPlanes) {
-      result.workspace_overrun = true;
-      result.status = OverlapStatus::degenerate;
-      return result;
-    }
-    Vec3<Real> n;
-    Real h;
-    frame_plane(owner == 0 ? a : b, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
-    ws.hull.plane_normal[m] = n;
-    ws.plane_offset[m] = h;
-    ws.plane_owner[m] = static_cast<signed char>(owner);
-    ws.plane_twin[m] = 0;
-    ++m;
+  const int m = planes_from_mask(a, b, frame, mask, ws);
+  if (m < 0) {
+    result.workspace_overrun = true;
+    result.status = OverlapStatus::degenerate;
+    return result;
   }
   return overlap_finish(a, pose_a, b, frame, ws, m, options);
 }
@@ -527,8 +639,7 @@ template <class Real>
 TALUS_HD inline bool overlap_enumerate_from_mask(const ConvexView<Real>& a,
                                                  const Pose<Real>& pose_a,
                                                  const ConvexView<Real>& b,
-                                                 const Pose<Real>& pose_b,
-                                                 unsigned long long mask,
+                                                 const Pose<Real>& pose_b, unsigned long long mask,
                                                  OverlapResult<Real>& result) {
   using namespace overlap_detail;
   OverlapFrame<Real> frame;
@@ -551,8 +662,8 @@ TALUS_HD inline bool overlap_enumerate_from_mask(const ConvexView<Real>& a,
     owner[m] = static_cast<signed char>(o);
     ++m;
   }
-  return enumerate_overlap(a, b, frame.rot, frame.center, frame.round_off, normal, offset, owner,
-                           m, pose_a.position, result);
+  return enumerate_overlap(a, b, frame.rot, frame.center, frame.round_off, normal, offset, owner, m,
+                           pose_a.position, result);
 }
 
 }  // namespace talus

@@ -71,9 +71,8 @@ TALUS_HD inline bool strictly_inside(const ConvexView<Real>& body, const Mat3<Re
 // `result` filled (status overlapping), or false (declined; `result` untouched).
 template <class Real>
 TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                                       const Mat3<Real>* frame_rot,
-                                       const Vec3<Real>* frame_center, Real round_off,
-                                       const Vec3<Real>* normal, const Real* offset,
+                                       const Mat3<Real>* frame_rot, const Vec3<Real>* frame_center,
+                                       Real round_off, const Vec3<Real>* normal, const Real* offset,
                                        const signed char* owner, int m, const Vec3<Real>& origin,
                                        OverlapResult<Real>& result) {
   if (m < 4 || m > kEnumerationPlanes) return false;
@@ -138,9 +137,9 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
         q += vertex[v];
       }
     }
-    if (corners == 0) continue;      // a plane that bounds nothing
-    if (corners < 3) return false;   // not a polygon: a degenerate face
-    q = q * (Real(1) / Real(corners));  // inside the convex polygon
+    if (corners == 0) continue;                         // a plane that bounds nothing
+    if (corners < 3) return false;                      // not a polygon: a degenerate face
+    q = q * (Real(1) / Real(corners));                  // inside the convex polygon
     const Real height = offset[f] - dot(normal[f], o);  // o's distance from the plane
     if (!(height > round_off)) return false;
     // Each corner has exactly two neighbours on the face: the corners sharing one more plane.

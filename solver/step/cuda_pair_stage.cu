@@ -81,6 +81,7 @@ struct SlotArgs {
   unsigned char* slot_state = nullptr;
   int* flag = nullptr;
   int* touching = nullptr;
+  bool gjk_filter = true;  // DeviceStepShared::gjk_filter
 };
 
 // One thread per slot of the pair list (or of the given `slots`), the whole pair in one thread;
@@ -158,7 +159,7 @@ __global__ void __launch_bounds__(kBlock, 4)
       // As polyhedra_volume_geometry: GJK first, then the overlap's own culling.
       PairGeometryData<Real> g;
       int kept = -1;
-      if (gjk_intersect(a.shape, pose_a, b.shape, pose_b).intersecting) {
+      if (!s.gjk_filter || gjk_intersect(a.shape, pose_a, b.shape, pose_b).intersecting) {
         OverlapResult<Real> result;
         unsigned long long mask = 0;
         kept = overlap_cull_mask(a.shape, pose_a, b.shape, pose_b, OverlapOptions(), mask, result);
@@ -239,6 +240,7 @@ SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& l
   a.slot_state = list.slot_state();
   a.flag = shared.flags.data();
   a.touching = shared.flags.at(touching_pairs);
+  a.gjk_filter = shared.gjk_filter;
   return a;
 }
 

@@ -338,6 +338,7 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
         std::make_unique<WallContactStage<Real>>(scene, m.host_bodies, 1, options.wall_search);
   }
   m.upload_templates(options);
+  m.shared.gjk_filter = options.gjk_filter;
   m.shared.flags.allocate();
   m.upload_particles();
   if (host_pairs) m.set_up_pairs(host_pairs->tables());

@@ -139,6 +139,8 @@ struct DeviceStepShared {
   // memory (-1: none): each stage whose kernels read templates fills its own unit's copy.
   std::vector<BodyProperties<Real>> device_bodies;
   int constant_region = -1;
+  // GJK before the culling of polyhedron pairs (CudaStepOptions::gjk_filter).
+  bool gjk_filter = true;
 
   long long global_id(int i) const { return download(global_ids.data() + i, 1)[0]; }
 };

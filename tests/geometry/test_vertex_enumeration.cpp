@@ -5,8 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <string>
 #include <random>
+#include <string>
 
 #include "tests/geometry/overlap_test_util.hpp"
 #include "tests/support/random_poses.hpp"
@@ -65,7 +65,8 @@ Sweep sweep(const TestShape& a, const TestShape& b, int poses, double depth, std
     ++s.enumerated;
     const double dv = std::abs(fast.volume - hull.volume) / hull.volume;
     const double area = std::pow(hull.volume, 2.0 / 3.0);  // the overlap's own area scale
-    const double ds = norm(fast.vector_area - hull.vector_area) / std::max(area, norm(hull.vector_area));
+    const double ds =
+        norm(fast.vector_area - hull.vector_area) / std::max(area, norm(hull.vector_area));
     const double dc = norm(fast.centroid - hull.centroid) / scale_l;
     s.worst = std::max({s.worst, dv, ds, dc});
     EXPECT_LE(dv, kRel) << "volume " << fast.volume << " hull " << hull.volume << " pose " << k;
@@ -75,8 +76,7 @@ Sweep sweep(const TestShape& a, const TestShape& b, int poses, double depth, std
       const OracleResult ref = oracle(a, pair.a, b, pair.b);
       const double ref_v = double(ref.volume);
       EXPECT_LE(std::abs(fast.volume - ref_v), kRel * ref_v) << "against the oracle, pose " << k;
-      EXPECT_LE(norm(fast.vector_area - to_d(ref.vector_area_a)),
-                kRel * double(ref.boundary_area));
+      EXPECT_LE(norm(fast.vector_area - to_d(ref.vector_area_a)), kRel * double(ref.boundary_area));
       EXPECT_LE(norm(fast.centroid - to_d(ref.centroid)), kRel * scale_l);
     }
     if (::testing::Test::HasFailure()) break;

@@ -165,8 +165,7 @@ TEST(GpuOverlap, KernelsGiveIdenticalResults) {
       poses.b.push_back(pair.b);
     }
     int many_planes = 0, enumerated = 0;
-    expect_identical_kernels(shape.view(), shape.view(), poses.a, poses.b, many_planes,
-                             enumerated);
+    expect_identical_kernels(shape.view(), shape.view(), poses.a, poses.b, many_planes, enumerated);
     std::vector<Pose<float>> fa, fb;
     for (std::size_t k = 0; k < poses.a.size(); ++k) {
       fa.push_back(to_float(poses.a[k]));
