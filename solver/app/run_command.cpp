@@ -180,16 +180,13 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
 
 // The production step's backend for the scene: the CUDA step where the scene (or --backend) asks
 // for it or for auto and a device is usable, else the host (empty); `auto` falling back says so.
-// A scene with feeds takes the host under auto (the CUDA step refuses feeds).
 StepFactory production_backend(const RunArguments& args, const Scene& scene) {
   StepFactory make_step;  // empty: the host
   const int host_threads = host_thread_count(args.threads);
 #if TALUS_HAVE_CUDA
   std::string why;
   if (scene.backend != Backend::cpu) {
-    if (scene.backend == Backend::automatic && !scene.feeds.empty()) {
-      why = "the scene feeds particles, which only the host step does yet";
-    } else if (cuda_device_available(&why)) {
+    if (cuda_device_available(&why)) {
       make_step = make_cuda_step;
     } else if (scene.backend == Backend::cuda) {
       throw RunError("--backend cuda: " + why +

@@ -38,6 +38,23 @@ class DeviceBuffer {
   void grow_to(std::size_t count) {
     if (size_ < count) resize(count + count / 4 + 64);
   }
+  // Room for `count` elements with the first `keep` (<= size()) kept, copied on the device: for
+  // arrays that are appended to (a feed's particles). Reallocates only when `count` exceeds
+  // size(); the caller chooses how far ahead to grow.
+  void grow_keeping(std::size_t count, std::size_t keep) {
+    if (count <= size_) return;
+    T* grown = nullptr;
+    TALUS_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&grown), count * sizeof(T)));
+    if (keep > 0) {
+      const cudaError_t copied =
+          cudaMemcpy(grown, data_, keep * sizeof(T), cudaMemcpyDeviceToDevice);
+      if (copied != cudaSuccess) cudaFree(grown);  // the copy's error is the one reported
+      TALUS_CUDA_CHECK(copied);
+    }
+    if (data_) TALUS_CUDA_CHECK(cudaFree(data_));
+    data_ = grown;
+    size_ = count;
+  }
   void upload(const T* host, std::size_t count) {
     resize(count);
     if (count > 0)

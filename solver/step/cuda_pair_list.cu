@@ -88,16 +88,29 @@ __global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int
 template <class Real>
 DevicePairList<Real>::DevicePairList(DeviceStepShared<Real>& shared, Real skin)
     : shared_(shared), skin_(skin) {
-  const int n = shared.count;
-  NeighborInput<Real> in;
-  in.x = shared.view.position.x, in.y = shared.view.position.y, in.z = shared.view.position.z;
-  in.radius = shared.view.bounding_radius;
-  in.count = n;
-  in.skin = skin;
-  broad_phase_.set_device_particles(in);
-  if (deterministic()) entry_begin_.resize(n), entry_end_.resize(n);
-  if (skin > 0) built_x_.resize(n), built_y_.resize(n), built_z_.resize(n);
+  bind_particles();
   largest_move_.resize(1);
+}
+
+template <class Real>
+void DevicePairList<Real>::bind_particles() {
+  const int n = shared_.count;
+  const ParticleView<Real>& v = shared_.view;
+  NeighborInput<Real> in;
+  in.x = v.position.x, in.y = v.position.y, in.z = v.position.z;
+  in.radius = v.bounding_radius;
+  in.count = n;
+  in.skin = skin_;
+  broad_phase_.set_device_particles(in);
+  // Contents are set at each build (the CSR's ranges, the positions built from).
+  if (deterministic()) entry_begin_.grow_to(n), entry_end_.grow_to(n);
+  if (skin_ > 0) built_x_.grow_to(n), built_y_.grow_to(n), built_z_.grow_to(n);
+}
+
+template <class Real>
+void DevicePairList<Real>::particles_changed() {
+  bind_particles();
+  stale_ = true;
 }
 
 // True when some particle has moved more than (a little less than) skin / 2 since the list was
@@ -208,9 +221,10 @@ void DevicePairList<Real>::import_histories(
 
 template <class Real>
 void DevicePairList<Real>::update() {
-  if (imported_ < 0 && !expired()) return;
+  if (imported_ < 0 && !stale_ && !expired()) return;
   const int stored = imported_ >= 0 ? imported_ : store_touching_histories();
   imported_ = -1;
+  stale_ = false;
   broad_phase_.build();
   candidates_ = static_cast<int>(broad_phase_.pair_count());
   ++builds_;

@@ -22,8 +22,14 @@ class DevicePairList {
   // (0: rebuilt every step); the scene's deterministic mode adds the slot forces and the CSR.
   DevicePairList(DeviceStepShared<Real>& shared, Real skin);
 
-  // Rebuilds the list when it has expired (always on the first call, and after import_histories).
+  // Rebuilds the list when it has expired (always on the first call, after import_histories and
+  // after particles_changed).
   void update();
+  // The shared particles were appended to (a feed, a restart's larger state), their arrays maybe
+  // moved: the broad phase reads the arrays now in the shared view, the per-particle arrays follow
+  // the count, and the next update rebuilds the list (new particles have no candidates yet),
+  // carrying the touching slots' histories over as any rebuild does.
+  void particles_changed();
 
   // The touching slots' keys and histories, sorted by key (volume model; else none). After
   // import_histories and before the next update: the imported store.
@@ -58,6 +64,7 @@ class DevicePairList {
 
  private:
   bool deterministic() const { return shared_.scene.deterministic; }
+  void bind_particles();  // the broad phase's input and the per-particle arrays, from shared_
   bool expired();
   int store_touching_histories();
   void carry_histories(int stored);
@@ -68,7 +75,8 @@ class DevicePairList {
   Real skin_ = 0;
   long long builds_ = 0;
   int candidates_ = 0;
-  int imported_ = -1;  // entries of an imported store awaiting the next build; -1: none
+  int imported_ = -1;   // entries of an imported store awaiting the next build; -1: none
+  bool stale_ = false;  // the particles changed since the last build
   DeviceBuffer<Real> built_x_, built_y_, built_z_;  // positions when the list was built
   DeviceBuffer<unsigned long long> largest_move_;   // squared, as double bits
   DeviceBuffer<unsigned char> slot_state_;

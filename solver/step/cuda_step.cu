@@ -1,9 +1,9 @@
-// The production step on the CUDA backend (see cuda_step.hpp): the device particle state and its
-// set-up from a scene, the per-particle stages and the accumulation (their kernels in
+// The production step on the CUDA backend (see cuda_step.hpp): its set-up from a scene, the
+// feeds, the per-particle stages and the accumulation (their kernels in
 // cuda_particle_kernels.cuh), and the order of the stages.
-// The pair list, the pair contacts and the wall contacts are parts of their own
-// (cuda_pair_list.cuh, cuda_pair_stage.cuh, cuda_wall_stage.cuh) over the state they share
-// (DeviceStepShared, cuda_step_common.cuh).
+// The particle arrays, the pair list, the pair contacts and the wall contacts are parts of their
+// own (cuda_particles.cuh, cuda_pair_list.cuh, cuda_pair_stage.cuh, cuda_wall_stage.cuh) over the
+// state they share (DeviceStepShared, cuda_step_common.cuh).
 #include "solver/step/cuda_step.hpp"
 
 #include <algorithm>
@@ -14,10 +14,13 @@
 #include <utility>
 
 #include "solver/geometry/device_shape.cuh"
+#include "solver/scene/feeder.hpp"
 #include "solver/scene/initial_particles.hpp"
+#include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/cuda_pair_stage.cuh"
 #include "solver/step/cuda_particle_kernels.cuh"
+#include "solver/step/cuda_particles.cuh"
 #include "solver/step/cuda_wall_stage.cuh"
 #include "solver/step/host_step.hpp"
 #include "solver/step/particle_kernels.hpp"
@@ -85,9 +88,13 @@ struct CudaStep<Real>::Impl {
   std::vector<BodyProperties<Real>> host_bodies;                // host shape views
   std::vector<std::unique_ptr<DeviceShape<Real>>> device_shapes;
   DeviceBuffer<BodyProperties<Real>> bodies;  // device shape views
-  std::vector<std::pair<std::string, DeviceBuffer<Real>>> storage;
-  DeviceBuffer<int> template_ids, material_ids;
-  DeviceBuffer<Real> table_values;  // the pair-law tables' numbers
+  DeviceBuffer<Real> table_values;            // the pair-law tables' numbers
+  std::unique_ptr<DeviceParticles<Real>> particles;
+  // The feeds, as HostStep's: per scene feed, the walls' meshes at t = 0, per template its
+  // bounding radius in double.
+  std::vector<Feeder> feeders;
+  std::vector<WallMesh> feed_walls;
+  std::vector<double> feed_radii;
   // The stages the plan names (null when absent).
   std::unique_ptr<DevicePairList<Real>> list;
   std::unique_ptr<DevicePairStage<Real>> pairs;
@@ -106,16 +113,9 @@ struct CudaStep<Real>::Impl {
   int count() const { return shared.count; }
   ParticleView<Real>& view() { return shared.view; }
 
-  Real* allocate(const std::string& name) {
-    storage.emplace_back(name, DeviceBuffer<Real>(count()));
-    Real* data = storage.back().second.data();
-    if (count() > 0) TALUS_CUDA_CHECK(cudaMemset(data, 0, count() * sizeof(Real)));
-    return data;
-  }
-
   void upload_templates(const CudaStepOptions& options);
-  void upload_particles();
   void set_up_pairs(const PairLawTables<Real>& host_tables);
+  void feed();
 
   template <class Body>
   void timed(Stage stage, Body&& body) {
@@ -179,42 +179,6 @@ struct CudaStep<Real>::Impl {
       }
     }
   }
-
-  // The particle arrays in host memory, as a host ParticleView over the copy's vectors.
-  struct HostCopy {
-    std::vector<std::vector<Real>> arrays;
-    std::vector<int> template_ids;
-    std::vector<long long> global_ids;
-    ParticleView<Real> view;
-  };
-  HostCopy host_copy() const {
-    const int n = shared.count;
-    const ParticleView<Real>& v = shared.view;
-    HostCopy c;
-    c.view.count = n;
-    c.template_ids = download(template_ids.data(), n);
-    c.global_ids = download(shared.global_ids.data(), n);
-    c.view.template_id = c.template_ids.data();
-    c.view.global_id = c.global_ids.data();
-    c.arrays.reserve(13);
-    const auto get = [&](const Real* device) {
-      c.arrays.push_back(download(device, n));
-      return c.arrays.back().data();
-    };
-    const auto get3 = [&](const Soa3<Real>& s) {
-      Soa3<Real> h;
-      if (s.present()) h.x = get(s.x), h.y = get(s.y), h.z = get(s.z);
-      return h;
-    };
-    c.view.position = get3(v.position);
-    c.view.velocity = get3(v.velocity);
-    c.view.angular_velocity = get3(v.angular_velocity);
-    c.view.orientation.w = get(v.orientation.w);
-    c.view.orientation.x = get(v.orientation.x);
-    c.view.orientation.y = get(v.orientation.y);
-    c.view.orientation.z = get(v.orientation.z);
-    return c;
-  }
 };
 
 // The templates' shapes on the device, their properties in a constant-memory region when one is
@@ -238,72 +202,33 @@ void CudaStep<Real>::Impl::upload_templates(const CudaStepOptions& options) {
   }
 }
 
-// The particle arrays the plan needs, with the initial state made on the host as HostStep makes
-// it, then uploaded array by array.
+// As HostStep::feed: the same Feeder calls with the same inputs (the positions in double, each
+// particle's template bounding radius, the walls at the step's start), in the same order; the
+// positions are downloaded only at a step where some feed has a particle due. The inserted
+// particles are appended with their body forces, and the pair list is rebuilt at the next
+// evaluation (the new particles have no candidates yet).
 template <class Real>
-void CudaStep<Real>::Impl::upload_particles() {
-  const std::vector<ParticleState> initial = initial_particles(scene);
-  shared.count = static_cast<int>(initial.size());
-  const int n = shared.count;
-  ParticleView<Real>& v = shared.view;
-  v.count = n;
-  const auto soa3 = [&](const std::string& name) {
-    Soa3<Real> s;
-    s.x = allocate(name + ".x"), s.y = allocate(name + ".y"), s.z = allocate(name + ".z");
-    return s;
-  };
-  v.position = soa3("position");
-  v.velocity = soa3("velocity");
-  v.orientation.w = allocate("orientation.w");
-  v.orientation.x = allocate("orientation.x");
-  v.orientation.y = allocate("orientation.y");
-  v.orientation.z = allocate("orientation.z");
-  if (plan.arrays.force) {
-    v.force = soa3("force");
-    v.step_start_acceleration = soa3("step_start_acceleration");
-  }
-  if (plan.arrays.angular_velocity) v.angular_velocity = soa3("angular_velocity");
-  if (plan.arrays.torque) {
-    v.torque = soa3("torque");
-    v.step_start_torque = soa3("step_start_torque");
-  }
-  if (plan.arrays.bounding_radius) v.bounding_radius = allocate("bounding_radius");
-
-  std::vector<int> template_id(n), material_id(n);
-  std::vector<long long> global_id(n);
-  std::vector<std::vector<Real>> columns(14, std::vector<Real>(n));
-  for (int i = 0; i < n; ++i) {
-    const ParticleState& p = initial[i];
-    const BodyProperties<Real>& body = host_bodies.at(p.template_index);
-    template_id[i] = p.template_index;
-    material_id[i] = body.material;
-    global_id[i] = i;
-    const Quatd q = p.orientation.normalized();
-    const Vec3<Real> x(p.position), u(p.velocity);
-    const Quat<Real> qr(q);
-    // The scene gives the angular velocity in the world frame; Euler's equations want the body's.
-    const Vec3<Real> w(rotate_inverse(q, p.angular_velocity));
-    const Real values[14] = {x.x,  x.y,  x.z,  u.x, u.y, u.z, qr.w,
-                             qr.x, qr.y, qr.z, w.x, w.y, w.z, body.bounding_radius};
-    for (int c = 0; c < 14; ++c) columns[c][i] = values[c];
-  }
-  Real* const targets[14] = {v.position.x,         v.position.y,         v.position.z,
-                             v.velocity.x,         v.velocity.y,         v.velocity.z,
-                             v.orientation.w,      v.orientation.x,      v.orientation.y,
-                             v.orientation.z,      v.angular_velocity.x, v.angular_velocity.y,
-                             v.angular_velocity.z, v.bounding_radius};
-  for (int c = 0; c < 14; ++c) {
-    if (targets[c] && n > 0) {
-      TALUS_CUDA_CHECK(
-          cudaMemcpy(targets[c], columns[c].data(), n * sizeof(Real), cudaMemcpyHostToDevice));
+void CudaStep<Real>::Impl::feed() {
+  bool due = false;
+  for (const Feeder& feeder : feeders) due = due || feeder.due(time) > feeder.inserted();
+  if (!due) return;  // the feeds' insert() would return nothing and draw nothing
+  std::vector<Vec3d> positions = particles->positions();
+  std::vector<double> radii;
+  radii.reserve(positions.size());
+  for (const int t : particles->template_ids()) radii.push_back(feed_radii[t]);
+  const std::vector<TriangleMesh> walls_now = walls_at(scene, feed_walls, time);
+  std::vector<ParticleState> added;
+  for (Feeder& feeder : feeders) {
+    const std::vector<ParticleState> more = feeder.insert(time, positions, radii, walls_now);
+    for (const ParticleState& p : more) {  // the next feed keeps off these too
+      positions.push_back(p.position);
+      radii.push_back(feed_radii[p.template_index]);
     }
+    added.insert(added.end(), more.begin(), more.end());
   }
-  template_ids.upload(template_id);
-  material_ids.upload(material_id);
-  shared.global_ids.upload(global_id);
-  v.template_id = template_ids.data();
-  v.material_id = material_ids.data();
-  v.global_id = shared.global_ids.data();
+  if (added.empty()) return;
+  particles->append(added, host_bodies, true);
+  if (list) list->particles_changed();
 }
 
 // The law tables on the device, the pair list with the scene's skin and the pair stage.
@@ -340,7 +265,14 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
   m.upload_templates(options);
   m.shared.gjk_filter = options.gjk_filter;
   m.shared.flags.allocate();
-  m.upload_particles();
+  m.particles = std::make_unique<DeviceParticles<Real>>(m.shared, m.plan);
+  m.particles->append(initial_particles(scene), m.host_bodies, false);
+  for (std::size_t f = 0; f < scene.feeds.size(); ++f)
+    m.feeders.emplace_back(scene, static_cast<int>(f));
+  if (!m.feeders.empty()) {
+    m.feed_walls = make_wall_meshes(scene);
+    for (const ParticleTemplate& t : scene.templates) m.feed_radii.push_back(t.bounding_radius);
+  }
   if (host_pairs) m.set_up_pairs(host_pairs->tables());
   if (host_walls) {
     m.walls = std::make_unique<DeviceWallStage<Real>>(m.shared, std::move(host_walls), m.time);
@@ -363,6 +295,7 @@ void CudaStep<Real>::step() {
   Impl& m = *impl_;
   if (!m.forces_ready) evaluate_forces();  // F_0, T_0 for the first half-step
   if (m.walls) m.walls->open_outlets(m.time);
+  if (!m.feeders.empty()) m.feed();
   m.shared.flags.reset();
   if (m.count() > 0) {
     m.timed(Stage::integrate_begin, [&] {
@@ -391,37 +324,31 @@ void CudaStep<Real>::step() {
 template <class Real>
 StepState<Real> CudaStep<Real>::export_state() const {
   const Impl& m = *impl_;
-  const int n = m.count();
   StepState<Real> s;
   s.time = m.time;
   s.steps = m.steps;
   s.forces_ready = m.forces_ready;
-  s.count = n;
-  for (const auto& [name, values] : m.storage)
-    s.arrays.emplace_back(name, download(values.data(), n));
-  s.template_ids = download(m.template_ids.data(), n);
-  s.material_ids = download(m.material_ids.data(), n);
-  s.global_ids = download(m.shared.global_ids.data(), n);
+  m.particles->export_to(s);
   if (m.list) m.list->export_histories(s.pair_keys, s.pair_histories);
   if (m.walls) m.walls->export_histories(s.wall_keys, s.wall_histories);
+  for (const Feeder& feeder : m.feeders) s.feed_states.push_back(feeder.save());
   return s;
 }
 
 template <class Real>
 void CudaStep<Real>::import_state(const StepState<Real>& s) {
   Impl& m = *impl_;
-  const int n = m.count();
-  std::vector<std::string> names;
-  for (const auto& entry : m.storage) names.push_back(entry.first);
-  check_state_fits(s, n, names, static_cast<int>(m.host_bodies.size()));
-  for (std::size_t k = 0; k < m.storage.size() && n > 0; ++k) {
-    TALUS_CUDA_CHECK(cudaMemcpy(m.storage[k].second.data(), s.arrays[k].second.data(),
-                                n * sizeof(Real), cudaMemcpyHostToDevice));
-  }
-  // Same sizes: the buffers stay where the view points.
-  m.template_ids.upload(s.template_ids);
-  m.material_ids.upload(s.material_ids);
-  m.shared.global_ids.upload(s.global_ids);
+  if (s.feed_states.size() != m.feeders.size())
+    throw CheckpointError(
+        "the checkpoint does not fit the scene: " + std::to_string(s.feed_states.size()) +
+        " feed states, the scene has " + std::to_string(m.feeders.size()) + " feeds");
+  // A feeding run's particles: the initial ones and those inserted by the checkpoint's step.
+  const bool grown = !m.feeders.empty() && s.count > m.count();
+  if (grown) m.particles->resize(s.count);
+  check_state_fits(s, m.count(), m.particles->names(), static_cast<int>(m.host_bodies.size()));
+  for (std::size_t f = 0; f < m.feeders.size(); ++f) m.feeders[f].restore(s.feed_states[f]);
+  m.particles->import_from(s);
+  if (m.list && grown) m.list->particles_changed();
   if (m.list) m.list->import_histories(s.pair_keys, s.pair_histories);
   if (m.walls) m.walls->import_histories(s.wall_keys, s.wall_histories);
   m.time = s.time;
@@ -470,8 +397,7 @@ std::size_t CudaStep<Real>::wall_contact_count() const {
 
 template <class Real>
 std::vector<std::string> CudaStep<Real>::allocated_arrays() const {
-  std::vector<std::string> names;
-  for (const auto& [name, values] : impl_->storage) names.push_back(name);
+  std::vector<std::string> names = impl_->particles->names();
   names.insert(names.end(), {"template_id", "material_id", "global_id"});
   return names;
 }
@@ -479,8 +405,7 @@ std::vector<std::string> CudaStep<Real>::allocated_arrays() const {
 template <class Real>
 std::size_t CudaStep<Real>::allocated_bytes() const {
   const Impl& m = *impl_;
-  std::size_t bytes = m.count() * (2 * sizeof(int) + sizeof(long long));
-  for (const auto& entry : m.storage) bytes += entry.second.size() * sizeof(Real);
+  std::size_t bytes = m.particles->bytes();
   bytes += pair_list_bytes() + m.shared.temp.size();
   if (m.walls) bytes += m.walls->bytes();
   return bytes;
@@ -511,17 +436,17 @@ Vec3d CudaStep<Real>::wall_torque(int w) const {
 
 template <class Real>
 std::vector<TrajectoryRow> CudaStep<Real>::trajectory_rows() const {
-  return particle_rows(impl_->host_copy().view);
+  return particle_rows(impl_->particles->host_copy().view);
 }
 
 template <class Real>
 double CudaStep<Real>::kinetic_energy() const {
-  return particle_kinetic_energy(impl_->host_copy().view, impl_->host_bodies);
+  return particle_kinetic_energy(impl_->particles->host_copy().view, impl_->host_bodies);
 }
 
 template <class Real>
 double CudaStep<Real>::bed_height(const Vec3d& gravity) const {
-  return particle_bed_height(impl_->host_copy().view, impl_->host_bodies, gravity);
+  return particle_bed_height(impl_->particles->host_copy().view, impl_->host_bodies, gravity);
 }
 
 std::unique_ptr<AnyStep> make_cuda_step(const Scene& scene) {

@@ -15,7 +15,10 @@
 // contact is written to its slot, then one thread per particle sums its touching slots in pair
 // order (a CSR over the list, built with it), then its wall contacts in wall order, as the host
 // does, so both backends agree to round-off; with deterministic: false the pair kernel adds the
-// forces to the particles by atomics instead.
+// forces to the particles by atomics instead. Feeds run as on the host: before a step's
+// integrate_begin the same Feeder calls with the same inputs (the positions downloaded only at a
+// step where a particle is due); the inserted particles are appended to the device arrays, which
+// grow by doubling, and the pair list is rebuilt.
 //
 // Host-facing: no CUDA types; the implementation exists only in CUDA builds (talus_cuda), where
 // TALUS_HAVE_CUDA is defined: cuda_step.cu, with the pair list, the pair stage and the wall
@@ -54,20 +57,23 @@ template <class Real>
 class CudaStep {
  public:
   using real_type = Real;
-  // As HostStep: the scene's initial particles (global id = index), copied to the device.
-  // Throws StepNotSupported for what the step cannot simulate, std::runtime_error from CUDA.
+  // As HostStep: the scene's initial particles (global id = index), copied to the device, and
+  // its feeds. Throws StepNotSupported for what the step cannot simulate, std::runtime_error
+  // from CUDA.
   explicit CudaStep(const Scene& scene, CudaStepOptions options = CudaStepOptions());
   ~CudaStep();
   CudaStep(const CudaStep&) = delete;
   CudaStep& operator=(const CudaStep&) = delete;
 
-  // As HostStep::step and HostStep::evaluate_forces (the same errors, the same messages).
+  // As HostStep::step and HostStep::evaluate_forces (the same errors, the same messages; the
+  // same particles fed at the same steps).
   void step();
   void evaluate_forces();
 
   // As HostStep's (step_state.hpp): the arrays downloaded, the pair histories from the touching
   // slots (the store a rebuild of the list carries over), the wall histories from the wall
-  // stage's store; an imported pair store is carried over by the next build of the list.
+  // stage's store, the feeds' states; an imported pair store is carried over by the next build
+  // of the list. A feeding run's state may hold more particles than the scene starts with.
   StepState<Real> export_state() const;
   void import_state(const StepState<Real>& state);
 

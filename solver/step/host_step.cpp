@@ -59,7 +59,7 @@ template BodyProperties<float> body_properties(const Scene&, const ParticleTempl
 template <class Real>
 HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search)
     : scene_(scene),
-      plan_(plan_step(scene, true)),
+      plan_(plan_step(scene)),
       dt_(Real(scene.time_step)),
       threads_(host_thread_count(threads)) {
   for (const ParticleTemplate& t : scene.templates) {

@@ -32,13 +32,8 @@ bool StepPlan::has(Stage stage) const {
   return std::find(stages.begin(), stages.end(), stage) != stages.end();
 }
 
-StepPlan plan_step(const Scene& scene, bool feeds) {
+StepPlan plan_step(const Scene& scene) {
   const Effects& fx = scene.effects;
-  if (!scene.feeds.empty() && !feeds) {
-    throw StepNotSupported(scene.feeds.front().source.where() +
-                           ": feed: the CUDA step does not insert particles during a run yet; "
-                           "run this scene with --backend cpu or --solver reference");
-  }
   StepPlan plan;
   plan.feed = !scene.feeds.empty();
   plan.gravity = fx.gravity.has_value();

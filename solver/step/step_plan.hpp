@@ -43,15 +43,14 @@ struct ParticleArrayNeeds {
 struct StepPlan {
   bool gravity = false, drag = false, contacts = false, friction = false, rotation = false;
   bool walls = false;
-  bool feed = false;          // feeds insert particles between steps (host step only, for now)
+  bool feed = false;          // feeds insert particles between steps (both backends)
   std::vector<Stage> stages;  // in the order they run within one step
   ParticleArrayNeeds arrays;
   bool has(Stage stage) const;
 };
 
-// The plan of a scene. `feeds`: whether the step asking inserts the particles of the scene's
-// feeds (the host step does; the CUDA step not yet). Without it a scene with a feed throws
-// StepNotSupported naming the feed and what to run instead.
-StepPlan plan_step(const Scene& scene, bool feeds = false);
+// The plan of a scene. Both steps run the scene's feeds before a step's integrate_begin (the
+// stages do not name them: a feed changes the particle count, not what a stage does).
+StepPlan plan_step(const Scene& scene);
 
 }  // namespace talus

@@ -1,7 +1,7 @@
 // Restart on the CUDA step (CudaStep::export_state/import_state, the runner's checkpoints): the
 // host tests of tests/step/test_restart.cpp on the device. The scene (tests/step/restart_scene.hpp)
-// has friction, rotation, pair contacts, a turning drum and a moving lid, and no feed (the
-// production step inserts no particles yet). A resumed step or run equals the uninterrupted one on
+// has friction, rotation, pair contacts, a turning drum and a moving lid, and no feed (feeding
+// runs: tests/gpu/test_feed_gpu.cpp). A resumed step or run equals the uninterrupted one on
 // the same backend bit for bit in deterministic mode: the pair list a resumed step builds at its
 // first step holds other candidates than the uninterrupted one's kept list, but the forces are
 // computed per candidate and summed per particle in pair order, so the list's age does not

@@ -2,8 +2,8 @@
 // tests/gpu/test_restart_gpu.cpp on the CUDA step): two layers of icosahedra thrown down into a
 // turning drum under a lid that moves down, with gravity, the volume model, friction and rotation,
 // so that pair and wall histories (a moving wall's among them) are there when a checkpoint is
-// written; every output every step or few, checkpoints every 40 of its 120 steps. No feed (the
-// CUDA step does not insert particles yet; test_restart.cpp has a feeding host step of its own).
+// written; every output every step or few, checkpoints every 40 of its 120 steps. No feed
+// (test_restart.cpp and tests/gpu/test_feed_gpu.cpp have feeding runs of their own).
 // And the comparison of two steps' states, to the bit.
 #pragma once
 

@@ -119,23 +119,16 @@ TEST(StepPlan, VolumeModelRefusesSpheresWithPolyhedra) {
   }
 }
 
-// A feed: the host step runs it (plan.feed) and its arrays grow with the inserted particles,
-// capacity doubling; a step that does not insert particles (the CUDA step asks plan_step without
-// `feeds`) refuses the scene, naming the feed and what to run instead.
-TEST(StepPlan, FeedRunsOnTheHostStepAndIsRefusedWithoutFeeds) {
+// A feed: the plan says so (both backends run feeds; tests/gpu/test_feed_gpu.cpp has the CUDA
+// step's), and the host step's arrays grow with the inserted particles, capacity doubling.
+TEST(StepPlan, FeedRunsOnTheHostStep) {
   const Scene scene =
       scene_from(std::string(kHead) +
                  "  - feed: {template: ball, region: {box: {min: [-1, -1, 1], "
                  "max: [1, 1, 2]}}, rate: 5000}\neffects: {gravity: [0, 0, -9.81]}\n");
-  try {
-    plan_step(scene);
-    FAIL() << "expected StepNotSupported";
-  } catch (const StepNotSupported& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("feed"), std::string::npos) << what;
-    EXPECT_NE(what.find("--backend cpu"), std::string::npos) << what;
-  }
-  EXPECT_TRUE(plan_step(scene, true).feed);
+  EXPECT_TRUE(plan_step(scene).feed);
+  EXPECT_FALSE(
+      plan_step(scene_from(std::string(kHead) + "effects: {gravity: [0, 0, -9.81]}\n")).feed);
   HostStep<double> step(scene, 1);
   EXPECT_TRUE(step.plan().feed);
   const std::size_t bytes = step.allocated_bytes();

@@ -1,0 +1,256 @@
+// The CUDA step's particle arrays (cuda_particles.cuh): allocation by the plan, appending
+// particles (the initial ones, then a feed's), growth, the state's download and upload.
+#include "solver/step/cuda_particles.cuh"
+
+#include <algorithm>
+
+namespace talus {
+
+namespace {
+
+// A ParticleView over named arrays: `array(name)` gives the array's pointer, null for one the
+// plan does not need.
+template <class Real, class Array>
+ParticleView<Real> view_over(Array&& array) {
+  const auto soa3 = [&](const std::string& name) {
+    Soa3<Real> s;
+    s.x = array(name + ".x"), s.y = array(name + ".y"), s.z = array(name + ".z");
+    return s;
+  };
+  ParticleView<Real> v;
+  v.position = soa3("position");
+  v.velocity = soa3("velocity");
+  v.orientation.w = array("orientation.w");
+  v.orientation.x = array("orientation.x");
+  v.orientation.y = array("orientation.y");
+  v.orientation.z = array("orientation.z");
+  v.force = soa3("force");
+  v.step_start_acceleration = soa3("step_start_acceleration");
+  v.angular_velocity = soa3("angular_velocity");
+  v.torque = soa3("torque");
+  v.step_start_torque = soa3("step_start_torque");
+  v.bounding_radius = array("bounding_radius");
+  return v;
+}
+
+template <class T>
+void upload_at(T* device, const std::vector<T>& host) {
+  if (!host.empty()) {
+    TALUS_CUDA_CHECK(
+        cudaMemcpy(device, host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice));
+  }
+}
+
+}  // namespace
+
+template <class Real>
+DeviceParticles<Real>::DeviceParticles(DeviceStepShared<Real>& shared, const StepPlan& plan)
+    : shared_(shared), plan_(plan) {
+  shared.count = 0;
+  const auto soa3 = [&](const std::string& name) {
+    allocate(name + ".x"), allocate(name + ".y"), allocate(name + ".z");
+  };
+  // HostStep's arrays in HostStep's order (the state's arrays are matched by name and order).
+  soa3("position");
+  soa3("velocity");
+  allocate("orientation.w");
+  allocate("orientation.x");
+  allocate("orientation.y");
+  allocate("orientation.z");
+  if (plan.arrays.force) {
+    soa3("force");
+    soa3("step_start_acceleration");
+  }
+  if (plan.arrays.angular_velocity) soa3("angular_velocity");
+  if (plan.arrays.torque) {
+    soa3("torque");
+    soa3("step_start_torque");
+  }
+  if (plan.arrays.bounding_radius) allocate("bounding_radius");
+  template_ids_.resize(capacity_);
+  material_ids_.resize(capacity_);
+  shared.global_ids.resize(capacity_);
+  bind();
+}
+
+template <class Real>
+void DeviceParticles<Real>::allocate(const std::string& name) {
+  storage_.emplace_back(name, DeviceBuffer<Real>(capacity_));
+}
+
+template <class Real>
+void DeviceParticles<Real>::bind() {
+  ParticleView<Real>& v = shared_.view;
+  v = view_over<Real>([&](const std::string& name) -> Real* {
+    for (auto& entry : storage_)
+      if (entry.first == name) return entry.second.data();
+    return nullptr;
+  });
+  v.count = shared_.count;
+  v.template_id = template_ids_.data();
+  v.material_id = material_ids_.data();
+  v.global_id = shared_.global_ids.data();
+}
+
+template <class Real>
+void DeviceParticles<Real>::reserve(int count) {
+  if (count <= capacity_) return;
+  capacity_ = std::max(count, 2 * capacity_);
+  const std::size_t keep = shared_.count;
+  for (auto& entry : storage_) entry.second.grow_keeping(capacity_, keep);
+  template_ids_.grow_keeping(capacity_, keep);
+  material_ids_.grow_keeping(capacity_, keep);
+  shared_.global_ids.grow_keeping(capacity_, keep);
+  bind();
+}
+
+template <class Real>
+void DeviceParticles<Real>::resize(int count) {
+  reserve(count);
+  shared_.count = std::max(shared_.count, count);
+  bind();
+}
+
+template <class Real>
+void DeviceParticles<Real>::append(const std::vector<ParticleState>& added,
+                                   const std::vector<BodyProperties<Real>>& bodies,
+                                   bool body_forces) {
+  const int first = shared_.count, k = static_cast<int>(added.size());
+  if (k == 0) return;
+  reserve(first + k);
+  // The new particles in host memory, every array of the plan (zero unless set below), set by
+  // the host's functions on a host view over them, then uploaded after the present particles.
+  std::vector<std::vector<Real>> columns(storage_.size(), std::vector<Real>(k, Real(0)));
+  std::vector<int> template_id(k), material_id(k);
+  std::vector<long long> global_id(k);
+  ParticleView<Real> h = view_over<Real>([&](const std::string& name) -> Real* {
+    for (std::size_t a = 0; a < storage_.size(); ++a)
+      if (storage_[a].first == name) return columns[a].data();
+    return nullptr;
+  });
+  h.count = k;
+  h.template_id = template_id.data();
+  h.material_id = material_id.data();
+  h.global_id = global_id.data();
+  const Effects& fx = shared_.scene.effects;
+  for (int j = 0; j < k; ++j) {
+    const ParticleState& p = added[j];
+    const BodyProperties<Real>& body = bodies.at(p.template_index);
+    template_id[j] = p.template_index;
+    material_id[j] = body.material;
+    global_id[j] = first + j;
+    h.position.set(j, Vec3<Real>(p.position));
+    h.velocity.set(j, Vec3<Real>(p.velocity));
+    const Quatd q = p.orientation.normalized();
+    h.orientation.set(j, Quat<Real>(q));
+    // The scene gives the angular velocity in the world frame; Euler's equations want the body's.
+    if (h.angular_velocity.present())
+      h.angular_velocity.set(j, Vec3<Real>(rotate_inverse(q, p.angular_velocity)));
+    if (h.bounding_radius) h.bounding_radius[j] = body.bounding_radius;
+    if (!body_forces) continue;
+    // HostStep::feed's body forces: the particle touches nothing (the feed places it clear of
+    // particles and walls), so its first half-step takes gravity and drag alone.
+    if (h.force.present()) {
+      clear_forces(h, j);
+      if (plan_.gravity) add_gravity(h, bodies.data(), j, Vec3<Real>(*fx.gravity));
+      if (plan_.drag) add_drag(h, j, Real(*fx.drag_alpha));
+    } else if (h.torque.present()) {
+      h.torque.set(j, Vec3<Real>());
+    }
+  }
+  for (std::size_t a = 0; a < storage_.size(); ++a)
+    upload_at(storage_[a].second.data() + first, columns[a]);
+  upload_at(template_ids_.data() + first, template_id);
+  upload_at(material_ids_.data() + first, material_id);
+  upload_at(shared_.global_ids.data() + first, global_id);
+  shared_.count = first + k;
+  bind();
+}
+
+template <class Real>
+std::vector<std::string> DeviceParticles<Real>::names() const {
+  std::vector<std::string> names;
+  for (const auto& entry : storage_) names.push_back(entry.first);
+  return names;
+}
+
+template <class Real>
+std::size_t DeviceParticles<Real>::bytes() const {
+  std::size_t bytes = (template_ids_.size() + material_ids_.size()) * sizeof(int) +
+                      shared_.global_ids.size() * sizeof(long long);
+  for (const auto& entry : storage_) bytes += entry.second.size() * sizeof(Real);
+  return bytes;
+}
+
+template <class Real>
+void DeviceParticles<Real>::export_to(StepState<Real>& s) const {
+  const int n = count();
+  s.count = n;
+  s.arrays.clear();
+  for (const auto& [name, values] : storage_)
+    s.arrays.emplace_back(name, download(values.data(), n));
+  s.template_ids = download(template_ids_.data(), n);
+  s.material_ids = download(material_ids_.data(), n);
+  s.global_ids = download(shared_.global_ids.data(), n);
+}
+
+template <class Real>
+void DeviceParticles<Real>::import_from(const StepState<Real>& s) {
+  // The sizes fit (check_state_fits): the arrays stay where the view points.
+  for (std::size_t a = 0; a < storage_.size(); ++a)
+    upload_at(storage_[a].second.data(), s.arrays[a].second);
+  upload_at(template_ids_.data(), s.template_ids);
+  upload_at(material_ids_.data(), s.material_ids);
+  upload_at(shared_.global_ids.data(), s.global_ids);
+}
+
+template <class Real>
+std::vector<Vec3d> DeviceParticles<Real>::positions() const {
+  const int n = count();
+  const ParticleView<Real>& v = shared_.view;
+  const std::vector<Real> x = download(v.position.x, n), y = download(v.position.y, n),
+                          z = download(v.position.z, n);
+  std::vector<Vec3d> positions(n);
+  for (int i = 0; i < n; ++i) positions[i] = Vec3d(Vec3<Real>(x[i], y[i], z[i]));
+  return positions;
+}
+
+template <class Real>
+std::vector<int> DeviceParticles<Real>::template_ids() const {
+  return download(template_ids_.data(), count());
+}
+
+template <class Real>
+typename DeviceParticles<Real>::HostCopy DeviceParticles<Real>::host_copy() const {
+  const int n = count();
+  const ParticleView<Real>& v = shared_.view;
+  HostCopy c;
+  c.view.count = n;
+  c.template_ids = download(template_ids_.data(), n);
+  c.global_ids = download(shared_.global_ids.data(), n);
+  c.view.template_id = c.template_ids.data();
+  c.view.global_id = c.global_ids.data();
+  c.arrays.reserve(13);  // no reallocation: the view points into them
+  const auto get = [&](const Real* device) {
+    c.arrays.push_back(download(device, n));
+    return c.arrays.back().data();
+  };
+  const auto get3 = [&](const Soa3<Real>& s) {
+    Soa3<Real> h;
+    if (s.present()) h.x = get(s.x), h.y = get(s.y), h.z = get(s.z);
+    return h;
+  };
+  c.view.position = get3(v.position);
+  c.view.velocity = get3(v.velocity);
+  c.view.angular_velocity = get3(v.angular_velocity);
+  c.view.orientation.w = get(v.orientation.w);
+  c.view.orientation.x = get(v.orientation.x);
+  c.view.orientation.y = get(v.orientation.y);
+  c.view.orientation.z = get(v.orientation.z);
+  return c;
+}
+
+template class DeviceParticles<double>;
+template class DeviceParticles<float>;
+
+}  // namespace talus

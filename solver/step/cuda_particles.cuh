@@ -1,0 +1,80 @@
+// The CUDA step's particle arrays: the named structure of arrays the plan needs (the names and
+// order of HostStep's), the template and material ids, and the global ids (kept in
+// DeviceStepShared, which every stage reads). The arrays hold room for more particles than there
+// are, growing by doubling with the particles kept, so that a feed's insertions reallocate
+// rarely; the shared view (DeviceStepShared::view and count) always points at the current
+// arrays, and whoever holds those pointers elsewhere (the broad phase) is told by the step.
+// Included only from .cu files.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "solver/scene/scene.hpp"
+#include "solver/step/cuda_step_common.cuh"
+#include "solver/step/particle_kernels.hpp"
+#include "solver/step/step_plan.hpp"
+#include "solver/step/step_state.hpp"
+
+namespace talus {
+
+template <class Real>
+class DeviceParticles {
+ public:
+  // The plan's arrays, with no particle yet (room for one, so that no array of the plan has a
+  // null pointer: present() tells the arrays apart).
+  DeviceParticles(DeviceStepShared<Real>& shared, const StepPlan& plan);
+
+  // Appends `added` with the next global ids (= their indices), each set as HostStep sets a
+  // particle (normalised orientation, body-frame angular velocity, the template's bounding
+  // radius and material). `bodies`: the templates' properties (host). With `body_forces`, their
+  // forces are set at once as HostStep::feed sets them (zero, then gravity and drag; torque
+  // zero), for the first half-step of a particle fed between steps; every other array starts at
+  // zero.
+  void append(const std::vector<ParticleState>& added,
+              const std::vector<BodyProperties<Real>>& bodies, bool body_forces);
+  // `count` particles (at least the present ones): the arrays grow, the new particles' contents
+  // are left for the caller to set (import_from).
+  void resize(int count);
+
+  // The real arrays' names (as HostStep::allocated_arrays, without the ids) and the device bytes
+  // held (capacity, not count).
+  std::vector<std::string> names() const;
+  std::size_t bytes() const;
+
+  // Every array and the ids downloaded into `s` (count, arrays, ids), and set from a state that
+  // fits (check_state_fits with count()): copied into the arrays in place.
+  void export_to(StepState<Real>& s) const;
+  void import_from(const StepState<Real>& s);
+
+  // A feed's inputs: the positions in double and the template ids, downloaded.
+  std::vector<Vec3d> positions() const;
+  std::vector<int> template_ids() const;
+
+  // The state the outputs read (positions, velocities, orientations, angular velocities, ids) in
+  // host memory, as a host ParticleView over the copy's vectors.
+  struct HostCopy {
+    std::vector<std::vector<Real>> arrays;
+    std::vector<int> template_ids;
+    std::vector<long long> global_ids;
+    ParticleView<Real> view;
+  };
+  HostCopy host_copy() const;
+
+  int count() const { return shared_.count; }
+  int capacity() const { return capacity_; }
+
+ private:
+  void allocate(const std::string& name);
+  void reserve(int count);  // room for `count`, doubling; the present particles kept
+  void bind();              // the shared view's pointers and count
+
+  DeviceStepShared<Real>& shared_;
+  const StepPlan& plan_;
+  int capacity_ = 1;
+  std::vector<std::pair<std::string, DeviceBuffer<Real>>> storage_;
+  DeviceBuffer<int> template_ids_, material_ids_;
+};
+
+}  // namespace talus
