@@ -5,6 +5,8 @@
 
 #include <cub/cub.cuh>
 
+#include <algorithm>
+
 #include <climits>
 #include <cmath>
 #include <stdexcept>
@@ -193,22 +195,31 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
   while (size < 2u * static_cast<std::uint32_t>(n) && size < (1u << 30)) size *= 2, ++bits;
   grid.bucket_mask = size - 1;
 
-  // Bin and sort by bucket (radix sort is stable: indices ascend within a bucket).
-  m.bucket_of.resize(n), m.sorted_bucket.resize(n), m.index.resize(n), m.sorted.resize(n);
+  // Bin and sort by bucket (radix sort is stable: indices ascend within a bucket). The scratch
+  // is sized exactly at first and then only grows, by half again when a feeding run outgrows it:
+  // an exact resize at every insertion would free and allocate (a device synchronisation) each
+  // time, while a fixed scene keeps its exact footprint.
+  const auto room = [](auto& buffer, std::size_t count) {
+    if (buffer.size() < count)
+      buffer.resize(buffer.size() == 0 ? count : std::max(count, buffer.size() * 3 / 2));
+  };
+  const std::size_t count = static_cast<std::size_t>(n);
+  room(m.bucket_of, count), room(m.sorted_bucket, count), room(m.index, count);
+  room(m.sorted, count);
   bucket_particles<<<blocks_for(n), kBlock>>>(in, grid, m.bucket_of.data(), m.index.data());
   TALUS_CUDA_LAUNCH_CHECK();
   cub_call(m.temp, [&](void* t, std::size_t& b) {
     return cub::DeviceRadixSort::SortPairs(t, b, m.bucket_of.data(), m.sorted_bucket.data(),
                                            m.index.data(), m.sorted.data(), n, 0, bits);
   });
-  m.begin.resize(size), m.end.resize(size);
+  room(m.begin, size), room(m.end, size);
   TALUS_CUDA_CHECK(cudaMemset(m.begin.data(), 0, size * sizeof(int)));
   TALUS_CUDA_CHECK(cudaMemset(m.end.data(), 0, size * sizeof(int)));
   bucket_ranges<<<blocks_for(n), kBlock>>>(m.sorted_bucket.data(), n, m.begin.data(), m.end.data());
   TALUS_CUDA_LAUNCH_CHECK();
 
   // Count, exclusive scan, write (paper Fig. 3c).
-  m.counts.resize(n + 1), m.first.resize(n + 1);
+  room(m.counts, count + 1), room(m.first, count + 1);
   TALUS_CUDA_CHECK(cudaMemset(m.counts.data() + n, 0, sizeof(int)));
   count_partners<<<blocks_for(n), kBlock>>>(in, grid, m.begin.data(), m.end.data(), m.sorted.data(),
                                             m.counts.data());
