@@ -64,4 +64,17 @@ struct Eps<float> {
   static constexpr float value = 1.1920929e-07f;
 };
 
+// sqrt(Eps): a relative tolerance for quantities that lose half the digits, or for checks that
+// must pass on round-off and fail on a wrong result.
+template <class Real>
+struct SqrtEps;
+template <>
+struct SqrtEps<double> {
+  static constexpr double value = 1.4901161193847656e-08;
+};
+template <>
+struct SqrtEps<float> {
+  static constexpr float value = 3.4526698e-04f;
+};
+
 }  // namespace talus

@@ -248,6 +248,17 @@ TALUS_HD inline bool uses_face_test(const ConvexView<Real>& self, OverlapOptions
   return options.cull_planes && options.cull_faces && self.face_loop_offsets != nullptr;
 }
 
+// The index of the lowest set bit of a non-zero mask, cleared from it.
+TALUS_HD inline int pop_lowest_bit(unsigned long long& mask) {
+#ifdef __CUDA_ARCH__
+  const int p = __ffsll(static_cast<long long>(mask)) - 1;
+#else
+  const int p = __builtin_ctzll(mask);
+#endif
+  mask &= mask - 1;
+  return p;
+}
+
 // Step 2 by vertex masks, for templates of at most 64 vertices and 64 faces together, both with
 // their face loops: the decisions of cull_plane (the same sphere test and the same vertex
 // heights in the other body's frame: dropped, beyond or kept), with the face test read from bit
@@ -313,12 +324,7 @@ TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Re
   kept = 0;
   int m = 0;
   while (candidates != 0) {
-#ifdef __CUDA_ARCH__
-    const int p = __ffsll(static_cast<long long>(candidates)) - 1;
-#else
-    const int p = __builtin_ctzll(candidates);
-#endif
-    candidates &= candidates - 1;
+    const int p = pop_lowest_bit(candidates);
     const int owner = p < a.n_faces ? 0 : 1;
     const ConvexView<Real>& self = *body[owner];
     const int f = owner == 0 ? p : p - a.n_faces;
@@ -344,12 +350,7 @@ TALUS_HD inline int planes_from_mask(const ConvexView<Real>& a, const ConvexView
                                      Workspace& ws) {
   int m = 0;
   while (mask != 0) {
-#ifdef __CUDA_ARCH__
-    const int p = __ffsll(static_cast<long long>(mask)) - 1;
-#else
-    const int p = __builtin_ctzll(mask);
-#endif
-    mask &= mask - 1;
+    const int p = pop_lowest_bit(mask);
     const int owner = p < a.n_faces ? 0 : 1;
     if (m >= Workspace::kMaxPlanes) return -1;
     Vec3<Real> n;
@@ -650,12 +651,7 @@ TALUS_HD inline bool overlap_enumerate_from_mask(const ConvexView<Real>& a,
   signed char owner[kEnumerationPlanes];
   int m = 0;
   while (mask != 0) {
-#ifdef __CUDA_ARCH__
-    const int p = __ffsll(static_cast<long long>(mask)) - 1;
-#else
-    const int p = __builtin_ctzll(mask);
-#endif
-    mask &= mask - 1;
+    const int p = pop_lowest_bit(mask);
     if (m == kEnumerationPlanes) return false;
     const int o = p < a.n_faces ? 0 : 1;
     frame_plane(o == 0 ? a : b, frame, o, o == 0 ? p : p - a.n_faces, normal[m], offset[m]);

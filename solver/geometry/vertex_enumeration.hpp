@@ -34,18 +34,6 @@ constexpr int kEnumerationPlanes = 8;
 // A simple polytope with F faces has 2F - 4 vertices (Euler, three faces at each vertex).
 constexpr int kEnumerationVertices = 2 * kEnumerationPlanes - 4;
 
-// Relative closure |sum A_f n_f| / sum A_f above which the fast path declines: sqrt(eps).
-template <class Real>
-struct ClosureTolerance;
-template <>
-struct ClosureTolerance<double> {
-  static constexpr double value = 1.4901161193847656e-08;
-};
-template <>
-struct ClosureTolerance<float> {
-  static constexpr float value = 3.4526698e-04f;
-};
-
 namespace overlap_detail {
 
 // True when exactly two bits of x are set.
@@ -175,8 +163,7 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
   }
   // Euler for a simple polytope: V - E + F = 2 with E = 3V / 2.
   if (2 * faces != 4 + n_vertices) return false;
-  if (!(norm(closure) <= ClosureTolerance<Real>::value * area_sum) || !(volume > Real(0)))
-    return false;
+  if (!(norm(closure) <= SqrtEps<Real>::value * area_sum) || !(volume > Real(0))) return false;
   result.status = OverlapStatus::overlapping;
   result.volume = volume;
   result.vector_area = vector_area;

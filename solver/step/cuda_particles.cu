@@ -47,26 +47,8 @@ template <class Real>
 DeviceParticles<Real>::DeviceParticles(DeviceStepShared<Real>& shared, const StepPlan& plan)
     : shared_(shared), plan_(plan) {
   shared.count = 0;
-  const auto soa3 = [&](const std::string& name) {
-    allocate(name + ".x"), allocate(name + ".y"), allocate(name + ".z");
-  };
   // HostStep's arrays in HostStep's order (the state's arrays are matched by name and order).
-  soa3("position");
-  soa3("velocity");
-  allocate("orientation.w");
-  allocate("orientation.x");
-  allocate("orientation.y");
-  allocate("orientation.z");
-  if (plan.arrays.force) {
-    soa3("force");
-    soa3("step_start_acceleration");
-  }
-  if (plan.arrays.angular_velocity) soa3("angular_velocity");
-  if (plan.arrays.torque) {
-    soa3("torque");
-    soa3("step_start_torque");
-  }
-  if (plan.arrays.bounding_radius) allocate("bounding_radius");
+  for (const std::string& name : particle_array_names(plan.arrays)) allocate(name);
   template_ids_.resize(capacity_);
   material_ids_.resize(capacity_);
   shared.global_ids.resize(capacity_);

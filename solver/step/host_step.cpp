@@ -70,25 +70,7 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
   }
   const std::vector<ParticleState> initial = initial_particles(scene);
   count_ = static_cast<int>(initial.size());
-  const auto soa3 = [&](const std::string& name) {
-    allocate(name + ".x"), allocate(name + ".y"), allocate(name + ".z");
-  };
-  soa3("position");
-  soa3("velocity");
-  allocate("orientation.w");
-  allocate("orientation.x");
-  allocate("orientation.y");
-  allocate("orientation.z");
-  if (plan_.arrays.force) {
-    soa3("force");
-    soa3("step_start_acceleration");
-  }
-  if (plan_.arrays.angular_velocity) soa3("angular_velocity");
-  if (plan_.arrays.torque) {
-    soa3("torque");
-    soa3("step_start_torque");
-  }
-  if (plan_.arrays.bounding_radius) allocate("bounding_radius");
+  for (const std::string& name : particle_array_names(plan_.arrays)) allocate(name);
   for (auto* ids : {&template_ids_, &material_ids_}) ids->reserve(std::max(count_, 1));
   global_ids_.reserve(std::max(count_, 1));
   template_ids_.resize(count_);

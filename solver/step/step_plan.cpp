@@ -63,4 +63,26 @@ StepPlan plan_step(const Scene& scene) {
   return plan;
 }
 
+std::vector<std::string> particle_array_names(const ParticleArrayNeeds& needs) {
+  std::vector<std::string> names;
+  const auto soa3 = [&](const std::string& name) {
+    for (const char* axis : {".x", ".y", ".z"}) names.push_back(name + axis);
+  };
+  soa3("position");
+  soa3("velocity");
+  for (const char* part : {"orientation.w", "orientation.x", "orientation.y", "orientation.z"})
+    names.push_back(part);
+  if (needs.force) {
+    soa3("force");
+    soa3("step_start_acceleration");
+  }
+  if (needs.angular_velocity) soa3("angular_velocity");
+  if (needs.torque) {
+    soa3("torque");
+    soa3("step_start_torque");
+  }
+  if (needs.bounding_radius) names.push_back("bounding_radius");
+  return names;
+}
+
 }  // namespace talus

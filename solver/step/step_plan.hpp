@@ -40,6 +40,12 @@ struct ParticleArrayNeeds {
   bool bounding_radius = false;   // contacts
 };
 
+// The names of the per-particle Real arrays of a plan ("position.x", ...), in the order both
+// steps allocate them, which is the order of a StepState's arrays: the state (position,
+// velocity, orientation), then force and step_start_acceleration, angular_velocity, torque and
+// step_start_torque, bounding_radius, each as its needs say.
+std::vector<std::string> particle_array_names(const ParticleArrayNeeds& needs);
+
 struct StepPlan {
   bool gravity = false, drag = false, contacts = false, friction = false, rotation = false;
   bool walls = false;

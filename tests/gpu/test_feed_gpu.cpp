@@ -35,6 +35,7 @@
 #include "solver/step/host_step.hpp"
 #include "solver/step/production_run.hpp"
 #include "tests/step/restart_scene.hpp"  // expect_same_state
+#include "tests/support/feed_scenes.hpp"
 
 namespace talus {
 namespace {
@@ -79,28 +80,7 @@ materials:
 // balls per second for 10 ms (20, one every 100 steps) thrown down at 0.5 m/s into a box, the
 // linear model with friction and rotation; 30 ms (6000 steps), through the landing's contacts.
 std::string ball_feed_yaml() {
-  return std::string("time: {step: 5.0e-6, end: 0.03}\n") + kGlass + R"(
-templates:
-  ball: {sphere: 0.003, material: glass}
-walls:
-  - box: {min: [-0.02, -0.02, 0], max: [0.02, 0.02, 0.04], material: glass}
-particles:
-  - explicit:
-      - {template: ball, position: [0, 0, 0.0031]}
-  - feed:
-      template: ball
-      region: {box: {min: [-0.016, -0.016, 0.006], max: [0.016, 0.016, 0.03]}}
-      rate: 2000
-      start: 0
-      stop: 0.01
-      velocity: [0, 0, -0.5]
-      seed: 7
-effects:
-  gravity: [0, 0, -9.81]
-  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
-  friction: true
-  rotation: true
-)";
+  return std::string("time: {step: 5.0e-6, end: 0.03}\n") + kGlass + testing::kBallFeedScene;
 }
 
 // Two feeds into one box, polyhedra under the volume model with friction and rotation: 20 cubes

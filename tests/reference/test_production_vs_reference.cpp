@@ -20,6 +20,7 @@
 #include "solver/scene/scene_loader.hpp"
 #include "solver/step/production_run.hpp"
 #include "tests/step/step_test_util.hpp"
+#include "tests/support/feed_scenes.hpp"
 
 namespace talus::reference {
 namespace {
@@ -340,32 +341,9 @@ effects:
 // Feeder at the start of every step with their own positions: the same particles at the same
 // steps (the same count after every step, ids after the initial ball), and positions within
 // kTolerance over the whole horizon, through the wall and pair contacts of the landing.
-const char* const kFeedScene = R"(
-templates:
-  ball: {sphere: 0.003, material: glass}
-walls:
-  - box: {min: [-0.02, -0.02, 0], max: [0.02, 0.02, 0.04], material: glass}
-particles:
-  - explicit:
-      - {template: ball, position: [0, 0, 0.0031]}
-  - feed:
-      template: ball
-      region: {box: {min: [-0.016, -0.016, 0.006], max: [0.016, 0.016, 0.03]}}
-      rate: 2000
-      start: 0
-      stop: 0.01
-      velocity: [0, 0, -0.5]
-      seed: 7
-effects:
-  gravity: [0, 0, -9.81]
-  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
-  friction: true
-  rotation: true
-)";
-
 TEST(ProductionVsReference, FeedIntoABoxLinear) {
-  const Scene scene =
-      scene_from(std::string("time: {step: 5.0e-6, end: 0.03}\n") + kGlass + kFeedScene);
+  const Scene scene = scene_from(std::string("time: {step: 5.0e-6, end: 0.03}\n") + kGlass +
+                                 testing::kBallFeedScene);
   // The count after each step: the initial ball and what the feed had due at the step's start.
   {
     const Feeder feeder(scene, 0);
