@@ -55,14 +55,8 @@ TALUS_HD constexpr int overlap_capacity_for(int planes) {
 
 // Relative distance of two dual points below which they are one plane (twins): sqrt(eps).
 template <class Real>
-struct TwinTolerance;
-template <>
-struct TwinTolerance<double> {
-  static constexpr double value = 1.4901161193847656e-08;
-};
-template <>
-struct TwinTolerance<float> {
-  static constexpr float value = 3.4526698e-04f;
+struct TwinTolerance {
+  static constexpr Real value = SqrtEps<Real>::value;
 };
 
 namespace overlap_detail {
@@ -503,6 +497,25 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   return result;
 }
 
+// Steps 3-5 for the planes of `mask` (planes_from_mask), or workspace_overrun when the workspace
+// cannot hold them.
+template <class Real, class Workspace>
+TALUS_HD inline OverlapResult<Real> finish_from_mask(const ConvexView<Real>& a,
+                                                     const Pose<Real>& pose_a,
+                                                     const ConvexView<Real>& b,
+                                                     const OverlapFrame<Real>& frame,
+                                                     unsigned long long mask, Workspace& ws,
+                                                     OverlapOptions options) {
+  const int m = planes_from_mask(a, b, frame, mask, ws);
+  if (m < 0) {
+    OverlapResult<Real> result;
+    result.workspace_overrun = true;
+    result.status = OverlapStatus::degenerate;
+    return result;
+  }
+  return overlap_finish(a, pose_a, b, frame, ws, m, options);
+}
+
 }  // namespace overlap_detail
 
 template <class Real, class Workspace>
@@ -523,13 +536,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   if (culls_by_masks(a, b, options)) {
     unsigned long long kept = 0;
     if (cull_by_masks(a, b, frame, kept, result) < 0) return result;
-    const int m = planes_from_mask(a, b, frame, kept, ws);
-    if (m < 0) {
-      result.workspace_overrun = true;
-      result.status = OverlapStatus::degenerate;
-      return result;
-    }
-    return overlap_finish(a, pose_a, b, frame, ws, m, options);
+    return finish_from_mask(a, pose_a, b, frame, kept, ws, options);
   }
   int m = 0;
   for (int owner = 0; owner < 2; ++owner) {
@@ -621,13 +628,7 @@ TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
   OverlapResult<Real> result;
   OverlapFrame<Real> frame;
   if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return result;
-  const int m = planes_from_mask(a, b, frame, mask, ws);
-  if (m < 0) {
-    result.workspace_overrun = true;
-    result.status = OverlapStatus::degenerate;
-    return result;
-  }
-  return overlap_finish(a, pose_a, b, frame, ws, m, options);
+  return finish_from_mask(a, pose_a, b, frame, mask, ws, options);
 }
 
 // The vertex enumeration alone for the planes of `mask` (overlap_cull_mask), with no workspace:

@@ -8,31 +8,6 @@ namespace talus {
 
 namespace {
 
-// A ParticleView over named arrays: `array(name)` gives the array's pointer, null for one the
-// plan does not need.
-template <class Real, class Array>
-ParticleView<Real> view_over(Array&& array) {
-  const auto soa3 = [&](const std::string& name) {
-    Soa3<Real> s;
-    s.x = array(name + ".x"), s.y = array(name + ".y"), s.z = array(name + ".z");
-    return s;
-  };
-  ParticleView<Real> v;
-  v.position = soa3("position");
-  v.velocity = soa3("velocity");
-  v.orientation.w = array("orientation.w");
-  v.orientation.x = array("orientation.x");
-  v.orientation.y = array("orientation.y");
-  v.orientation.z = array("orientation.z");
-  v.force = soa3("force");
-  v.step_start_acceleration = soa3("step_start_acceleration");
-  v.angular_velocity = soa3("angular_velocity");
-  v.torque = soa3("torque");
-  v.step_start_torque = soa3("step_start_torque");
-  v.bounding_radius = array("bounding_radius");
-  return v;
-}
-
 template <class T>
 void upload_at(T* device, const std::vector<T>& host) {
   if (!host.empty()) {

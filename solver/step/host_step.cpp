@@ -110,24 +110,8 @@ void HostStep<Real>::bind_view() {
       if (entry.first == name) return entry.second.data();
     return nullptr;  // an array the plan does not need
   };
-  const auto soa3 = [&](const std::string& name) {
-    Soa3<Real> s;
-    s.x = array(name + ".x"), s.y = array(name + ".y"), s.z = array(name + ".z");
-    return s;
-  };
+  view_ = view_over<Real>(array);
   view_.count = count_;
-  view_.position = soa3("position");
-  view_.velocity = soa3("velocity");
-  view_.orientation.w = array("orientation.w");
-  view_.orientation.x = array("orientation.x");
-  view_.orientation.y = array("orientation.y");
-  view_.orientation.z = array("orientation.z");
-  view_.force = soa3("force");
-  view_.step_start_acceleration = soa3("step_start_acceleration");
-  view_.angular_velocity = soa3("angular_velocity");
-  view_.torque = soa3("torque");
-  view_.step_start_torque = soa3("step_start_torque");
-  view_.bounding_radius = array("bounding_radius");
   view_.template_id = template_ids_.data();
   view_.material_id = material_ids_.data();
   view_.global_id = global_ids_.data();
