@@ -18,22 +18,24 @@ constexpr int kLargestCapacity = 256;
 // The workspace is large (tens of kB at 256 planes), hence on the heap.
 template <int Capacity>
 OverlapResult<double> overlap_with_capacity(const ConvexView<double>& a, const Posed& pose_a,
-                                            const ConvexView<double>& b, const Posed& pose_b) {
+                                            const ConvexView<double>& b, const Posed& pose_b,
+                                            OverlapOptions options) {
   auto workspace = std::make_unique<OverlapWorkspace<double, Capacity>>();
-  return overlap_polyhedra(a, pose_a, b, pose_b, *workspace);
+  return overlap_polyhedra(a, pose_a, b, pose_b, *workspace, options);
 }
 
 OverlapResult<double> overlap(const ConvexView<double>& a, const Posed& pose_a,
-                              const ConvexView<double>& b, const Posed& pose_b) {
+                              const ConvexView<double>& b, const Posed& pose_b,
+                              OverlapOptions options = OverlapOptions()) {
   switch (overlap_capacity_for(a.n_faces + b.n_faces)) {
     case 32:
-      return overlap_with_capacity<32>(a, pose_a, b, pose_b);
+      return overlap_with_capacity<32>(a, pose_a, b, pose_b, options);
     case 64:
-      return overlap_with_capacity<64>(a, pose_a, b, pose_b);
+      return overlap_with_capacity<64>(a, pose_a, b, pose_b, options);
     case 128:
-      return overlap_with_capacity<128>(a, pose_a, b, pose_b);
+      return overlap_with_capacity<128>(a, pose_a, b, pose_b, options);
     default:
-      return overlap_with_capacity<kLargestCapacity>(a, pose_a, b, pose_b);
+      return overlap_with_capacity<kLargestCapacity>(a, pose_a, b, pose_b, options);
   }
 }
 
@@ -57,6 +59,14 @@ std::string overlap_json(const std::string& spec_a, const std::string& pose_a_te
   const ConvexView<double> a = arrays_a.view();
   const ConvexView<double> b = arrays_b.view();
   const OverlapResult<double> exact = overlap(a, pose_a, b, pose_b);
+  // The inradius is the Chebyshev LP's value, which the vertex enumeration does not compute (its
+  // depth_hint is a lower bound): the LP and the hull run again for it.
+  double chebyshev_depth = exact.depth_hint;
+  if (exact.enumerated) {
+    OverlapOptions hull_only;
+    hull_only.enumerate = false;
+    chebyshev_depth = overlap(a, pose_a, b, pose_b, hull_only).depth_hint;
+  }
   const SimpleContact<double> simple = polyhedron_polyhedron_contact(a, pose_a, b, pose_b);
   const GjkResult<double> gjk = gjk_intersect(a, pose_a, b, pose_b);
 
@@ -79,8 +89,9 @@ std::string overlap_json(const std::string& spec_a, const std::string& pose_a_te
   json.member("area", area);
   json.member("vector_area", exact.vector_area);
   json.member("point", exact.centroid);
-  json.member("chebyshev_depth", exact.depth_hint);
+  json.member("chebyshev_depth", chebyshev_depth);
   json.member("hull_points", exact.hull_points);
+  json.member("enumerated", exact.enumerated);
   json.member("workspace_overrun", exact.workspace_overrun);
   json.member("depth", simple.depth);
   json.member("simple_touching", simple.touching);

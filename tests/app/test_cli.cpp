@@ -109,6 +109,11 @@ TEST(TalusOverlap, CubesOffsetOnThreeAxesGiveBoxVolumeAndVectorArea) {
   EXPECT_NEAR(r["area"].value, area, kRelTol * area);
   expect_vec(r["normal"], s[0] / area, s[1] / area, s[2] / area, kRelTol, "normal");
   expect_vec(r["point"], d[0] / 2, d[1] / 2, d[2] / 2, kRelTol * kSide, "point");
+  // Six planes meeting three at each corner: the vertex enumeration's case; the inradius (the
+  // LP's, run again for this key) is half the box's shortest side.
+  EXPECT_EQ(r["enumerated"].kind, Json::boolean);
+  EXPECT_TRUE(r["enumerated"].flag);
+  EXPECT_NEAR(r["chebyshev_depth"].value, e[2] / 2, kRelTol * kSide);
 }
 
 // B turned 45 degrees about z with a vertical edge pushed a depth p into A's +x face: the overlap
@@ -130,6 +135,12 @@ TEST(TalusOverlap, RotatedCubeEdgeIntoFace) {
   EXPECT_NEAR(r["depth"].value, p, kRelTol * kSide);
   expect_vec(r["simple_normal"], 1, 0, 0, kRelTol, "simple_normal");
   expect_vec(r["simple_point"], kSide / 2 - p / 2, 0, 0, kRelTol * kSide, "simple_point");
+  // The z faces are twins (coplanar faces of A and B): the enumeration declines, the hull
+  // answers. The inradius is the prism's triangle's: legs p sqrt(2), hypotenuse 2p, so
+  // (2 p sqrt(2) - 2p) / 2.
+  EXPECT_EQ(r["enumerated"].kind, Json::boolean);
+  EXPECT_FALSE(r["enumerated"].flag);
+  EXPECT_NEAR(r["chebyshev_depth"].value, p * (std::sqrt(2.0) - 1), kRelTol * kSide);
 }
 
 // The same box overlap far from the world origin: talus works relative to A, so only the
