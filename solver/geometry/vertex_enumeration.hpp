@@ -24,8 +24,7 @@
 // So a separate, touching or degenerate pair always declines here: only `overlapping` is given.
 #pragma once
 
-#include "solver/geometry/convex.hpp"
-#include "solver/geometry/overlap.hpp"
+#include "solver/geometry/overlap_culling.hpp"
 
 namespace talus {
 
@@ -53,16 +52,15 @@ TALUS_HD inline bool strictly_inside(const ConvexView<Real>& body, const Mat3<Re
   return true;
 }
 
-// The fast path. Planes i < m: dot(normal[i], x) <= offset[i] inside, in the frame centred on A
-// (frame_center[0] = 0, rotations frame_rot), owner[i] 0 for A's, 1 for B's. `round_off`: the
-// absolute round-off of an offset in the frame; `origin`: A's world position. Returns true with
+// The fast path. Planes i < m: dot(normal[i], x) <= offset[i] inside, in the pair's frame
+// (centred on A), owner[i] 0 for A's, 1 for B's; `origin`: A's world position. Returns true with
 // `result` filled (status overlapping), or false (declined; `result` untouched).
 template <class Real>
 TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                                       const Mat3<Real>* frame_rot, const Vec3<Real>* frame_center,
-                                       Real round_off, const Vec3<Real>* normal, const Real* offset,
-                                       const signed char* owner, int m, const Vec3<Real>& origin,
-                                       OverlapResult<Real>& result) {
+                                       const OverlapFrame<Real>& frame, const Vec3<Real>* normal,
+                                       const Real* offset, const signed char* owner, int m,
+                                       const Vec3<Real>& origin, OverlapResult<Real>& result) {
+  const Real round_off = frame.round_off;
   if (m < 4 || m > kEnumerationPlanes) return false;
   Vec3<Real> vertex[kEnumerationVertices];
   unsigned char on[kEnumerationVertices];  // bit i: the vertex is the meet of plane i
@@ -106,8 +104,8 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
   Vec3<Real> o;
   for (int v = 0; v < n_vertices; ++v) o += vertex[v];
   o = o * (Real(1) / Real(n_vertices));
-  if (!strictly_inside(a, frame_rot[0], frame_center[0], o, round_off) ||
-      !strictly_inside(b, frame_rot[1], frame_center[1], o, round_off))
+  if (!strictly_inside(a, frame.rot[0], frame.center[0], o, round_off) ||
+      !strictly_inside(b, frame.rot[1], frame.center[1], o, round_off))
     return false;
   for (int v = 0; v < n_vertices; ++v) vertex[v] = vertex[v] - o;  // relative to o from here on
 
