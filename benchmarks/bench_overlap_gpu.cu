@@ -100,8 +100,9 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
   state.counters["pairs"] = pairs;
   state.counters["workspace_bytes"] = double(batch.workspace_bytes());
   state.counters["capacity"] = batch.workspace_capacity();
-  // The small workspace is tried only with the face test (see overlap_batch.cu); phased_sorted
-  // sizes its workspaces by the planes each pair keeps (8, 16, ... up to the capacity) instead.
+  // The small workspace is tried only with the face test (see overlap_batch_kernels.cuh);
+  // phased_sorted sizes its workspaces by the planes each pair keeps (8, 16, ... up to the
+  // capacity) instead.
   if ((kernel == OverlapBatchKernel::small_workspace ||
        kernel == OverlapBatchKernel::deferred_overflow || kernel == OverlapBatchKernel::phased) &&
       options.cull_faces) {

@@ -22,6 +22,10 @@ struct ConvexView {
   // without them the overlap skips its face-polygon culling test.
   const int* face_loop_offsets = nullptr;
   const int* face_loop_vertices = nullptr;
+  // Each merged face's corners as a bit mask (bit v: vertex v is on the loop), read by the
+  // overlap's mask culling (overlap_culling.hpp). Optional: only for templates of at most 64
+  // vertices with face loops; without it the masks are taken from the loops when needed.
+  const unsigned long long* face_corners = nullptr;
   int n_vertices = 0;
   int n_faces = 0;
   int n_edges = 0;

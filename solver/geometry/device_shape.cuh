@@ -11,6 +11,7 @@ struct DeviceShape {
   DeviceBuffer<Vec3<Real>> vertices, face_normals;
   DeviceBuffer<Real> face_offsets;
   DeviceBuffer<int> edges, edge_faces, triangles, loop_offsets, loop_vertices;
+  DeviceBuffer<unsigned long long> face_corners;
   ConvexView<Real> view;
 
   explicit DeviceShape(const ConvexView<Real>& host) {
@@ -24,6 +25,7 @@ struct DeviceShape {
       loop_offsets.upload(host.face_loop_offsets, host.n_faces + 1);
       loop_vertices.upload(host.face_loop_vertices, host.face_loop_offsets[host.n_faces]);
     }
+    if (host.face_corners) face_corners.upload(host.face_corners, host.n_faces);
     view = host;
     view.vertices = vertices.data();
     view.face_normals = face_normals.data();
@@ -33,6 +35,7 @@ struct DeviceShape {
     view.triangles = host.triangles ? triangles.data() : nullptr;
     view.face_loop_offsets = host.face_loop_offsets ? loop_offsets.data() : nullptr;
     view.face_loop_vertices = host.face_loop_offsets ? loop_vertices.data() : nullptr;
+    view.face_corners = host.face_corners ? face_corners.data() : nullptr;
   }
 };
 

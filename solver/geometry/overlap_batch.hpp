@@ -1,7 +1,8 @@
 // The overlap of many pose pairs of two templates on the GPU, one thread per pair (§2.3: "one
 // thread is assigned to deal with one contact pair"), each with its own fixed workspace sized
 // from the two templates. Host-facing: no CUDA types, so host code can include it; the
-// implementation is in overlap_batch.cu and exists only in CUDA builds (talus_cuda).
+// implementation is in overlap_batch.cu and overlap_batch_kernels.cuh and exists only in CUDA
+// builds (talus_cuda_overlap).
 #pragma once
 
 #include <cstddef>

@@ -179,11 +179,9 @@ TALUS_HD inline int pop_lowest_bit(unsigned long long& mask) {
 // their face loops: the decisions of cull_plane (the same sphere test and the same vertex
 // heights in the other body's frame: dropped, beyond or kept), with the face test read from bit
 // masks instead of a loop over the other body's planes per face. Each plane's pass over the
-// other body's vertices records which of them lie above it by more than the round-off; face f
-// of `self` lies outside `other` when some plane of `other` has every corner of f in its mask.
-// Every plane costs one pass over the other body's vertices with no early exit, so the threads
-// of a warp run the same loops (the GPU's culling kernel), and the face test, which re-posed the
-// other body's planes for every face, becomes a few AND operations.
+// other body's vertices records which of them lie above it by more than the round-off; a face of
+// the other body whose corners all lie in that mask is outside this plane's body, and so cannot
+// bound the intersection (face_outside's argument, with the roles of the two bodies swapped).
 template <class Real>
 TALUS_HD inline bool culls_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                     OverlapOptions options) {
@@ -191,71 +189,141 @@ TALUS_HD inline bool culls_by_masks(const ConvexView<Real>& a, const ConvexView<
          a.n_vertices <= 64 && b.n_vertices <= 64;
 }
 
+// Face f's corners as a bit mask over the template's vertices (ConvexView::face_corners, or from
+// the face loop).
+template <class Real>
+TALUS_HD inline unsigned long long face_corner_mask(const ConvexView<Real>& shape, int f) {
+  if (shape.face_corners) return shape.face_corners[f];
+  unsigned long long corners = 0;
+  for (int k = shape.face_loop_offsets[f]; k < shape.face_loop_offsets[f + 1]; ++k)
+    corners |= 1ull << shape.face_loop_vertices[k];
+  return corners;
+}
+
+// What one pass over a body's vertices tells of a plane (n_body, h_body) in that body's frame,
+// with d = dot(n_body, x) - h_body the height of vertex x (as plane_side computes it):
+// `above`, the mask of the vertices with d > round_off; `beyond`, every d > -round_off (a
+// separating plane: the body lies beyond it); `below`, every d < -round_off (the body lies
+// strictly inside the half-space). Rounding is monotone, so these read as plane_side's tests on
+// the least and greatest dot products.
+template <class Mask>
+struct VertexHeights {
+  Mask above;
+  bool beyond, below;
+};
+
+// Mask: an unsigned type of at least other.n_vertices bits.
+template <class Mask, class Real>
+TALUS_HD inline VertexHeights<Mask> vertex_heights(const ConvexView<Real>& other,
+                                                   const Vec3<Real>& n_body, Real h_body,
+                                                   Real round_off) {
+  Mask above = 0;
+  bool any_low = false, any_high = false;  // some d <= -round_off; some d >= -round_off
+#ifdef __CUDA_ARCH__
+#pragma unroll 4
+#endif
+  for (int v = 0; v < other.n_vertices; ++v) {
+    const Real d = dot(n_body, other.vertices[v]) - h_body;
+    if (d > round_off) above |= Mask(1) << v;
+    any_low |= !(d > -round_off);
+    any_high |= !(d < -round_off);
+  }
+  return {above, !any_low, !any_high};
+}
+
+// The least height over the other body's vertices above the plane (plane_side's `lowest`):
+// only a separating plane needs its value.
+template <class Real>
+TALUS_HD inline Real lowest_height(const ConvexView<Real>& other, const Vec3<Real>& n_body,
+                                   Real h_body) {
+  Real low = dot(n_body, other.vertices[0]);
+  for (int v = 1; v < other.n_vertices; ++v) low = min_of(low, dot(n_body, other.vertices[v]));
+  return low - h_body;
+}
+
+// The faces of `other` (bit g + first for face g) whose corners all lie in `above`: outside the
+// body whose plane gave that mask.
+template <class Real>
+TALUS_HD inline unsigned long long faces_within(const ConvexView<Real>& other,
+                                               unsigned long long above, int first) {
+  unsigned long long within = 0;
+  if (other.face_corners) {
+#ifdef __CUDA_ARCH__
+#pragma unroll 4
+#endif
+    for (int g = 0; g < other.n_faces; ++g)
+      if ((other.face_corners[g] & ~above) == 0) within |= 1ull << (first + g);
+  } else {
+    for (int g = 0; g < other.n_faces; ++g)
+      if ((face_corner_mask(other, g) & ~above) == 0) within |= 1ull << (first + g);
+  }
+  return within;
+}
+
 // Returns the number of kept planes with bit p of `kept` set for each (A's faces first, then
 // B's), or -1 when `result` is final (a separating plane: the first in that order, as
 // overlap_polyhedra's loop finds it).
+// Two passes, so that the threads of a GPU warp loop together over few planes: the bounding
+// sphere test of every plane first (cheap: most planes of a shallow contact face away from the
+// other body and drop here), then, for each plane left, in the same order, one full pass over
+// the other body's vertices (no early exit: the warp's threads run the same loop) and the face
+// test of the other body's faces against its mask. A plane dropped by the sphere or lying
+// strictly inside marks no face (its mask would be empty), as the per-face test finds.
 template <class Real>
 TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                   const OverlapFrame<Real>& frame, unsigned long long& kept,
                                   OverlapResult<Real>& result) {
   const ConvexView<Real>* body[2] = {&a, &b};
   const Real round_off = frame.round_off;
-  // above[p]: the other body's vertices more than round_off above plane p (0 when dropped).
-  unsigned long long above[64];
-  unsigned long long candidates = 0;
+  // Pass 1: the planes the other body's bounding sphere does not leave strictly inside.
+  unsigned long long cutting = 0;
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
-    const ConvexView<Real>& other = *body[1 - owner];
     const int o = 1 - owner, first = owner == 0 ? 0 : a.n_faces;
     for (int f = 0; f < self.n_faces; ++f) {
-      const int p = first + f;
-      above[p] = 0;
       Vec3<Real> n;
       Real h;
       frame_plane(self, frame, owner, f, n, h);
-      // The bounding sphere first, as cull_plane.
-      if (dot(n, frame.center[o]) - h + other.bounding_radius < -round_off) continue;
-      // The heights as plane_side computes them.
-      const Vec3<Real> n_body = frame.rot[o].transpose_times(n);
-      const Real h_body = h - dot(n, frame.center[o]);
-      Real low = dot(n_body, other.vertices[0]), high = low;
-      unsigned long long mask = low - h_body > round_off ? 1ull : 0ull;
-      for (int v = 1; v < other.n_vertices; ++v) {
-        const Real height = dot(n_body, other.vertices[v]);
-        low = min_of(low, height);
-        high = max_of(high, height);
-        if (height - h_body > round_off) mask |= 1ull << v;
-      }
-      const Real lowest = low - h_body;
-      if (lowest > -round_off) {  // the other body lies beyond: a separating plane
-        result.status = beyond_status(lowest, round_off);
-        return -1;
-      }
-      if (high - h_body < -round_off) continue;  // strictly inside: bounds nothing
-      above[p] = mask;
-      candidates |= 1ull << p;
+      if (!(dot(n, frame.center[o]) - h + body[o]->bounding_radius < -round_off))
+        cutting |= 1ull << (first + f);
     }
   }
-  // The face test (face_outside's argument) on the planes that cut the other body.
-  kept = 0;
-  int m = 0;
-  while (candidates != 0) {
-    const int p = pop_lowest_bit(candidates);
-    const int owner = p < a.n_faces ? 0 : 1;
+  // Pass 2: the vertex heights (as plane_side computes them) of each plane left.
+  unsigned long long candidates = 0, outside = 0;
+  while (cutting != 0) {
+    const int p = pop_lowest_bit(cutting);
+    const int owner = p < a.n_faces ? 0 : 1, o = 1 - owner;
     const ConvexView<Real>& self = *body[owner];
-    const int f = owner == 0 ? p : p - a.n_faces;
-    unsigned long long corners = 0;
-    for (int k = self.face_loop_offsets[f]; k < self.face_loop_offsets[f + 1]; ++k)
-      corners |= 1ull << self.face_loop_vertices[k];
-    const int other_first = owner == 0 ? a.n_faces : 0;
-    const int other_end = owner == 0 ? a.n_faces + b.n_faces : a.n_faces;
-    bool outside = false;
-    for (int q = other_first; q < other_end && !outside; ++q) outside = (corners & ~above[q]) == 0;
-    if (outside) continue;
-    kept |= 1ull << p;
-    ++m;
+    const ConvexView<Real>& other = *body[o];
+    Vec3<Real> n;
+    Real h;
+    frame_plane(self, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
+    const Vec3<Real> n_body = frame.rot[o].transpose_times(n);
+    const Real h_body = h - dot(n, frame.center[o]);
+    // 32-bit masks where the other body has at most 32 vertices: half the integer work a vertex.
+    VertexHeights<unsigned long long> heights;
+    if (other.n_vertices <= 32) {
+      const VertexHeights<unsigned> narrow =
+          vertex_heights<unsigned>(other, n_body, h_body, round_off);
+      heights = {narrow.above, narrow.beyond, narrow.below};
+    } else {
+      heights = vertex_heights<unsigned long long>(other, n_body, h_body, round_off);
+    }
+    if (heights.beyond) {  // the other body lies beyond: a separating plane
+      result.status = beyond_status(lowest_height(other, n_body, h_body), round_off);
+      return -1;
+    }
+    if (heights.below) continue;  // strictly inside: bounds nothing
+    candidates |= 1ull << p;
+    // The other body's faces with every corner above this plane lie outside self.
+    outside |= faces_within(other, heights.above, o == 0 ? 0 : a.n_faces);
   }
-  return m;
+  kept = candidates & ~outside;
+#ifdef __CUDA_ARCH__
+  return __popcll(kept);
+#else
+  return __builtin_popcountll(kept);
+#endif
 }
 
 }  // namespace overlap_detail

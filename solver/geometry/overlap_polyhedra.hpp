@@ -125,10 +125,16 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   auto& hull = ws.hull;
   Vec3<Real>* plane_normal = hull.plane_normal;
   // The fast path for a few planes (vertex_enumeration.hpp); what it declines goes on below.
-  if (options.enumerate && m <= kEnumerationPlanes &&
-      enumerate_overlap(a, b, frame, plane_normal, ws.plane_offset, ws.plane_owner, m,
-                        pose_a.position, result))
-    return result;
+  if (options.enumerate && m <= kEnumerationPlanes) {
+    EnumerationPlane<Real> planes[kEnumerationPlanes];
+    unsigned b_planes = 0;
+    for (int i = 0; i < m; ++i) {
+      planes[i] = {plane_normal[i], ws.plane_offset[i]};
+      if (ws.plane_owner[i] != 0) b_planes |= 1u << i;
+    }
+    if (enumerate_overlap(a, b, frame, planes, b_planes, m, pose_a.position, result))
+      return result;
+  }
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
   const Vec3<Real> start = center[1] * (a.bounding_radius / radius_sum);
@@ -398,19 +404,18 @@ TALUS_HD inline bool overlap_enumerate_from_mask(const ConvexView<Real>& a,
   OverlapFrame<Real> frame;
   OverlapResult<Real> scratch;
   if (!overlap_frame(a, pose_a, b, pose_b, frame, scratch)) return false;
-  Vec3<Real> normal[kEnumerationPlanes];
-  Real offset[kEnumerationPlanes];
-  signed char owner[kEnumerationPlanes];
+  EnumerationPlane<Real> planes[kEnumerationPlanes];
+  unsigned b_planes = 0;
   int m = 0;
   while (mask != 0) {
     const int p = pop_lowest_bit(mask);
     if (m == kEnumerationPlanes) return false;
     const int o = p < a.n_faces ? 0 : 1;
-    frame_plane(o == 0 ? a : b, frame, o, o == 0 ? p : p - a.n_faces, normal[m], offset[m]);
-    owner[m] = static_cast<signed char>(o);
+    frame_plane(o == 0 ? a : b, frame, o, o == 0 ? p : p - a.n_faces, planes[m].n, planes[m].h);
+    if (o != 0) b_planes |= 1u << m;
     ++m;
   }
-  return enumerate_overlap(a, b, frame, normal, offset, owner, m, pose_a.position, result);
+  return enumerate_overlap(a, b, frame, planes, b_planes, m, pose_a.position, result);
 }
 
 }  // namespace talus

@@ -52,14 +52,23 @@ TALUS_HD inline bool strictly_inside(const ConvexView<Real>& body, const Mat3<Re
   return true;
 }
 
-// The fast path. Planes i < m: dot(normal[i], x) <= offset[i] inside, in the pair's frame
-// (centred on A), owner[i] 0 for A's, 1 for B's; `origin`: A's world position. Returns true with
-// `result` filled (status overlapping), or false (declined; `result` untouched).
+// A kept plane: dot(n, x) <= h inside, in the pair's frame. Four reals aligned to two, so that a
+// GPU thread reads one in two 16-byte loads.
+template <class Real>
+struct alignas(2 * sizeof(Real)) EnumerationPlane {
+  Vec3<Real> n;
+  Real h;
+};
+
+// The fast path. Planes i < m (in the pair's frame, centred on A), bit i of `b_planes` set when
+// plane i is B's; `origin`: A's world position. Returns true with `result` filled (status
+// overlapping), or false (declined; `result` untouched).
 template <class Real>
 TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                                       const OverlapFrame<Real>& frame, const Vec3<Real>* normal,
-                                       const Real* offset, const signed char* owner, int m,
-                                       const Vec3<Real>& origin, OverlapResult<Real>& result) {
+                                       const OverlapFrame<Real>& frame,
+                                       const EnumerationPlane<Real>* plane, unsigned b_planes,
+                                       int m, const Vec3<Real>& origin,
+                                       OverlapResult<Real>& result) {
   const Real round_off = frame.round_off;
   if (m < 4 || m > kEnumerationPlanes) return false;
   Vec3<Real> vertex[kEnumerationVertices];
@@ -71,29 +80,35 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
   const Real reach2 = reach * reach;
   for (int i = 0; i + 2 < m; ++i) {
     for (int j = i + 1; j + 1 < m; ++j) {
-      const Vec3<Real> c_ij = cross(normal[i], normal[j]);
+      const Vec3<Real> c_ij = cross(plane[i].n, plane[j].n);
       for (int k = j + 1; k < m; ++k) {
-        const Real det = dot(c_ij, normal[k]);  // det(n_i, n_j, n_k)
+        const Real det = dot(c_ij, plane[k].n);  // det(n_i, n_j, n_k)
         if (det == Real(0)) continue;           // parallel: no single meeting point
-        // Cramer: v = (h_i n_j x n_k + h_j n_k x n_i + h_k n_i x n_j) / det.
-        const Vec3<Real> v = (cross(normal[j], normal[k]) * offset[i] +
-                              cross(normal[k], normal[i]) * offset[j] + c_ij * offset[k]) *
-                             (Real(1) / det);
-        if (!(dot(v, v) <= reach2)) continue;
-        // The offsets carry round_off; Cramer's rule amplifies it by up to ~1 / |det| in v.
-        const Real tolerance = round_off * (Real(1) + Real(4) / abs_of(det));
+        // Cramer: v = w / det with w = h_i n_j x n_k + h_j n_k x n_i + h_k n_i x n_j. The tests
+        // below run on w, scaled by |det|, so that only the vertices kept (fewer than half of
+        // the triples) pay for a division.
+        const Vec3<Real> w = cross(plane[j].n, plane[k].n) * plane[i].h +
+                             cross(plane[k].n, plane[i].n) * plane[j].h + c_ij * plane[k].h;
+        const Real det2 = det * det;
+        if (!(dot(w, w) <= reach2 * det2)) continue;
+        // The offsets carry round_off; Cramer's rule amplifies it by up to ~1 / |det| in v: the
+        // tolerance of a slack is round_off (1 + 4 / |det|), here times |det|.
+        const Real abs_det = abs_of(det);
+        const Real tolerance = round_off * (abs_det + Real(4));
         bool outside = false, ambiguous = false;
         for (int l = 0; l < m && !outside; ++l) {
           if (l == i || l == j || l == k) continue;
-          const Real slack = offset[l] - dot(normal[l], v);
-          if (slack < -tolerance)
+          // |det| (offset_l - dot(n_l, v)), the slack of plane l at the vertex times |det|.
+          const Real slack = plane[l].h * det - dot(plane[l].n, w);
+          const Real scaled = det > Real(0) ? slack : -slack;
+          if (scaled < -tolerance)
             outside = true;
-          else if (!(slack > tolerance))
+          else if (!(scaled > tolerance))
             ambiguous = true;  // a fourth plane through the vertex, within round-off
         }
         if (outside) continue;
         if (ambiguous || n_vertices == kEnumerationVertices) return false;
-        vertex[n_vertices] = v;
+        vertex[n_vertices] = w * (Real(1) / det);
         on[n_vertices] = static_cast<unsigned char>((1u << i) | (1u << j) | (1u << k));
         ++n_vertices;
       }
@@ -126,7 +141,7 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
     if (corners == 0) continue;                         // a plane that bounds nothing
     if (corners < 3) return false;                      // not a polygon: a degenerate face
     q = q * (Real(1) / Real(corners));                  // inside the convex polygon
-    const Real height = offset[f] - dot(normal[f], o);  // o's distance from the plane
+    const Real height = plane[f].h - dot(plane[f].n, o);  // o's distance from the plane
     if (!(height > round_off)) return false;
     // Each corner has exactly two neighbours on the face: the corners sharing one more plane.
     Real area = 0;
@@ -141,7 +156,7 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
         if (t < s) continue;  // each edge once
         // The fan triangle (q, u, w), lying in the plane: its area along the normal.
         const Real triangle =
-            abs_of(dot(cross(vertex[u] - q, vertex[w] - q), normal[f])) * Real(0.5);
+            abs_of(dot(cross(vertex[u] - q, vertex[w] - q), plane[f].n)) * Real(0.5);
         area += triangle;
         face_moment += (q + vertex[u] + vertex[w]) * triangle;
       }
@@ -152,8 +167,8 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
     const Real cone = area * height * (Real(1) / Real(3));
     volume += cone;
     moment += face_moment * (height * (Real(1) / Real(12)));
-    const Vec3<Real> face_area = normal[f] * area;
-    if (owner[f] == 0) vector_area += face_area;
+    const Vec3<Real> face_area = plane[f].n * area;
+    if (!(b_planes & bit)) vector_area += face_area;
     closure += face_area;
     area_sum += area;
     least_height = faces == 0 ? height : min_of(least_height, height);

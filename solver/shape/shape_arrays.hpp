@@ -18,6 +18,7 @@ struct ShapeArrays {
   std::vector<int> edges, triangles;                       // 2 and 3 vertex indices each, flattened
   std::vector<int> face_loop_offsets, face_loop_vertices;  // compressed rows, see ConvexView
   std::vector<int> edge_faces;  // 2 faces per edge, see ConvexView; empty if the loops disagree
+  std::vector<unsigned long long> face_corners;  // see ConvexView; empty above 64 vertices
   Real bounding_radius = 0, volume = 0;
 
   explicit ShapeArrays(const ShapeTemplate& shape)
@@ -44,6 +45,13 @@ struct ShapeArrays {
     for (const Face& face : shape.faces) {
       face_loop_vertices.insert(face_loop_vertices.end(), face.loop.begin(), face.loop.end());
       face_loop_offsets.push_back(int(face_loop_vertices.size()));
+    }
+    if (vertices.size() <= 64) {
+      for (const Face& face : shape.faces) {
+        unsigned long long corners = 0;
+        for (int v : face.loop) corners |= 1ull << v;
+        face_corners.push_back(corners);
+      }
     }
     for (const auto& e : shape.edges) edges.insert(edges.end(), {e[0], e[1]});
     fill_edge_faces(shape);
@@ -90,6 +98,7 @@ struct ShapeArrays {
     view.triangles = triangles.data();
     view.face_loop_offsets = face_loop_offsets.data();
     view.face_loop_vertices = face_loop_vertices.data();
+    view.face_corners = face_corners.empty() ? nullptr : face_corners.data();
     view.n_vertices = int(vertices.size());
     view.n_faces = int(face_normals.size());
     view.n_edges = int(edges.size() / 2);

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "solver/geometry/overlap_polyhedra.hpp"
@@ -29,6 +30,19 @@ inline std::vector<std::string> builtin_specs() {
   return {"tetrahedron:0.012",     "cube:0.01",         "cuboid:0.004,0.006,0.009",
           "octahedron:0.011",      "dodecahedron:0.01", "icosahedron:0.009",
           "cylinder:0.008,0.0053", "corn:0.01",         "mineral:0.01"};
+}
+
+// The template's view, and a pose, in precision Real.
+template <class Real>
+ConvexView<Real> view_of(const TestShape& s) {
+  if constexpr (std::is_same_v<Real, float>)
+    return s.view_f();
+  else
+    return s.view();
+}
+template <class Real>
+Pose<Real> pose_of(const Posed& p) {
+  return {Vec3<Real>(p.position), Quat<Real>(p.orientation)};
 }
 
 template <class Real>

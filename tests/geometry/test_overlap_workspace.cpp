@@ -15,7 +15,9 @@
 namespace talus {
 namespace {
 
+using testing::pose_of;
 using testing::TestShape;
+using testing::view_of;
 
 template <class Real>
 void expect_same_bits(const OverlapResult<Real>& a, const OverlapResult<Real>& b,
@@ -111,21 +113,6 @@ void check_capacity(const ConvexView<Real>& a, const Pose<Real>& pa, const Conve
   // A workspace of m planes holds the hull of m dual points (2m - 4 faces): no overrun.
   EXPECT_FALSE(r.workspace_overrun) << "capacity " << Cap << ", " << m << " planes";
   expect_same_bits(r, full, "overlap_from_mask against overlap_polyhedra");
-}
-
-template <class Real>
-ConvexView<Real> view_of(const TestShape& s);
-template <>
-ConvexView<double> view_of<double>(const TestShape& s) {
-  return s.view();
-}
-template <>
-ConvexView<float> view_of<float>(const TestShape& s) {
-  return s.view_f();
-}
-template <class Real>
-Pose<Real> pose_of(const Posed& p) {
-  return {Vec3<Real>(p.position), Quat<Real>(p.orientation)};
 }
 
 template <class Real>

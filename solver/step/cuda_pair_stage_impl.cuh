@@ -1,5 +1,9 @@
 // The CUDA step's pair contacts (cuda_pair_stage.cuh): the kernels over the list's slots and
-// their launches.
+// their launches, compiled once per precision in a generated file of its own
+// (solver/CMakeLists.txt: `template class DevicePairStage<float>` and `<double>` side by side in
+// a parallel build). Included only from those files.
+#pragma once
+
 #include "solver/step/cuda_pair_stage.cuh"
 
 #include <cub/cub.cuh>
@@ -410,8 +414,5 @@ std::size_t DevicePairStage<Real>::bytes() const {
              sizeof(int) +
          masks_.size() * sizeof(unsigned long long) + keys_.size() + sorted_keys_.size();
 }
-
-template class DevicePairStage<double>;
-template class DevicePairStage<float>;
 
 }  // namespace talus

@@ -1,0 +1,520 @@
+// The overlap batch's kernels and their launches (overlap_batch.hpp), shared by the files that
+// compile them: overlap_batch.cu (the class, no kernel of its own) and one generated file per
+// precision and workspace capacity (solver/CMakeLists.txt), each instantiating
+// launch_overlap_batch for its pair, so that a parallel build compiles them side by side (one file
+// held every kernel and took 4.5 minutes alone). Included only from .cu files.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <cub/cub.cuh>
+
+#include "solver/core/device_buffer.hpp"
+#include "solver/geometry/device_shape.cuh"
+#include "solver/geometry/overlap_batch.hpp"
+#include "solver/geometry/overlap_polyhedra.hpp"
+
+namespace talus {
+
+namespace overlap_batch_detail {
+
+// Where a template's arrays sit in the block's shared memory (byte offsets; -1: not staged). Only
+// what the overlap reads is staged: vertices, face planes, face loops and face corner masks.
+// The phased kernel keeps a pair's planes as the bits of a 64-bit mask.
+constexpr int kMaxPhasedPlanes = 64;
+
+struct SharedShapeLayout {
+  int vertices = -1, face_normals = -1, face_offsets = -1, loop_offsets = -1, loop_vertices = -1,
+      face_corners = -1;
+  int loop_entries = 0;
+  int bytes = 0;
+};
+
+template <class Real>
+SharedShapeLayout shared_layout_for(const ConvexView<Real>& shape, int begin) {
+  SharedShapeLayout layout;
+  int at = begin;
+  auto take = [&at](int bytes) {
+    const int offset = at;
+    at += (bytes + 15) / 16 * 16;
+    return offset;
+  };
+  layout.vertices = take(shape.n_vertices * int(sizeof(Vec3<Real>)));
+  layout.face_normals = take(shape.n_faces * int(sizeof(Vec3<Real>)));
+  layout.face_offsets = take(shape.n_faces * int(sizeof(Real)));
+  if (shape.face_loop_offsets) {
+    layout.loop_offsets = take((shape.n_faces + 1) * int(sizeof(int)));
+    layout.loop_entries = shape.face_loop_offsets[shape.n_faces];
+    layout.loop_vertices = take(layout.loop_entries * int(sizeof(int)));
+  }
+  if (shape.face_corners)
+    layout.face_corners = take(shape.n_faces * int(sizeof(unsigned long long)));
+  layout.bytes = at - begin;
+  return layout;
+}
+
+struct KernelArgs {
+  int count;
+  OverlapOptions options;
+  SharedShapeLayout layout_a, layout_b;  // used when the templates are staged
+  // The pairs to compute: order[0..count) when given, else 0..count.
+  const int* order = nullptr;
+  // Deferred pairs (a workspace too small): appended here, computed by a later launch.
+  int* overflow = nullptr;
+  int* overflow_count = nullptr;
+};
+
+// The smaller workspace of the small_workspace kernel: 3/8 of the full one (12 planes for two
+// dodecahedra). Culling leaves few planes on shallow contacts: of 4096 shallow pairs of the
+// benchmark, no dodecahedron pair kept more than 10 planes and no cylinder80 pair more than 16.
+// A pair with more computes again with the full workspace; since its warp then waits for it,
+// the small capacity is chosen so that this stays rare.
+constexpr int small_capacity_for(int capacity) {
+  return 3 * capacity / 8;
+}
+
+// Shared memory a block may take for the staged templates without an opt-in.
+constexpr int kSharedTemplateLimit = 48 * 1024;
+
+// Threads per block of every batch kernel.
+constexpr int kBatchBlock = 128;
+// Blocks per SM that the culling and the enumeration kernels are compiled for (at most 96 and
+// 128 registers a thread). Without the caps they took 102 and 196 registers (the enumeration
+// then shared its kernel with the hull), which left 4 and 2 warps per scheduler, and both were
+// latency-bound (Nsight Compute on the H100, 2^20 shallow dodecahedron pairs: issue slots 64%
+// and 26% busy). Tried on the whole batch (2^22 pairs): enumeration 4, 5, 6 blocks: 7.48,
+// 7.95, 9.51 ms (spills); culling 4, 5, 6 blocks: 7.63, 7.48, 7.57 ms.
+constexpr int kCullBlocks = 5;
+constexpr int kEnumerateBlocks = 4;
+
+}  // namespace overlap_batch_detail
+
+namespace {
+
+using namespace overlap_batch_detail;
+
+template <class T>
+__device__ void copy_to_shared(T* to, const T* from, int count) {
+  for (int k = threadIdx.x; k < count; k += blockDim.x) to[k] = from[k];
+}
+
+// Copies the overlap's arrays of `shape` (device global memory) into shared memory and returns
+// the view of the copies. Every thread of the block must call it; __syncthreads follows.
+template <class Real>
+__device__ ConvexView<Real> stage_shape(const ConvexView<Real>& shape, char* shared,
+                                        const SharedShapeLayout& layout) {
+  ConvexView<Real> view = shape;
+  auto* vertices = reinterpret_cast<Vec3<Real>*>(shared + layout.vertices);
+  auto* normals = reinterpret_cast<Vec3<Real>*>(shared + layout.face_normals);
+  auto* offsets = reinterpret_cast<Real*>(shared + layout.face_offsets);
+  copy_to_shared(vertices, shape.vertices, shape.n_vertices);
+  copy_to_shared(normals, shape.face_normals, shape.n_faces);
+  copy_to_shared(offsets, shape.face_offsets, shape.n_faces);
+  view.vertices = vertices;
+  view.face_normals = normals;
+  view.face_offsets = offsets;
+  if (layout.loop_offsets >= 0) {
+    auto* loop_offsets = reinterpret_cast<int*>(shared + layout.loop_offsets);
+    auto* loop_vertices = reinterpret_cast<int*>(shared + layout.loop_vertices);
+    copy_to_shared(loop_offsets, shape.face_loop_offsets, shape.n_faces + 1);
+    copy_to_shared(loop_vertices, shape.face_loop_vertices, layout.loop_entries);
+    view.face_loop_offsets = loop_offsets;
+    view.face_loop_vertices = loop_vertices;
+  }
+  if (layout.face_corners >= 0) {
+    auto* corners = reinterpret_cast<unsigned long long*>(shared + layout.face_corners);
+    copy_to_shared(corners, shape.face_corners, shape.n_faces);
+    view.face_corners = corners;
+  }
+  return view;
+}
+
+template <class Real, bool Staged>
+__device__ void stage_both(ConvexView<Real>& a, ConvexView<Real>& b, const KernelArgs& args) {
+  extern __shared__ __align__(16) char shared[];
+  if (Staged) {
+    a = stage_shape(a, shared, args.layout_a);
+    b = stage_shape(b, shared, args.layout_b);
+    __syncthreads();
+  }
+}
+
+__device__ void defer_pair(const KernelArgs& args, int i) {
+  args.overflow[atomicAdd(args.overflow_count, 1)] = i;
+}
+
+// One thread per pair. Staged: the templates are first copied into shared memory, where every
+// thread reads them without competing with the workspaces for the L1 cache. Small > 0: the pair
+// is first computed with a workspace of Small planes; when more planes than Small survive the
+// culling (the culling does not depend on the capacity) it is computed again with Capacity
+// planes, in the same thread, or (Defer) by a second launch over the deferred pairs, so that
+// this kernel holds one copy of the overlap.
+template <class Real, int Capacity, int Small, bool Staged, bool Defer>
+__global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                               const Vec3<Real>* __restrict__ position_a,
+                               const Quat<Real>* __restrict__ orientation_a,
+                               const Vec3<Real>* __restrict__ position_b,
+                               const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                               OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, Staged>(a, b, args);
+  int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= args.count) return;
+  if (args.order) i = args.order[i];
+  const Pose<Real> pose_a{position_a[i], orientation_a[i]};
+  const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+  if constexpr (Small > 0) {
+    OverlapWorkspace<Real, Small> small;  // per-thread local memory
+    const OverlapResult<Real> result = overlap_polyhedra(a, pose_a, b, pose_b, small, args.options);
+    if (!result.workspace_overrun) {
+      out[i] = result;
+      return;
+    }
+    if constexpr (Defer) {
+      defer_pair(args, i);
+      return;
+    }
+  }
+  if constexpr (!Defer || Small == 0) {
+    OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+    out[i] = overlap_polyhedra(a, pose_a, b, pose_b, workspace, args.options);
+  }
+}
+
+// Phase 1 of the phased kernel: the culling alone (overlap_cull_mask), one thread per pair. A
+// pair decided here (bounding spheres apart, a separating plane) has its result written and key
+// 0; the others keep their mask of kept planes and key m + 1 (m kept planes). `histogram`
+// counts the keys (one atomic per block and key).
+template <class Real, bool Staged>
+__global__ void __launch_bounds__(kBatchBlock, kCullBlocks) cull_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                            const Vec3<Real>* __restrict__ position_a,
+                            const Quat<Real>* __restrict__ orientation_a,
+                            const Vec3<Real>* __restrict__ position_b,
+                            const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                            unsigned long long* __restrict__ masks,
+                            unsigned char* __restrict__ keys, int* __restrict__ order,
+                            int* __restrict__ histogram, OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, Staged>(a, b, args);
+  __shared__ int block_histogram[kMaxPhasedPlanes + 2];
+  const int bins = a.n_faces + b.n_faces + 2;
+  for (int k = threadIdx.x; k < bins; k += blockDim.x) block_histogram[k] = 0;
+  __syncthreads();
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < args.count) {
+    const Pose<Real> pose_a{position_a[i], orientation_a[i]};
+    const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+    OverlapResult<Real> result;
+    unsigned long long mask = 0;
+    const int kept = overlap_cull_mask(a, pose_a, b, pose_b, args.options, mask, result);
+    if (kept < 0) out[i] = result;
+    masks[i] = mask;
+    keys[i] = static_cast<unsigned char>(kept + 1);
+    order[i] = i;
+    atomicAdd(&block_histogram[kept + 1], 1);
+  }
+  __syncthreads();
+  for (int k = threadIdx.x; k < bins; k += blockDim.x)
+    if (block_histogram[k] > 0) atomicAdd(&histogram[k], block_histogram[k]);
+}
+
+// Phase 2 of the phased kernel: steps 3-5 (overlap_from_mask) of the pairs order[begin..end)
+// with a workspace of Capacity planes; a pair it cannot hold is deferred. With `keys`, pairs of
+// key 0 (decided by the culling) are skipped.
+template <class Real, int Capacity, bool Staged>
+__global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                                const Vec3<Real>* __restrict__ position_a,
+                                const Quat<Real>* __restrict__ orientation_a,
+                                const Vec3<Real>* __restrict__ position_b,
+                                const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                                int begin, const unsigned long long* __restrict__ masks,
+                                const unsigned char* __restrict__ keys,
+                                OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, Staged>(a, b, args);
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= args.count) return;
+  const int i = args.order ? args.order[begin + j] : begin + j;
+  if (keys && keys[i] == 0) return;
+  const Pose<Real> pose_a{position_a[i], orientation_a[i]};
+  const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+  OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+  const OverlapResult<Real> result =
+      overlap_from_mask(a, pose_a, b, pose_b, masks[i], workspace, args.options);
+  if (result.workspace_overrun && args.overflow) {
+    defer_pair(args, i);
+    return;
+  }
+  out[i] = result;
+}
+
+// Phase 2 for the pairs of at most kEnumerationPlanes kept planes, order[begin..begin + count):
+// the vertex enumeration alone (overlap_enumerate_from_mask), with no workspace, in a kernel of
+// its own so that its registers are not those of the hull; what it declines is deferred to the
+// launch that runs the whole overlap (which declines there too and builds the hull).
+template <class Real>
+__global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks)
+    enumerate_kernel(ConvexView<Real> a, ConvexView<Real> b,
+                     const Vec3<Real>* __restrict__ position_a,
+                     const Quat<Real>* __restrict__ orientation_a,
+                     const Vec3<Real>* __restrict__ position_b,
+                     const Quat<Real>* __restrict__ orientation_b, KernelArgs args, int begin,
+                     const unsigned long long* __restrict__ masks,
+                     OverlapResult<Real>* __restrict__ out) {
+  stage_both<Real, true>(a, b, args);
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= args.count) return;
+  const int i = args.order[begin + j];
+  const Pose<Real> pose_a{position_a[i], orientation_a[i]};
+  const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+  OverlapResult<Real> result;
+  if (overlap_enumerate_from_mask(a, pose_a, b, pose_b, masks[i], result))
+    out[i] = result;
+  else
+    defer_pair(args, i);
+}
+
+}  // namespace
+
+namespace overlap_batch_detail {
+
+// The batch's device arrays and its launches. The launches are templates, instantiated only by
+// launch_overlap_batch's files.
+template <class Real>
+struct OverlapBatchImpl {
+  DeviceShape<Real> a, b;
+  DeviceBuffer<Vec3<Real>> position_a, position_b;
+  DeviceBuffer<Quat<Real>> orientation_a, orientation_b;
+  DeviceBuffer<OverlapResult<Real>> results;
+  int capacity;
+  SharedShapeLayout layout_a, layout_b;
+
+  OverlapBatchImpl(const ConvexView<Real>& host_a, const ConvexView<Real>& host_b)
+      : a(host_a), b(host_b), capacity(overlap_capacity_for(host_a.n_faces + host_b.n_faces)) {
+    if (host_a.n_faces + host_b.n_faces > 256)
+      throw std::invalid_argument("overlap batch: the two templates have " +
+                                  std::to_string(host_a.n_faces + host_b.n_faces) +
+                                  " faces together; at most 256 are supported");
+    layout_a = shared_layout_for(host_a, 0);
+    layout_b = shared_layout_for(host_b, layout_a.bytes);
+    TALUS_CUDA_CHECK(cudaStreamCreateWithFlags(&side_stream, cudaStreamNonBlocking));
+    TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&fork, cudaEventDisableTiming));
+    TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&join, cudaEventDisableTiming));
+  }
+  ~OverlapBatchImpl() {
+    cudaEventDestroy(join);
+    cudaEventDestroy(fork);
+    cudaStreamDestroy(side_stream);
+  }
+  OverlapBatchImpl(const OverlapBatchImpl&) = delete;
+  OverlapBatchImpl& operator=(const OverlapBatchImpl&) = delete;
+
+  // The launches go to `stream`: the legacy default stream, or side_stream while the buckets of
+  // many planes run beside the enumeration's (launch_phased); fork and join order the two.
+  cudaStream_t stream = nullptr;
+  cudaStream_t side_stream = nullptr;
+  cudaEvent_t fork = nullptr, join = nullptr;
+
+  bool can_stage() const { return layout_a.bytes + layout_b.bytes <= kSharedTemplateLimit; }
+
+  // Scratch of the deferred and phased kernels, sized on first use.
+  DeviceBuffer<unsigned long long> masks;
+  DeviceBuffer<unsigned char> keys, keys_sorted;
+  DeviceBuffer<int> order, order_sorted, overflow;
+  DeviceBuffer<int> counters;  // [0]: deferred pairs; [1 + k]: pairs of key k (cull_kernel)
+  DeviceBuffer<char> cub_temp;
+
+  int planes() const { return a.view.n_faces + b.view.n_faces; }
+  int count() const { return static_cast<int>(results.size()); }
+  std::size_t shared_bytes(bool staged) const {
+    return staged ? std::size_t(layout_a.bytes + layout_b.bytes) : 0;
+  }
+  KernelArgs args_for(int pairs, OverlapOptions options) const {
+    KernelArgs args;
+    args.count = pairs;
+    args.options = options;
+    args.layout_a = layout_a;
+    args.layout_b = layout_b;
+    return args;
+  }
+
+  // Launches `kernel` (any of the kernels above) over args.count threads.
+  template <class... Params, class... Extra>
+  void launch_over(void (*kernel)(ConvexView<Real>, ConvexView<Real>, const Vec3<Real>*,
+                                  const Quat<Real>*, const Vec3<Real>*, const Quat<Real>*,
+                                  KernelArgs, Params...),
+                   bool staged, const KernelArgs& args, Extra... extra) {
+    if (args.count <= 0) return;
+    const int block = kBatchBlock;
+    const int grid = (args.count + block - 1) / block;
+    kernel<<<grid, block, shared_bytes(staged), stream>>>(a.view, b.view, position_a.data(),
+                                                          orientation_a.data(), position_b.data(),
+                                                          orientation_b.data(), args, extra...);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+
+  template <int Capacity, int Small, bool Staged>
+  void launch(OverlapOptions options) {
+    launch_over(overlap_kernel<Real, Capacity, Small, Staged, false>, Staged,
+                args_for(count(), options), results.data());
+  }
+
+  void ensure_scratch() {
+    const std::size_t n = results.size();
+    if (order.size() != n) {
+      masks.resize(n);
+      keys.resize(n);
+      keys_sorted.resize(n);
+      order.resize(n);
+      order_sorted.resize(n);
+      overflow.resize(n);
+    }
+    counters.resize(kMaxPhasedPlanes + 3);
+    TALUS_CUDA_CHECK(cudaMemset(counters.data(), 0, counters.size() * sizeof(int)));
+  }
+
+  int deferred_count() const {
+    int deferred = 0;
+    TALUS_CUDA_CHECK(cudaMemcpy(&deferred, counters.data(), sizeof(int), cudaMemcpyDeviceToHost));
+    return deferred;
+  }
+
+  // The pairs deferred by the launches before, computed with the full workspace.
+  template <int Capacity>
+  void launch_deferred(OverlapOptions options) {
+    KernelArgs args = args_for(deferred_count(), options);
+    args.order = overflow.data();
+    launch_over(overlap_kernel<Real, Capacity, 0, true, false>, true, args, results.data());
+  }
+
+  // deferred_overflow: the small workspace, and the pairs it cannot hold in a second launch.
+  template <int Capacity>
+  void launch_split(OverlapOptions options) {
+    ensure_scratch();
+    KernelArgs args = args_for(count(), options);
+    args.overflow = overflow.data();
+    args.overflow_count = counters.data();
+    launch_over(overlap_kernel<Real, Capacity, small_capacity_for(Capacity), true, true>, true,
+                args, results.data());
+    launch_deferred<Capacity>(options);
+  }
+
+  // Phase 2 of phased_sorted: one launch per workspace size Cap = 8, 16, ..., Capacity over the
+  // sorted pairs whose kept planes fit it and not the size before, from Cap = First on; the
+  // bucket of 8 runs the vertex enumeration alone when the options ask for it.
+  template <int Cap, int Capacity>
+  void launch_buckets(OverlapOptions options, const std::vector<int>& histogram, int begin,
+                      int below, bool all) {
+    int end = begin;
+    for (int m = below + 1; m <= Cap && m + 1 < int(histogram.size()); ++m) end += histogram[m + 1];
+    KernelArgs args = args_for(end - begin, options);
+    args.order = order_sorted.data();
+    args.overflow = overflow.data();
+    args.overflow_count = counters.data();
+    if (Cap == kEnumerationPlanes && options.enumerate) {
+      launch_over(enumerate_kernel<Real>, true, args, begin, masks.data(), results.data());
+    } else
+      launch_over(polytope_kernel<Real, Cap, true>, true, args, begin, masks.data(),
+                  static_cast<const unsigned char*>(nullptr), results.data());
+    if constexpr (Cap < Capacity)
+      if (all) launch_buckets<Cap * 2, Capacity>(options, histogram, end, Cap, true);
+  }
+
+  template <int Capacity>
+  void launch_phased(OverlapOptions options, bool sorted) {
+    ensure_scratch();
+    const int n = count();
+    launch_over(cull_kernel<Real, true>, true, args_for(n, options), masks.data(), keys.data(),
+                order.data(), counters.data() + 1, results.data());
+    if (!sorted) {
+      KernelArgs args = args_for(n, options);
+      args.overflow = overflow.data();
+      args.overflow_count = counters.data();
+      constexpr int small = small_capacity_for(Capacity);
+      launch_over(polytope_kernel<Real, small, true>, true, args, 0, masks.data(),
+                  static_cast<const unsigned char*>(keys.data()), results.data());
+    } else {
+      std::vector<int> histogram(planes() + 2);
+      TALUS_CUDA_CHECK(cudaMemcpy(histogram.data(), counters.data() + 1,
+                                  histogram.size() * sizeof(int), cudaMemcpyDeviceToHost));
+      int end_bit = 1;
+      while ((1 << end_bit) < planes() + 2) ++end_bit;
+      std::size_t temp_bytes = 0;
+      TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temp_bytes, keys.data(),
+                                                       keys_sorted.data(), order.data(),
+                                                       order_sorted.data(), n, 0, end_bit));
+      if (cub_temp.size() < temp_bytes) cub_temp.resize(temp_bytes);
+      TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(cub_temp.data(), temp_bytes, keys.data(),
+                                                       keys_sorted.data(), order.data(),
+                                                       order_sorted.data(), n, 0, end_bit));
+      // Key 0 (decided by the culling) sorts first and is skipped. The buckets of more than 8
+      // planes are few pairs whose threads run long (the hull): they go first, on the side
+      // stream, so that the enumeration's many blocks fill the GPU around them.
+      int first_large = histogram[0];
+      for (int m = 0; m <= kEnumerationPlanes && m + 1 < int(histogram.size()); ++m)
+        first_large += histogram[m + 1];
+      if constexpr (Capacity > kEnumerationPlanes) {
+        TALUS_CUDA_CHECK(cudaEventRecord(fork, stream));
+        TALUS_CUDA_CHECK(cudaStreamWaitEvent(side_stream, fork, 0));
+        std::swap(stream, side_stream);
+        launch_buckets<2 * kEnumerationPlanes, Capacity>(options, histogram, first_large,
+                                                         kEnumerationPlanes, true);
+        std::swap(stream, side_stream);
+        TALUS_CUDA_CHECK(cudaEventRecord(join, side_stream));
+      }
+      launch_buckets<kEnumerationPlanes, Capacity>(options, histogram, histogram[0], -1, false);
+      if constexpr (Capacity > kEnumerationPlanes)
+        TALUS_CUDA_CHECK(cudaStreamWaitEvent(stream, join, 0));
+    }
+    launch_deferred<Capacity>(options);
+  }
+
+  // The small workspace pays only when culling leaves few planes: with the face test. Without
+  // it (planes, naive) many shallow pairs keep more planes than it holds, and the warp of each
+  // such pair would wait for its second computation, so the full workspace is used at once.
+  // The phased kernels need staged templates and at most 64 planes in all (a 64-bit mask).
+  template <int Capacity>
+  void launch_kernel(OverlapOptions options, OverlapBatchKernel kernel) {
+    const bool faces = options.cull_planes && options.cull_faces;
+    if constexpr (Capacity <= kMaxPhasedPlanes) {
+      if (can_stage() && kernel == OverlapBatchKernel::phased_sorted)
+        return launch_phased<Capacity>(options, true);
+      if (can_stage() && faces && kernel == OverlapBatchKernel::phased)
+        return launch_phased<Capacity>(options, false);
+    }
+    if (can_stage() && faces && kernel == OverlapBatchKernel::deferred_overflow)
+      return launch_split<Capacity>(options);
+    if (kernel == OverlapBatchKernel::global_templates || !can_stage())
+      launch<Capacity, 0, false>(options);
+    else if (kernel != OverlapBatchKernel::shared_templates && faces)
+      launch<Capacity, small_capacity_for(Capacity), true>(options);
+    else
+      launch<Capacity, 0, true>(options);
+  }
+};
+
+// Runs the batch with the workspace of Capacity planes, the kernel chosen by `kernel`. Each of
+// the eight is instantiated in a generated file of its own (solver/CMakeLists.txt); elsewhere
+// these declarations keep the kernels from being compiled again.
+template <class Real, int Capacity>
+void launch_overlap_batch(OverlapBatchImpl<Real>& batch, OverlapOptions options,
+                          OverlapBatchKernel kernel) {
+  batch.template launch_kernel<Capacity>(options, kernel);
+}
+
+#define TALUS_OVERLAP_BATCH_EXTERN(Real, Capacity)                                      \
+  extern template void launch_overlap_batch<Real, Capacity>(OverlapBatchImpl<Real>&,   \
+                                                            OverlapOptions, OverlapBatchKernel);
+TALUS_OVERLAP_BATCH_EXTERN(float, 32)
+TALUS_OVERLAP_BATCH_EXTERN(float, 64)
+TALUS_OVERLAP_BATCH_EXTERN(float, 128)
+TALUS_OVERLAP_BATCH_EXTERN(float, 256)
+TALUS_OVERLAP_BATCH_EXTERN(double, 32)
+TALUS_OVERLAP_BATCH_EXTERN(double, 64)
+TALUS_OVERLAP_BATCH_EXTERN(double, 128)
+TALUS_OVERLAP_BATCH_EXTERN(double, 256)
+#undef TALUS_OVERLAP_BATCH_EXTERN
+
+}  // namespace overlap_batch_detail
+
+}  // namespace talus
