@@ -188,14 +188,14 @@ __global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
 // 0; the others keep their mask of kept planes and key m + 1 (m kept planes). `histogram`
 // counts the keys (one atomic per block and key).
 template <class Real, bool Staged>
-__global__ void __launch_bounds__(kBatchBlock, kCullBlocks) cull_kernel(ConvexView<Real> a, ConvexView<Real> b,
-                            const Vec3<Real>* __restrict__ position_a,
-                            const Quat<Real>* __restrict__ orientation_a,
-                            const Vec3<Real>* __restrict__ position_b,
-                            const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
-                            unsigned long long* __restrict__ masks,
-                            unsigned char* __restrict__ keys, int* __restrict__ order,
-                            int* __restrict__ histogram, OverlapResult<Real>* __restrict__ out) {
+__global__ void __launch_bounds__(kBatchBlock, kCullBlocks)
+    cull_kernel(ConvexView<Real> a, ConvexView<Real> b, const Vec3<Real>* __restrict__ position_a,
+                const Quat<Real>* __restrict__ orientation_a,
+                const Vec3<Real>* __restrict__ position_b,
+                const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
+                unsigned long long* __restrict__ masks, unsigned char* __restrict__ keys,
+                int* __restrict__ order, int* __restrict__ histogram,
+                OverlapResult<Real>* __restrict__ out) {
   stage_both<Real, Staged>(a, b, args);
   __shared__ int block_histogram[kMaxPhasedPlanes + 2];
   const int bins = a.n_faces + b.n_faces + 2;
@@ -502,8 +502,8 @@ void launch_overlap_batch(OverlapBatchImpl<Real>& batch, OverlapOptions options,
   batch.template launch_kernel<Capacity>(options, kernel);
 }
 
-#define TALUS_OVERLAP_BATCH_EXTERN(Real, Capacity)                                      \
-  extern template void launch_overlap_batch<Real, Capacity>(OverlapBatchImpl<Real>&,   \
+#define TALUS_OVERLAP_BATCH_EXTERN(Real, Capacity)                                   \
+  extern template void launch_overlap_batch<Real, Capacity>(OverlapBatchImpl<Real>&, \
                                                             OverlapOptions, OverlapBatchKernel);
 TALUS_OVERLAP_BATCH_EXTERN(float, 32)
 TALUS_OVERLAP_BATCH_EXTERN(float, 64)

@@ -245,7 +245,7 @@ TALUS_HD inline Real lowest_height(const ConvexView<Real>& other, const Vec3<Rea
 // body whose plane gave that mask.
 template <class Real>
 TALUS_HD inline unsigned long long faces_within(const ConvexView<Real>& other,
-                                               unsigned long long above, int first) {
+                                                unsigned long long above, int first) {
   unsigned long long within = 0;
   if (other.face_corners) {
 #ifdef __CUDA_ARCH__

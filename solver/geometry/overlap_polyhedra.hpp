@@ -132,8 +132,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
       planes[i] = {plane_normal[i], ws.plane_offset[i]};
       if (ws.plane_owner[i] != 0) b_planes |= 1u << i;
     }
-    if (enumerate_overlap(a, b, frame, planes, b_planes, m, pose_a.position, result))
-      return result;
+    if (enumerate_overlap(a, b, frame, planes, b_planes, m, pose_a.position, result)) return result;
   }
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;

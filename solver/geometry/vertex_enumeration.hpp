@@ -4,20 +4,21 @@
 //
 // Every vertex of a simple polytope is the meet of exactly three of its planes. With m <= 8
 // planes the C(m, 3) <= 56 triples are few: each is solved by Cramer's rule and kept when every
-// other plane holds it strictly. A face is then the set of vertices on its plane, its edges the
-// pairs of those vertices that share one more plane, and the polygon's area the fan of triangles
-// from the mean of its corners (inside a convex polygon, so every triangle counts positively).
-// The volume is Eq. 9 with the reference point o = the mean of the vertices: a cone from o over
-// each fan triangle. No LP, no polar transform and no hull: the same arithmetic runs for every
-// pair, which suits one GPU thread per pair.
+// other plane holds it strictly. An edge is a pair of vertices sharing exactly two planes, and a
+// side of both their faces; one pass over the pairs finds them all. A face's area is the fan of
+// triangles from one of its corners over its sides (a convex polygon, so every triangle counts
+// positively). The volume is Eq. 9 with the reference point o = the mean of the vertices: a cone
+// from o over each fan triangle. No LP, no polar transform and no hull: the same arithmetic runs
+// for every pair, which suits one GPU thread per pair.
 //
 // The path only answers when the result is certain; otherwise it declines and the caller runs
 // the LP and the dual hull (Algorithms II-VI), which handle every case:
 //  - a vertex with another plane within its round-off (a vertex where four planes meet, twin
 //    planes of A and B, a face that is nearly an edge): declined;
-//  - the topology must be that of a simple polytope: every face at least 3 corners, every corner
-//    of a face exactly 2 neighbours on it, Euler's F = 2 + V / 2, and the faces' vector areas
-//    closing to sqrt(eps) of their sum (a lost vertex breaks one of these);
+//  - the topology must be that of a simple polytope: every vertex exactly three edges, leaving
+//    out each of its planes once (so every corner of a face has exactly 2 neighbours on it),
+//    Euler's F = 2 + V / 2, and the faces' vector areas closing to sqrt(eps) of their sum (a lost
+//    vertex breaks one of these);
 //  - the mean of the vertices must lie strictly inside both bodies (every face of both, not only
 //    the kept ones): the culled planes are redundant only when the intersection has an interior
 //    (overlap_finish makes the same check at its x_o), and a point strictly inside both proves it.
@@ -40,6 +41,32 @@ TALUS_HD constexpr bool exactly_two_bits(unsigned x) {
   const unsigned rest = x & (x - 1);
   return rest != 0 && (rest & (rest - 1)) == 0;
 }
+
+// The index of the lowest set bit of a non-zero x.
+TALUS_HD inline int lowest_set_bit(unsigned x) {
+#ifdef __CUDA_ARCH__
+  return __ffs(static_cast<int>(x)) - 1;
+#else
+  return __builtin_ctz(x);
+#endif
+}
+
+// Records, for vertex v, the plane `left` (a bit) that one of its edges leaves out: 8 bits a
+// vertex, vertices 0-7 in `low`, 8-11 in `high`.
+TALUS_HD inline void note_left_plane(int v, unsigned left, unsigned long long& low,
+                                     unsigned& high) {
+  if (v < 8)
+    low |= static_cast<unsigned long long>(left) << (8 * v);
+  else
+    high |= left << (8 * (v - 8));
+}
+
+// A vertex found, padded to four reals aligned to two (two 16-byte loads on a GPU thread).
+template <class Real>
+struct alignas(2 * sizeof(Real)) EnumerationVertex {
+  Vec3<Real> p;
+  Real unused;
+};
 
 // True when p (frame coordinates) lies inside every face plane of the posed body by more than
 // `margin`.
@@ -71,8 +98,10 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
                                        OverlapResult<Real>& result) {
   const Real round_off = frame.round_off;
   if (m < 4 || m > kEnumerationPlanes) return false;
-  Vec3<Real> vertex[kEnumerationVertices];
+  EnumerationVertex<Real> vertex[kEnumerationVertices];
   unsigned char on[kEnumerationVertices];  // bit i: the vertex is the meet of plane i
+  // Each plane's first vertex found (4 bits a plane; 0xf: none yet), its fan's apex below.
+  unsigned first_corner = 0xffffffffu;
   int n_vertices = 0;
   // Every intersection point lies in A, within its bounding sphere about the frame's origin; a
   // triple meeting farther (nearly parallel planes), or at a non-finite point, is no vertex.
@@ -83,7 +112,7 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
       const Vec3<Real> c_ij = cross(plane[i].n, plane[j].n);
       for (int k = j + 1; k < m; ++k) {
         const Real det = dot(c_ij, plane[k].n);  // det(n_i, n_j, n_k)
-        if (det == Real(0)) continue;           // parallel: no single meeting point
+        if (det == Real(0)) continue;            // parallel: no single meeting point
         // Cramer: v = w / det with w = h_i n_j x n_k + h_j n_k x n_i + h_k n_i x n_j. The tests
         // below run on w, scaled by |det|, so that only the vertices kept (fewer than half of
         // the triples) pay for a division.
@@ -108,8 +137,13 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
         }
         if (outside) continue;
         if (ambiguous || n_vertices == kEnumerationVertices) return false;
-        vertex[n_vertices] = w * (Real(1) / det);
+        vertex[n_vertices].p = w * (Real(1) / det);
         on[n_vertices] = static_cast<unsigned char>((1u << i) | (1u << j) | (1u << k));
+        for (unsigned rest = (1u << i) | (1u << j) | (1u << k); rest != 0; rest &= rest - 1) {
+          const int f = lowest_set_bit(rest);
+          if (((first_corner >> (4 * f)) & 0xfu) == 0xfu)
+            first_corner ^= (0xfu ^ unsigned(n_vertices)) << (4 * f);
+        }
         ++n_vertices;
       }
     }
@@ -117,65 +151,73 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
   if (n_vertices < 4) return false;
   // The reference point o: the mean of the vertices, inside the polytope.
   Vec3<Real> o;
-  for (int v = 0; v < n_vertices; ++v) o += vertex[v];
+  for (int v = 0; v < n_vertices; ++v) o += vertex[v].p;
   o = o * (Real(1) / Real(n_vertices));
   if (!strictly_inside(a, frame.rot[0], frame.center[0], o, round_off) ||
       !strictly_inside(b, frame.rot[1], frame.center[1], o, round_off))
     return false;
-  for (int v = 0; v < n_vertices; ++v) vertex[v] = vertex[v] - o;  // relative to o from here on
+  for (int v = 0; v < n_vertices; ++v) vertex[v].p = vertex[v].p - o;  // relative to o from here
 
-  Real volume = 0, area_sum = 0, least_height = 0;
-  Vec3<Real> moment, vector_area, closure;
+  // The faces: the planes some vertex lies on, each at height h_f - n_f . o above o.
+  unsigned used = 0;
+  for (int v = 0; v < n_vertices; ++v) used |= on[v];
+  Real height[kEnumerationPlanes];
+  Real least_height = 0;
   int faces = 0;
   for (int f = 0; f < m; ++f) {
-    const unsigned bit = 1u << f;
-    int corner[kEnumerationVertices];
-    int corners = 0;
-    Vec3<Real> q;
-    for (int v = 0; v < n_vertices; ++v) {
-      if (on[v] & bit) {
-        corner[corners++] = v;
-        q += vertex[v];
-      }
-    }
-    if (corners == 0) continue;                         // a plane that bounds nothing
-    if (corners < 3) return false;                      // not a polygon: a degenerate face
-    q = q * (Real(1) / Real(corners));                  // inside the convex polygon
-    const Real height = plane[f].h - dot(plane[f].n, o);  // o's distance from the plane
-    if (!(height > round_off)) return false;
-    // Each corner has exactly two neighbours on the face: the corners sharing one more plane.
-    Real area = 0;
-    Vec3<Real> face_moment;
-    for (int s = 0; s < corners; ++s) {
-      const int u = corner[s];
-      int neighbours = 0;
-      for (int t = 0; t < corners; ++t) {
-        const int w = corner[t];
-        if (t == s || !exactly_two_bits(on[u] & on[w])) continue;
-        ++neighbours;
-        if (t < s) continue;  // each edge once
-        // The fan triangle (q, u, w), lying in the plane: its area along the normal.
-        const Real triangle =
-            abs_of(dot(cross(vertex[u] - q, vertex[w] - q), plane[f].n)) * Real(0.5);
-        area += triangle;
-        face_moment += (q + vertex[u] + vertex[w]) * triangle;
-      }
-      if (neighbours != 2) return false;
-    }
-    // Cones from o (Eq. 9): each fan triangle's tetrahedron (o, q, u, w) has volume
-    // triangle * height / 3 and centroid (q + u + w) / 4 relative to o.
-    const Real cone = area * height * (Real(1) / Real(3));
-    volume += cone;
-    moment += face_moment * (height * (Real(1) / Real(12)));
-    const Vec3<Real> face_area = plane[f].n * area;
-    if (!(b_planes & bit)) vector_area += face_area;
-    closure += face_area;
-    area_sum += area;
-    least_height = faces == 0 ? height : min_of(least_height, height);
+    if (!((used >> f) & 1u)) continue;  // a plane that bounds nothing
+    height[f] = plane[f].h - dot(plane[f].n, o);
+    if (!(height[f] > round_off)) return false;
+    least_height = faces == 0 ? height[f] : min_of(least_height, height[f]);
     ++faces;
   }
   // Euler for a simple polytope: V - E + F = 2 with E = 3V / 2.
   if (2 * faces != 4 + n_vertices) return false;
+
+  // The edges: the pairs of vertices sharing exactly two planes, f and g. Each is a side of
+  // face f's polygon and of face g's; the fan of face f from its apex (its first vertex c_f)
+  // takes the triangle (c_f, u, w) from it (zero when c_f is u or w). On a convex polygon these
+  // triangles tile the face, all with one orientation, so each counts |area| positively.
+  // Cones from o (Eq. 9): each triangle's tetrahedron (o, c, u, w) has volume
+  // triangle * height / 3 and centroid (c + u + w) / 4 relative to o.
+  Real volume = 0, area_sum = 0;
+  Vec3<Real> moment, vector_area, closure;
+  // Per vertex, 4 bits of its count of edges and 8 of the planes its edges leave out.
+  unsigned long long degree = 0, left_low = 0;
+  unsigned left_high = 0;
+  for (int u = 0; u + 1 < n_vertices; ++u) {
+    const unsigned on_u = on[u];
+    for (int w = u + 1; w < n_vertices; ++w) {
+      const unsigned on_w = on[w];
+      const unsigned shared = on_u & on_w;
+      if (!exactly_two_bits(shared)) continue;
+      degree += (1ull << (4 * u)) + (1ull << (4 * w));
+      note_left_plane(u, on_u ^ shared, left_low, left_high);
+      note_left_plane(w, on_w ^ shared, left_low, left_high);
+      for (unsigned faces_of_edge = shared; faces_of_edge != 0;
+           faces_of_edge &= faces_of_edge - 1) {
+        const int f = lowest_set_bit(faces_of_edge);
+        const int c = int((first_corner >> (4 * f)) & 0xfu);
+        if (c == u || c == w) continue;
+        const Vec3<Real> apex = vertex[c].p, pu = vertex[u].p, pw = vertex[w].p;
+        const Real triangle = abs_of(dot(cross(pu - apex, pw - apex), plane[f].n)) * Real(0.5);
+        const Real cone = triangle * height[f];
+        volume += cone * (Real(1) / Real(3));
+        moment += (apex + pu + pw) * (cone * (Real(1) / Real(12)));
+        const Vec3<Real> face_area = plane[f].n * triangle;
+        if (!((b_planes >> f) & 1u)) vector_area += face_area;
+        closure += face_area;
+        area_sum += triangle;
+      }
+    }
+  }
+  // Every vertex has three edges, one along each pair of its planes (so each face's corners
+  // form one cycle of at least 3): its edges leave out each of its three planes once.
+  for (int v = 0; v < n_vertices; ++v) {
+    const unsigned left =
+        v < 8 ? unsigned(left_low >> (8 * v)) & 0xffu : (left_high >> (8 * (v - 8))) & 0xffu;
+    if (((degree >> (4 * v)) & 0xfu) != 3u || left != on[v]) return false;
+  }
   if (!(norm(closure) <= SqrtEps<Real>::value * area_sum) || !(volume > Real(0))) return false;
   result.status = OverlapStatus::overlapping;
   result.volume = volume;

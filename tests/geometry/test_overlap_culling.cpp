@@ -23,8 +23,7 @@ using testing::view_of;
 // of B, through cull_plane with the face test. -1 with `status` at a separating plane.
 template <class Real>
 int cull_by_loop(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                 const OverlapFrame<Real>& frame, unsigned long long& kept,
-                 OverlapStatus& status) {
+                 const OverlapFrame<Real>& frame, unsigned long long& kept, OverlapStatus& status) {
   const ConvexView<Real>* body[2] = {&a, &b};
   kept = 0;
   int m = 0;
@@ -35,9 +34,8 @@ int cull_by_loop(const ConvexView<Real>& a, const ConvexView<Real>& b,
       Real h;
       frame_plane(*body[owner], frame, owner, f, n, h);
       Real lowest = 0;
-      const PlaneCull cull =
-          cull_plane(*body[owner], *body[1 - owner], frame, owner, f, n, h, true, face_frame,
-                     lowest);
+      const PlaneCull cull = cull_plane(*body[owner], *body[1 - owner], frame, owner, f, n, h, true,
+                                        face_frame, lowest);
       if (cull == PlaneCull::beyond) {
         status = beyond_status(lowest, frame.round_off);
         return -1;
@@ -108,8 +106,12 @@ void masks_match_loop() {
   EXPECT_GT(kept_total, 4 * (compared - separated)) << compared;
 }
 
-TEST(OverlapCulling, MasksMakeThePlaneLoopsDecisionsInDouble) { masks_match_loop<double>(); }
-TEST(OverlapCulling, MasksMakeThePlaneLoopsDecisionsInFloat) { masks_match_loop<float>(); }
+TEST(OverlapCulling, MasksMakeThePlaneLoopsDecisionsInDouble) {
+  masks_match_loop<double>();
+}
+TEST(OverlapCulling, MasksMakeThePlaneLoopsDecisionsInFloat) {
+  masks_match_loop<float>();
+}
 
 }  // namespace
 }  // namespace talus
