@@ -211,8 +211,9 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
       }
     }
   }
-  // Every vertex has three edges, one along each pair of its planes (so each face's corners
-  // form one cycle of at least 3): its edges leave out each of its three planes once.
+  // Every vertex has three edges, one along each pair of its planes: its edges leave out each of
+  // its three planes once. So each face's corners form cycles of at least 3; a face of two
+  // cycles would count one face short in Euler's check above.
   for (int v = 0; v < n_vertices; ++v) {
     const unsigned left =
         v < 8 ? unsigned(left_low >> (8 * v)) & 0xffu : (left_high >> (8 * (v - 8))) & 0xffu;
