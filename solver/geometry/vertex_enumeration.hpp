@@ -42,15 +42,6 @@ TALUS_HD constexpr bool exactly_two_bits(unsigned x) {
   return rest != 0 && (rest & (rest - 1)) == 0;
 }
 
-// The index of the lowest set bit of a non-zero x.
-TALUS_HD inline int lowest_set_bit(unsigned x) {
-#ifdef __CUDA_ARCH__
-  return __ffs(static_cast<int>(x)) - 1;
-#else
-  return __builtin_ctz(x);
-#endif
-}
-
 // Records, for vertex v, the plane `left` (a bit) that one of its edges leaves out: 8 bits a
 // vertex, vertices 0-7 in `low`, 8-11 in `high`.
 TALUS_HD inline void note_left_plane(int v, unsigned left, unsigned long long& low,
@@ -139,8 +130,9 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
         if (ambiguous || n_vertices == kEnumerationVertices) return false;
         vertex[n_vertices].p = w * (Real(1) / det);
         on[n_vertices] = static_cast<unsigned char>((1u << i) | (1u << j) | (1u << k));
-        for (unsigned rest = (1u << i) | (1u << j) | (1u << k); rest != 0; rest &= rest - 1) {
-          const int f = lowest_set_bit(rest);
+        unsigned long long rest = (1ull << i) | (1ull << j) | (1ull << k);
+        while (rest != 0) {
+          const int f = pop_lowest_bit(rest);
           if (((first_corner >> (4 * f)) & 0xfu) == 0xfu)
             first_corner ^= (0xfu ^ unsigned(n_vertices)) << (4 * f);
         }
@@ -194,9 +186,9 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
       degree += (1ull << (4 * u)) + (1ull << (4 * w));
       note_left_plane(u, on_u ^ shared, left_low, left_high);
       note_left_plane(w, on_w ^ shared, left_low, left_high);
-      for (unsigned faces_of_edge = shared; faces_of_edge != 0;
-           faces_of_edge &= faces_of_edge - 1) {
-        const int f = lowest_set_bit(faces_of_edge);
+      unsigned long long faces_of_edge = shared;
+      while (faces_of_edge != 0) {
+        const int f = pop_lowest_bit(faces_of_edge);
         const int c = int((first_corner >> (4 * f)) & 0xfu);
         if (c == u || c == w) continue;
         const Vec3<Real> apex = vertex[c].p, pu = vertex[u].p, pw = vertex[w].p;
