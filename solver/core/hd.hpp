@@ -11,3 +11,13 @@
 #if defined(__CUDA_ARCH__)
 #define TALUS_ON_DEVICE 1
 #endif
+
+// Full unrolling of a loop with a compile-time trip count (nvcc's pragma on the device, GCC's on
+// the host), so that arrays indexed by its counter stay in registers.
+#if defined(__CUDACC__)
+#define TALUS_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__) && !defined(__clang__)
+#define TALUS_UNROLL _Pragma("GCC unroll 64")
+#else
+#define TALUS_UNROLL
+#endif

@@ -4,21 +4,23 @@
 //
 // Every vertex of a simple polytope is the meet of exactly three of its planes. With m <= 8
 // planes the C(m, 3) <= 56 triples are few: each is solved by Cramer's rule and kept when every
-// other plane holds it strictly. An edge is a pair of vertices sharing exactly two planes, and a
-// side of both their faces; one pass over the pairs finds them all. A face's area is the fan of
-// triangles from one of its corners over its sides (a convex polygon, so every triangle counts
-// positively). The volume is Eq. 9 with the reference point o = the mean of the vertices: a cone
-// from o over each fan triangle. No LP, no polar transform and no hull: the same arithmetic runs
-// for every pair, which suits one GPU thread per pair.
+// other plane holds it strictly. The loops over planes are unrolled for each m (enumerate_fixed),
+// so that the planes stay in registers. The volume (Eq. 9, cones from the reference point o, the
+// mean of the vertices), the vector area S and the centroid are then sums over the edges of
+// terms linear in each end's position along its edge (the divergence theorem, with each face's
+// area taken as a signed fan from the foot of o on its plane): every vertex adds its share alone,
+// from its own three planes, so that no vertex is stored and no face needs its corners in order.
+// No LP, no polar transform and no hull: the same arithmetic runs for every pair, which suits one
+// GPU thread per pair.
 //
 // The path only answers when the result is certain; otherwise it declines and the caller runs
 // the LP and the dual hull (Algorithms II-VI), which handle every case:
 //  - a vertex with another plane within its round-off (a vertex where four planes meet, twin
 //    planes of A and B, a face that is nearly an edge): declined;
-//  - the topology must be that of a simple polytope: every vertex exactly three edges, leaving
-//    out each of its planes once (so every corner of a face has exactly 2 neighbours on it),
-//    Euler's F = 2 + V / 2, and the faces' vector areas closing to sqrt(eps) of their sum (a lost
-//    vertex breaks one of these);
+//  - the topology must be that of a simple polytope: every line of two planes that holds a vertex
+//    holds exactly two (the ends of an edge, so that every vertex has three edges, one along each
+//    pair of its planes), Euler's F = 2 + V / 2, and the faces' vector areas closing to
+//    sqrt(eps) of their sum (a lost vertex breaks one of these);
 //  - the mean of the vertices must lie strictly inside both bodies (every face of both, not only
 //    the kept ones): the culled planes are redundant only when the intersection has an interior
 //    (overlap_finish makes the same check at its x_o), and a point strictly inside both proves it.
@@ -36,27 +38,12 @@ constexpr int kEnumerationVertices = 2 * kEnumerationPlanes - 4;
 
 namespace overlap_detail {
 
-// True when exactly two bits of x are set.
-TALUS_HD constexpr bool exactly_two_bits(unsigned x) {
-  const unsigned rest = x & (x - 1);
-  return rest != 0 && (rest & (rest - 1)) == 0;
-}
-
-// Records, for vertex v, the plane `left` (a bit) that one of its edges leaves out: 8 bits a
-// vertex, vertices 0-7 in `low`, 8-11 in `high`.
-TALUS_HD inline void note_left_plane(int v, unsigned left, unsigned long long& low,
-                                     unsigned& high) {
-  if (v < 8)
-    low |= static_cast<unsigned long long>(left) << (8 * v);
-  else
-    high |= left << (8 * (v - 8));
-}
-
-// A vertex found, padded to four reals aligned to two (two 16-byte loads on a GPU thread).
+// A kept plane: dot(n, x) <= h inside, in the pair's frame. Four reals aligned to two, so that a
+// GPU thread reads one in two 16-byte loads.
 template <class Real>
-struct alignas(2 * sizeof(Real)) EnumerationVertex {
-  Vec3<Real> p;
-  Real unused;
+struct alignas(2 * sizeof(Real)) EnumerationPlane {
+  Vec3<Real> n;
+  Real h;
 };
 
 // True when p (frame coordinates) lies inside every face plane of the posed body by more than
@@ -70,13 +57,211 @@ TALUS_HD inline bool strictly_inside(const ConvexView<Real>& body, const Mat3<Re
   return true;
 }
 
-// A kept plane: dot(n, x) <= h inside, in the pair's frame. Four reals aligned to two, so that a
-// GPU thread reads one in two 16-byte loads.
+// The index of the line of planes f < g among the C(M, 2) lines of M planes, in the order
+// (0,1), (0,2), ..., (1,2), ...
+TALUS_HD constexpr int enumeration_line(int M, int f, int g) {
+  return f * (2 * M - f - 1) / 2 + (g - f - 1);
+}
+
+// Adds one to the 4-bit counter of line `line` (lines 0-15 in `low`, 16-27 in `high`).
+TALUS_HD inline void count_on_line(int line, unsigned long long one, unsigned long long& low,
+                                   unsigned long long& high) {
+  if (line < 16)
+    low += one << (4 * line);
+  else
+    high += one << (4 * (line - 16));
+}
+
+// What the vertices add up to (enumerate_fixed, step 3), all relative to the reference point o.
 template <class Real>
-struct alignas(2 * sizeof(Real)) EnumerationPlane {
-  Vec3<Real> n;
-  Real h;
+struct EnumerationSums {
+  Real volume3 = 0, area_sum = 0;             // 3 V and the sum of the faces' areas
+  Vec3<Real> moment12, vector_area, closure;  // 12 x the first moment, S, sum of n_f A_f
 };
+
+// The share of a vertex v (relative to o) at one end of the edge on the line of planes f and g
+// (offsets h_f, h_g: their heights above o; f_on_a: plane f is A's), with d = n_f x n_g and
+// t = +-(d . v), + where v is the edge's far end along d.
+template <class Real>
+TALUS_HD inline void add_line_end(const Vec3<Real>& n_f, Real h_f, bool f_on_a,
+                                  const Vec3<Real>& n_g, Real h_g, bool g_on_a, const Vec3<Real>& d,
+                                  Real t, const Vec3<Real>& v, EnumerationSums<Real>& sums) {
+  // Face f's area is the sum over its edges of length * (distance from q_f, the foot of the
+  // reference point o on plane f, to the edge's line) / 2: signed, so that any q_f gives the
+  // area of the convex polygon. With c = n_f . n_g and s^2 = |d|^2 the distance is
+  // (h_g - c h_f) / s, and the length (t_end - t_start) / s with t = d . x; each end adds its
+  // +-t: k_f t to A_f and k_g t to A_g.
+  const Real c = dot(n_f, n_g);
+  const Real half_inverse = Real(0.5) / dot(d, d);
+  const Real k_f = (h_g - c * h_f) * half_inverse, k_g = (h_f - c * h_g) * half_inverse;
+  const Real a_f = t * k_f, a_g = t * k_g;
+  // Eq. 9: the cone from o over face f has volume h_f A_f / 3 ...
+  const Real cone_f = a_f * h_f, cone_g = a_g * h_g;
+  sums.volume3 += cone_f + cone_g;
+  sums.area_sum += a_f + a_g;
+  const Vec3<Real> area_f = n_f * a_f, area_g = n_g * a_g;
+  sums.closure += area_f + area_g;
+  if (f_on_a) sums.vector_area += area_f;
+  if (g_on_a) sums.vector_area += area_g;
+  // ... and its first moment is h_f / 4 times the face's, whose fan triangle (q_f, u, w) over
+  // the edge (u, w) has its centroid at (q_f + u + w) / 3: with x0 the line's point nearest o,
+  // u + w = 2 x0 + (t_u + t_w) d / s^2, and each end adds t (q_f + x0 + v).
+  const Vec3<Real> x0 = (n_f * k_g + n_g * k_f) * Real(2);
+  sums.moment12 += (x0 + v) * (cone_f + cone_g) + n_f * (cone_f * h_f) + n_g * (cone_g * h_g);
+}
+
+// The fast path for exactly M planes (4 <= M <= 8), every loop over planes unrolled so that the
+// planes stay in registers. Planes in the pair's frame (centred on A), bit i of `b_planes` set
+// when plane i is B's; `origin`: A's world position. Returns true with `result` filled (status
+// overlapping), or false (declined; `result` untouched).
+//
+// 1. Every triple (i, j, k): its meet v = w / det by Cramer's rule, kept when every other plane
+//    holds it by more than its round-off; its planes are recorded in a short list, and each of
+//    its three lines (i, j), (j, k), (k, i) counts one more vertex.
+// 2. The certificates of a simple polytope: every line with a vertex has exactly two (the ends of
+//    an edge: so every vertex has three edges, one along each pair of its planes), Euler's
+//    F = 2 + V / 2, and o, the mean of the vertices, strictly inside both bodies and every
+//    bounding plane.
+// 3. Each vertex, relative to o, adds its share of the sums: by the divergence theorem the volume
+//    (Eq. 9, cones from o), the faces' vector areas and the first moment are sums over the edges
+//    of terms linear in each end's position along its edge, so that every vertex contributes on
+//    its own, no face needs its corners in order, and no vertex is stored. The sign of each end
+//    follows from det: at v = meet(i, j, k), moving along n_i x n_j raises n_k . x when
+//    det(n_i, n_j, n_k) = n_k . (n_i x n_j) > 0, so v is then the far end of the edge along
+//    n_i x n_j, and likewise for the lines (j, k) and (k, i), with the same det.
+template <class Real, int M>
+TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                                     const OverlapFrame<Real>& frame,
+                                     const EnumerationPlane<Real>* plane, unsigned b_planes,
+                                     const Vec3<Real>& origin, OverlapResult<Real>& result) {
+  static_assert(M >= 4 && M <= kEnumerationPlanes, "the fast path takes 4 to 8 planes");
+  static_assert(M * (M - 1) / 2 <= 32, "two words of 4-bit line counters");
+  const Real round_off = frame.round_off;
+  Vec3<Real> n[M];
+  Real h[M];
+  TALUS_UNROLL
+  for (int p = 0; p < M; ++p) {
+    n[p] = plane[p].n;
+    h[p] = plane[p].h;
+  }
+  // Every intersection point lies in A, within its bounding sphere about the frame's origin; a
+  // triple meeting farther (nearly parallel planes), or at a non-finite point, is no vertex.
+  const Real reach = a.bounding_radius * Real(1.01);
+  const Real reach2 = reach * reach;
+  unsigned short corners[kEnumerationVertices];  // each vertex's planes: i | j << 4 | k << 8
+  int n_vertices = 0;
+  unsigned used = 0;                       // the planes some vertex lies on
+  unsigned long long on_line[2] = {0, 0};  // 4-bit vertex count of each line
+  bool declined = false;
+  // Step 1. The loops run over all of 0..M-1 and skip, so that each unrolls fully.
+  TALUS_UNROLL
+  for (int i = 0; i < M; ++i) {
+    TALUS_UNROLL
+    for (int j = 0; j < M; ++j) {
+      if (j <= i) continue;
+      // Cramer: v = w / det with w = h_i n_j x n_k + h_j n_k x n_i + h_k n_i x n_j
+      // = u_ij x n_k + h_k c_ij, where u_ij = h_i n_j - h_j n_i and c_ij = n_i x n_j are shared
+      // by every k. The tests run on w, scaled by |det|: no division here.
+      const Vec3<Real> c_ij = cross(n[i], n[j]);
+      const Vec3<Real> u_ij = n[j] * h[i] - n[i] * h[j];
+      TALUS_UNROLL
+      for (int k = 0; k < M; ++k) {
+        if (k <= j) continue;
+        const Real det = dot(c_ij, n[k]);  // det(n_i, n_j, n_k)
+        const Vec3<Real> w = cross(u_ij, n[k]) + c_ij * h[k];
+        // Parallel planes (det = 0) meet nowhere; NaN fails too.
+        bool keep = det != Real(0) && dot(w, w) <= reach2 * (det * det);
+        // The offsets carry round_off; Cramer's rule amplifies it by up to ~1 / |det| in v: the
+        // tolerance of a slack is round_off (1 + 4 / |det|), here times |det|.
+        const Real tolerance = round_off * (abs_of(det) + Real(4));
+        bool ambiguous = false;
+        TALUS_UNROLL
+        for (int l = 0; l < M; ++l) {
+          if (l == i || l == j || l == k) continue;
+          // |det| (offset_l - dot(n_l, v)), the slack of plane l at the vertex times |det|.
+          const Real slack = h[l] * det - dot(n[l], w);
+          const Real scaled = det > Real(0) ? slack : -slack;
+          keep = keep && !(scaled < -tolerance);
+          ambiguous = ambiguous || !(scaled > tolerance);  // a fourth plane through the vertex
+        }
+        if (keep) {
+          if (ambiguous || n_vertices == kEnumerationVertices)
+            declined = true;
+          else
+            corners[n_vertices++] = static_cast<unsigned short>(i | (j << 4) | (k << 8));
+          used |= (1u << i) | (1u << j) | (1u << k);
+          count_on_line(enumeration_line(M, i, j), 1, on_line[0], on_line[1]);
+          count_on_line(enumeration_line(M, j, k), 1, on_line[0], on_line[1]);
+          count_on_line(enumeration_line(M, i, k), 1, on_line[0], on_line[1]);
+        }
+      }
+    }
+  }
+  // Step 2. Counts of 0 or 2 only: no odd nibble, none of 4 or more.
+  constexpr unsigned long long kOnes = 0x1111111111111111ull, kFours = 0xccccccccccccccccull;
+  if (declined || n_vertices < 4 || ((on_line[0] | on_line[1]) & (kOnes | kFours)) != 0)
+    return false;
+  int faces = 0;
+  TALUS_UNROLL
+  for (int p = 0; p < M; ++p) faces += (used >> p) & 1u;
+  // Euler for a simple polytope: V - E + F = 2 with E = 3V / 2.
+  if (2 * faces != 4 + n_vertices) return false;
+  // The reference point o: the mean of the vertices, inside the polytope.
+  Vec3<Real> o;
+  for (int v = 0; v < n_vertices; ++v) {
+    const int i = corners[v] & 0xf, j = (corners[v] >> 4) & 0xf, k = corners[v] >> 8;
+    const EnumerationPlane<Real> pi = plane[i], pj = plane[j], pk = plane[k];
+    const Vec3<Real> c_ij = cross(pi.n, pj.n);
+    const Vec3<Real> w = cross(pj.n * pi.h - pi.n * pj.h, pk.n) + c_ij * pk.h;
+    o += w * (Real(1) / dot(c_ij, pk.n));
+  }
+  o = o * (Real(1) / Real(n_vertices));
+  if (!strictly_inside(a, frame.rot[0], frame.center[0], o, round_off) ||
+      !strictly_inside(b, frame.rot[1], frame.center[1], o, round_off))
+    return false;
+  // Every bounding plane holds o by more than the round-off; the least height bounds the
+  // inradius from below (a ball about o of that radius lies inside).
+  Real least_height = 0;
+  bool first = true;
+  TALUS_UNROLL
+  for (int p = 0; p < M; ++p) {
+    if (!((used >> p) & 1u)) continue;  // a plane that bounds nothing
+    const Real height = h[p] - dot(n[p], o);
+    if (!(height > round_off)) return false;
+    least_height = first ? height : min_of(least_height, height);
+    first = false;
+  }
+  // Step 3, relative to o: the offsets become the planes' heights above o.
+  EnumerationSums<Real> sums;
+  for (int v = 0; v < n_vertices; ++v) {
+    const int i = corners[v] & 0xf, j = (corners[v] >> 4) & 0xf, k = corners[v] >> 8;
+    const EnumerationPlane<Real> pi = plane[i], pj = plane[j], pk = plane[k];
+    const Real hi = pi.h - dot(pi.n, o), hj = pj.h - dot(pj.n, o), hk = pk.h - dot(pk.n, o);
+    const Vec3<Real> d_ij = cross(pi.n, pj.n), d_jk = cross(pj.n, pk.n), d_ki = cross(pk.n, pi.n);
+    const Real det = dot(d_ij, pk.n);
+    const Vec3<Real> w = d_jk * hi + d_ki * hj + d_ij * hk;
+    const Real inverse = Real(1) / det;
+    const Vec3<Real> x = w * inverse;             // the vertex, relative to o
+    const Real signed_inverse = abs_of(inverse);  // sign(det) / det: each end's sign
+    const bool on_a_i = !((b_planes >> i) & 1u), on_a_j = !((b_planes >> j) & 1u),
+               on_a_k = !((b_planes >> k) & 1u);
+    add_line_end(pi.n, hi, on_a_i, pj.n, hj, on_a_j, d_ij, dot(d_ij, w) * signed_inverse, x, sums);
+    add_line_end(pj.n, hj, on_a_j, pk.n, hk, on_a_k, d_jk, dot(d_jk, w) * signed_inverse, x, sums);
+    add_line_end(pk.n, hk, on_a_k, pi.n, hi, on_a_i, d_ki, dot(d_ki, w) * signed_inverse, x, sums);
+  }
+  const Real volume = sums.volume3 * (Real(1) / Real(3));
+  if (!(norm(sums.closure) <= SqrtEps<Real>::value * sums.area_sum) || !(volume > Real(0)))
+    return false;
+  result.status = OverlapStatus::overlapping;
+  result.volume = volume;
+  result.vector_area = sums.vector_area;
+  result.centroid = origin + o + sums.moment12 * (Real(1) / (Real(12) * volume));
+  result.depth_hint = least_height;  // a ball about o of this radius lies inside: <= inradius
+  result.hull_points = faces;
+  result.workspace_overrun = false;
+  result.enumerated = true;
+  return true;
+}
 
 // The fast path. Planes i < m (in the pair's frame, centred on A), bit i of `b_planes` set when
 // plane i is B's; `origin`: A's world position. Returns true with `result` filled (status
@@ -87,140 +272,20 @@ TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexVi
                                        const EnumerationPlane<Real>* plane, unsigned b_planes,
                                        int m, const Vec3<Real>& origin,
                                        OverlapResult<Real>& result) {
-  const Real round_off = frame.round_off;
-  if (m < 4 || m > kEnumerationPlanes) return false;
-  EnumerationVertex<Real> vertex[kEnumerationVertices];
-  unsigned char on[kEnumerationVertices];  // bit i: the vertex is the meet of plane i
-  // Each plane's first vertex found (4 bits a plane; 0xf: none yet), its fan's apex below.
-  unsigned first_corner = 0xffffffffu;
-  int n_vertices = 0;
-  // Every intersection point lies in A, within its bounding sphere about the frame's origin; a
-  // triple meeting farther (nearly parallel planes), or at a non-finite point, is no vertex.
-  const Real reach = a.bounding_radius * Real(1.01);
-  const Real reach2 = reach * reach;
-  for (int i = 0; i + 2 < m; ++i) {
-    for (int j = i + 1; j + 1 < m; ++j) {
-      const Vec3<Real> c_ij = cross(plane[i].n, plane[j].n);
-      for (int k = j + 1; k < m; ++k) {
-        const Real det = dot(c_ij, plane[k].n);  // det(n_i, n_j, n_k)
-        if (det == Real(0)) continue;            // parallel: no single meeting point
-        // Cramer: v = w / det with w = h_i n_j x n_k + h_j n_k x n_i + h_k n_i x n_j. The tests
-        // below run on w, scaled by |det|, so that only the vertices kept (fewer than half of
-        // the triples) pay for a division.
-        const Vec3<Real> w = cross(plane[j].n, plane[k].n) * plane[i].h +
-                             cross(plane[k].n, plane[i].n) * plane[j].h + c_ij * plane[k].h;
-        const Real det2 = det * det;
-        if (!(dot(w, w) <= reach2 * det2)) continue;
-        // The offsets carry round_off; Cramer's rule amplifies it by up to ~1 / |det| in v: the
-        // tolerance of a slack is round_off (1 + 4 / |det|), here times |det|.
-        const Real abs_det = abs_of(det);
-        const Real tolerance = round_off * (abs_det + Real(4));
-        bool outside = false, ambiguous = false;
-        for (int l = 0; l < m && !outside; ++l) {
-          if (l == i || l == j || l == k) continue;
-          // |det| (offset_l - dot(n_l, v)), the slack of plane l at the vertex times |det|.
-          const Real slack = plane[l].h * det - dot(plane[l].n, w);
-          const Real scaled = det > Real(0) ? slack : -slack;
-          if (scaled < -tolerance)
-            outside = true;
-          else if (!(scaled > tolerance))
-            ambiguous = true;  // a fourth plane through the vertex, within round-off
-        }
-        if (outside) continue;
-        if (ambiguous || n_vertices == kEnumerationVertices) return false;
-        vertex[n_vertices].p = w * (Real(1) / det);
-        on[n_vertices] = static_cast<unsigned char>((1u << i) | (1u << j) | (1u << k));
-        unsigned long long rest = (1ull << i) | (1ull << j) | (1ull << k);
-        while (rest != 0) {
-          const int f = pop_lowest_bit(rest);
-          if (((first_corner >> (4 * f)) & 0xfu) == 0xfu)
-            first_corner ^= (0xfu ^ unsigned(n_vertices)) << (4 * f);
-        }
-        ++n_vertices;
-      }
-    }
+  switch (m) {
+    case 4:
+      return enumerate_fixed<Real, 4>(a, b, frame, plane, b_planes, origin, result);
+    case 5:
+      return enumerate_fixed<Real, 5>(a, b, frame, plane, b_planes, origin, result);
+    case 6:
+      return enumerate_fixed<Real, 6>(a, b, frame, plane, b_planes, origin, result);
+    case 7:
+      return enumerate_fixed<Real, 7>(a, b, frame, plane, b_planes, origin, result);
+    case 8:
+      return enumerate_fixed<Real, 8>(a, b, frame, plane, b_planes, origin, result);
+    default:
+      return false;
   }
-  if (n_vertices < 4) return false;
-  // The reference point o: the mean of the vertices, inside the polytope.
-  Vec3<Real> o;
-  for (int v = 0; v < n_vertices; ++v) o += vertex[v].p;
-  o = o * (Real(1) / Real(n_vertices));
-  if (!strictly_inside(a, frame.rot[0], frame.center[0], o, round_off) ||
-      !strictly_inside(b, frame.rot[1], frame.center[1], o, round_off))
-    return false;
-  for (int v = 0; v < n_vertices; ++v) vertex[v].p = vertex[v].p - o;  // relative to o from here
-
-  // The faces: the planes some vertex lies on, each at height h_f - n_f . o above o.
-  unsigned used = 0;
-  for (int v = 0; v < n_vertices; ++v) used |= on[v];
-  Real height[kEnumerationPlanes];
-  Real least_height = 0;
-  int faces = 0;
-  for (int f = 0; f < m; ++f) {
-    if (!((used >> f) & 1u)) continue;  // a plane that bounds nothing
-    height[f] = plane[f].h - dot(plane[f].n, o);
-    if (!(height[f] > round_off)) return false;
-    least_height = faces == 0 ? height[f] : min_of(least_height, height[f]);
-    ++faces;
-  }
-  // Euler for a simple polytope: V - E + F = 2 with E = 3V / 2.
-  if (2 * faces != 4 + n_vertices) return false;
-
-  // The edges: the pairs of vertices sharing exactly two planes, f and g. Each is a side of
-  // face f's polygon and of face g's; the fan of face f from its apex (its first vertex c_f)
-  // takes the triangle (c_f, u, w) from it (zero when c_f is u or w). On a convex polygon these
-  // triangles tile the face, all with one orientation, so each counts |area| positively.
-  // Cones from o (Eq. 9): each triangle's tetrahedron (o, c, u, w) has volume
-  // triangle * height / 3 and centroid (c + u + w) / 4 relative to o.
-  Real volume = 0, area_sum = 0;
-  Vec3<Real> moment, vector_area, closure;
-  // Per vertex, 4 bits of its count of edges and 8 of the planes its edges leave out.
-  unsigned long long degree = 0, left_low = 0;
-  unsigned left_high = 0;
-  for (int u = 0; u + 1 < n_vertices; ++u) {
-    const unsigned on_u = on[u];
-    for (int w = u + 1; w < n_vertices; ++w) {
-      const unsigned on_w = on[w];
-      const unsigned shared = on_u & on_w;
-      if (!exactly_two_bits(shared)) continue;
-      degree += (1ull << (4 * u)) + (1ull << (4 * w));
-      note_left_plane(u, on_u ^ shared, left_low, left_high);
-      note_left_plane(w, on_w ^ shared, left_low, left_high);
-      unsigned long long faces_of_edge = shared;
-      while (faces_of_edge != 0) {
-        const int f = pop_lowest_bit(faces_of_edge);
-        const int c = int((first_corner >> (4 * f)) & 0xfu);
-        if (c == u || c == w) continue;
-        const Vec3<Real> apex = vertex[c].p, pu = vertex[u].p, pw = vertex[w].p;
-        const Real triangle = abs_of(dot(cross(pu - apex, pw - apex), plane[f].n)) * Real(0.5);
-        const Real cone = triangle * height[f];
-        volume += cone * (Real(1) / Real(3));
-        moment += (apex + pu + pw) * (cone * (Real(1) / Real(12)));
-        const Vec3<Real> face_area = plane[f].n * triangle;
-        if (!((b_planes >> f) & 1u)) vector_area += face_area;
-        closure += face_area;
-        area_sum += triangle;
-      }
-    }
-  }
-  // Every vertex has three edges, one along each pair of its planes: its edges leave out each of
-  // its three planes once. So each face's corners form cycles of at least 3; a face of two
-  // cycles would count one face short in Euler's check above.
-  for (int v = 0; v < n_vertices; ++v) {
-    const unsigned left =
-        v < 8 ? unsigned(left_low >> (8 * v)) & 0xffu : (left_high >> (8 * (v - 8))) & 0xffu;
-    if (((degree >> (4 * v)) & 0xfu) != 3u || left != on[v]) return false;
-  }
-  if (!(norm(closure) <= SqrtEps<Real>::value * area_sum) || !(volume > Real(0))) return false;
-  result.status = OverlapStatus::overlapping;
-  result.volume = volume;
-  result.vector_area = vector_area;
-  result.centroid = origin + o + moment * (Real(1) / volume);
-  result.depth_hint = least_height;  // a ball about o of this radius lies inside: <= inradius
-  result.hull_points = faces;
-  result.workspace_overrun = false;
-  result.enumerated = true;
-  return true;
 }
 
 }  // namespace overlap_detail
