@@ -22,19 +22,16 @@ struct OverlapFrame {
 
 namespace overlap_detail {
 
-// Where the plane (n, h) of the frame centred on A leaves `other` (at `other_center`, rotated by
-// `other_rot`), from the signed heights of its vertices above the plane, with `round_off` the
-// absolute round-off of a height. The loop stops as soon as one vertex lies below -round_off and
-// one at or above it: the plane then cuts the body, and the rest of the vertices cannot change
-// that. Only a separating plane needs every height, for `lowest`.
+// Where the plane (n_body, h_body), in the other body's frame (plane_in_other), leaves `other`,
+// from the signed heights of its vertices above the plane, with `round_off` the absolute
+// round-off of a height. The loop stops as soon as one vertex lies below -round_off and one at or
+// above it: the plane then cuts the body, and the rest of the vertices cannot change that. Only a
+// separating plane needs every height, for `lowest`.
 enum class PlaneSide { cuts, below, beyond };
 
 template <class Real>
-TALUS_HD inline PlaneSide plane_side(const ConvexView<Real>& other, const Mat3<Real>& other_rot,
-                                     const Vec3<Real>& other_center, const Vec3<Real>& n, Real h,
-                                     Real round_off, Real& lowest) {
-  const Vec3<Real> n_body = other_rot.transpose_times(n);
-  const Real h_body = h - dot(n, other_center);
+TALUS_HD inline PlaneSide plane_side(const ConvexView<Real>& other, const Vec3<Real>& n_body,
+                                     Real h_body, Real round_off, Real& lowest) {
   Real low = dot(n_body, other.vertices[0]), high = low;
   for (int i = 1; i < other.n_vertices; ++i) {
     const Real s = dot(n_body, other.vertices[i]);
@@ -129,22 +126,61 @@ TALUS_HD inline void frame_plane(const ConvexView<Real>& self, const OverlapFram
   h = self.face_offsets[f] + dot(n, frame.center[owner]);
 }
 
+// The bodies placed relative to each other, for the culling: a_to_b = R_B^T R_A takes A's body
+// frame to B's (its transpose, exactly, B's to A's), and shift_a = R_A^T (c_A - c_B),
+// shift_b = R_B^T (c_B - c_A) are each centre relative to the other, in its own body frame. The
+// plane of a face of body k (n_f . x <= d_f in k's frame) is then, in the other body's frame,
+// n = R n_f with offset d_f + n_f . shift_k (plane_in_other): the other body's vertices are
+// tested in their own frame, with no per-plane detour through the pair's frame, and the two
+// culling paths (cull_plane and cull_by_masks) share this arithmetic, so they decide alike.
+template <class Real>
+struct CullFrame {
+  Mat3<Real> a_to_b;
+  Vec3<Real> shift_a, shift_b;
+};
+
+template <class Real>
+TALUS_HD inline CullFrame<Real> cull_frame(const OverlapFrame<Real>& frame) {
+  const Mat3<Real>& ra = frame.rot[0];
+  const Mat3<Real>& rb = frame.rot[1];
+  CullFrame<Real> c;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      c.a_to_b.m[i][j] =
+          rb.m[0][i] * ra.m[0][j] + rb.m[1][i] * ra.m[1][j] + rb.m[2][i] * ra.m[2][j];
+  // The frame is centred on A: c_A = 0.
+  c.shift_a = ra.transpose_times(-frame.center[1]);
+  c.shift_b = rb.transpose_times(frame.center[1]);
+  return c;
+}
+
+// The plane of face f of `self` (body `owner`) in the other body's frame: dot(n_body, x) <=
+// h_body inside.
+template <class Real>
+TALUS_HD inline void plane_in_other(const ConvexView<Real>& self, int owner, int f,
+                                    const CullFrame<Real>& cf, Vec3<Real>& n_body, Real& h_body) {
+  const Vec3<Real> n = self.face_normals[f];
+  n_body = owner == 0 ? cf.a_to_b * n : cf.a_to_b.transpose_times(n);
+  h_body = self.face_offsets[f] + dot(n, owner == 0 ? cf.shift_a : cf.shift_b);
+}
+
 enum class PlaneCull { kept, dropped, beyond };
 
-// Step 2 for the plane (n, h) of face f of `self` (body `owner`) against `other`: kept, dropped
-// (it cannot bound the intersection), or beyond (the other body lies beyond it: a separating
-// plane, with `lowest` the other body's least height above it).
+// Step 2 for the plane of face f of `self` (body `owner`) against `other`: kept, dropped (it
+// cannot bound the intersection), or beyond (the other body lies beyond it: a separating plane,
+// with `lowest` the other body's least height above it).
 template <class Real>
 TALUS_HD inline PlaneCull cull_plane(const ConvexView<Real>& self, const ConvexView<Real>& other,
-                                     const OverlapFrame<Real>& frame, int owner, int f,
-                                     const Vec3<Real>& n, Real h, bool face_test,
+                                     const OverlapFrame<Real>& frame, const CullFrame<Real>& cf,
+                                     int owner, int f, bool face_test,
                                      const FaceTestFrame<Real>& face_frame, Real& lowest) {
-  const int o = 1 - owner;
-  // The other body's bounding sphere decides most planes without visiting its vertices.
-  const Real sphere_height = dot(n, frame.center[o]) - h;
-  if (sphere_height + other.bounding_radius < -frame.round_off) return PlaneCull::dropped;
-  const PlaneSide side =
-      plane_side(other, frame.rot[o], frame.center[o], n, h, frame.round_off, lowest);
+  Vec3<Real> n_body;
+  Real h_body;
+  plane_in_other(self, owner, f, cf, n_body, h_body);
+  // The other body's bounding sphere (about its centre, the origin of its frame) decides most
+  // planes without visiting its vertices.
+  if (other.bounding_radius - h_body < -frame.round_off) return PlaneCull::dropped;
+  const PlaneSide side = plane_side(other, n_body, h_body, frame.round_off, lowest);
   if (side == PlaneSide::beyond) return PlaneCull::beyond;
   if (side == PlaneSide::below) return PlaneCull::dropped;  // strictly inside: bounds nothing
   if (face_test &&
@@ -275,19 +311,18 @@ TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Re
                                   OverlapResult<Real>& result) {
   const ConvexView<Real>* body[2] = {&a, &b};
   const Real round_off = frame.round_off;
-  // Pass 1: the planes the other body's bounding sphere does not leave strictly inside.
+  const CullFrame<Real> cf = cull_frame(frame);
+  // Pass 1: the planes the other body's bounding sphere does not leave strictly inside (the
+  // offset of the plane in the other body's frame is the height of its centre below it).
   unsigned long long cutting = 0;
-  for (int owner = 0; owner < 2; ++owner) {
-    const ConvexView<Real>& self = *body[owner];
-    const int o = 1 - owner, first = owner == 0 ? 0 : a.n_faces;
-    for (int f = 0; f < self.n_faces; ++f) {
-      Vec3<Real> n;
-      Real h;
-      frame_plane(self, frame, owner, f, n, h);
-      if (!(dot(n, frame.center[o]) - h + body[o]->bounding_radius < -round_off))
-        cutting |= 1ull << (first + f);
-    }
-  }
+  for (int f = 0; f < a.n_faces; ++f)
+    if (!(b.bounding_radius - (a.face_offsets[f] + dot(a.face_normals[f], cf.shift_a)) <
+          -round_off))
+      cutting |= 1ull << f;
+  for (int f = 0; f < b.n_faces; ++f)
+    if (!(a.bounding_radius - (b.face_offsets[f] + dot(b.face_normals[f], cf.shift_b)) <
+          -round_off))
+      cutting |= 1ull << (a.n_faces + f);
   // Pass 2: the vertex heights (as plane_side computes them) of each plane left.
   unsigned long long candidates = 0, outside = 0;
   while (cutting != 0) {
@@ -295,11 +330,9 @@ TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Re
     const int owner = p < a.n_faces ? 0 : 1, o = 1 - owner;
     const ConvexView<Real>& self = *body[owner];
     const ConvexView<Real>& other = *body[o];
-    Vec3<Real> n;
-    Real h;
-    frame_plane(self, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
-    const Vec3<Real> n_body = frame.rot[o].transpose_times(n);
-    const Real h_body = h - dot(n, frame.center[o]);
+    Vec3<Real> n_body;
+    Real h_body;
+    plane_in_other(self, owner, owner == 0 ? p : p - a.n_faces, cf, n_body, h_body);
     // 32-bit masks where the other body has at most 32 vertices: half the integer work a vertex.
     VertexHeights<unsigned long long> heights;
     if (other.n_vertices <= 32) {

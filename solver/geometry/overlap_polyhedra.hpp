@@ -294,6 +294,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
     if (cull_by_masks(a, b, frame, kept, result) < 0) return result;
     return finish_from_mask(a, pose_a, b, frame, kept, ws, options);
   }
+  const CullFrame<Real> cf = cull_frame(frame);
   int m = 0;
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
@@ -305,8 +306,8 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       frame_plane(self, frame, owner, f, n, h);
       if (options.cull_planes) {
         Real lowest = 0;
-        const PlaneCull cull = cull_plane(self, *body[1 - owner], frame, owner, f, n, h, face_test,
-                                          face_frame, lowest);
+        const PlaneCull cull =
+            cull_plane(self, *body[1 - owner], frame, cf, owner, f, face_test, face_frame, lowest);
         if (cull == PlaneCull::beyond) {  // the other body lies beyond the plane
           result.status = beyond_status(lowest, frame.round_off);
           return result;
@@ -343,6 +344,7 @@ TALUS_HD inline int overlap_cull_mask(const ConvexView<Real>& a, const Pose<Real
   if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return -1;
   if (culls_by_masks(a, b, options)) return cull_by_masks(a, b, frame, mask, result);
   const ConvexView<Real>* body[2] = {&a, &b};
+  const CullFrame<Real> cf = cull_frame(frame);
   int m = 0;
   for (int owner = 0; owner < 2; ++owner) {
     const ConvexView<Real>& self = *body[owner];
@@ -351,12 +353,9 @@ TALUS_HD inline int overlap_cull_mask(const ConvexView<Real>& a, const Pose<Real
     const FaceTestFrame<Real> face_frame = face_test_frame(frame, owner);
     for (int f = 0; f < self.n_faces; ++f) {
       if (options.cull_planes) {
-        Vec3<Real> n;
-        Real h;
-        frame_plane(self, frame, owner, f, n, h);
         Real lowest = 0;
-        const PlaneCull cull = cull_plane(self, *body[1 - owner], frame, owner, f, n, h, face_test,
-                                          face_frame, lowest);
+        const PlaneCull cull =
+            cull_plane(self, *body[1 - owner], frame, cf, owner, f, face_test, face_frame, lowest);
         if (cull == PlaneCull::beyond) {
           result.status = beyond_status(lowest, frame.round_off);
           return -1;

@@ -27,15 +27,13 @@ int cull_by_loop(const ConvexView<Real>& a, const ConvexView<Real>& b,
   const ConvexView<Real>* body[2] = {&a, &b};
   kept = 0;
   int m = 0;
+  const CullFrame<Real> cf = cull_frame(frame);
   for (int owner = 0; owner < 2; ++owner) {
     const FaceTestFrame<Real> face_frame = face_test_frame(frame, owner);
     for (int f = 0; f < body[owner]->n_faces; ++f) {
-      Vec3<Real> n;
-      Real h;
-      frame_plane(*body[owner], frame, owner, f, n, h);
       Real lowest = 0;
-      const PlaneCull cull = cull_plane(*body[owner], *body[1 - owner], frame, owner, f, n, h, true,
-                                        face_frame, lowest);
+      const PlaneCull cull =
+          cull_plane(*body[owner], *body[1 - owner], frame, cf, owner, f, true, face_frame, lowest);
       if (cull == PlaneCull::beyond) {
         status = beyond_status(lowest, frame.round_off);
         return -1;
