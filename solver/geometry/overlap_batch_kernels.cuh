@@ -86,7 +86,10 @@ constexpr int kBatchBlock = 128;
 // then shared its kernel with the hull), which left 4 and 2 warps per scheduler, and both were
 // latency-bound (Nsight Compute on the H100, 2^20 shallow dodecahedron pairs: issue slots 64%
 // and 26% busy). Tried on the whole batch (2^22 pairs): enumeration 4, 5, 6 blocks: 7.48,
-// 7.95, 9.51 ms (spills); culling 4, 5, 6 blocks: 7.63, 7.48, 7.57 ms.
+// 7.95, 9.51 ms (spills); culling 4, 5, 6 blocks: 7.63, 7.48, 7.57 ms. Again after the
+// enumeration's sums over vertices and the culling's CullFrame (session 7): culling 4, 5, 6
+// blocks 4.88, 4.77, 4.73-4.77 ms; asking for the largest L1 (the least shared memory,
+// cudaSharedmemCarveoutMaxL1) made the batch 5.86 ms.
 constexpr int kCullBlocks = 5;
 constexpr int kEnumerateBlocks = 4;
 

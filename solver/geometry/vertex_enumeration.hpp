@@ -167,22 +167,26 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
       TALUS_UNROLL
       for (int k = 0; k < M; ++k) {
         if (k <= j) continue;
-        const Real det = dot(c_ij, n[k]);  // det(n_i, n_j, n_k)
-        const Vec3<Real> w = cross(u_ij, n[k]) + c_ij * h[k];
+        const Real signed_det = dot(c_ij, n[k]);  // det(n_i, n_j, n_k)
+        const Vec3<Real> signed_w = cross(u_ij, n[k]) + c_ij * h[k];
+        // v = w / det with det > 0 (both negated together, exactly, where det < 0), so that
+        // each slack below carries its sign as it is.
+        const bool negative = signed_det < Real(0);
+        const Real det = negative ? -signed_det : signed_det;
+        const Vec3<Real> w = negative ? -signed_w : signed_w;
         // Parallel planes (det = 0) meet nowhere; NaN fails too.
         bool keep = det != Real(0) && dot(w, w) <= reach2 * (det * det);
         // The offsets carry round_off; Cramer's rule amplifies it by up to ~1 / |det| in v: the
         // tolerance of a slack is round_off (1 + 4 / |det|), here times |det|.
-        const Real tolerance = round_off * (abs_of(det) + Real(4));
+        const Real tolerance = round_off * (det + Real(4));
         bool ambiguous = false;
         TALUS_UNROLL
         for (int l = 0; l < M; ++l) {
           if (l == i || l == j || l == k) continue;
-          // |det| (offset_l - dot(n_l, v)), the slack of plane l at the vertex times |det|.
+          // det (offset_l - dot(n_l, v)), the slack of plane l at the vertex times |det|.
           const Real slack = h[l] * det - dot(n[l], w);
-          const Real scaled = det > Real(0) ? slack : -slack;
-          keep = keep && !(scaled < -tolerance);
-          ambiguous = ambiguous || !(scaled > tolerance);  // a fourth plane through the vertex
+          keep = keep && !(slack < -tolerance);
+          ambiguous = ambiguous || !(slack > tolerance);  // a fourth plane through the vertex
         }
         if (keep) {
           if (ambiguous || n_vertices == kEnumerationVertices)
