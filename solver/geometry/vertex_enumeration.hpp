@@ -187,6 +187,11 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
           const Real slack = h[l] * det - dot(n[l], w);
           keep = keep && !(slack < -tolerance);
           ambiguous = ambiguous || !(slack > tolerance);  // a fourth plane through the vertex
+#ifndef __CUDA_ARCH__
+          // One CPU thread a pair: leaving at the first plane outside is cheaper than the test of
+          // the rest (a GPU warp runs them anyway; there the branch would only diverge).
+          if (!keep) break;
+#endif
         }
         if (keep) {
           if (ambiguous || n_vertices == kEnumerationVertices)
