@@ -63,13 +63,9 @@ TALUS_HD constexpr int enumeration_line(int M, int f, int g) {
   return f * (2 * M - f - 1) / 2 + (g - f - 1);
 }
 
-// Adds one to the 4-bit counter of line `line` (lines 0-15 in `low`, 16-27 in `high`).
-TALUS_HD inline void count_on_line(int line, unsigned long long one, unsigned long long& low,
-                                   unsigned long long& high) {
-  if (line < 16)
-    low += one << (4 * line);
-  else
-    high += one << (4 * (line - 16));
+// Adds one to the 4-bit counter of line `line` (lines 0-15 in count[0], 16-27 in count[1]).
+TALUS_HD inline void count_on_line(int line, unsigned long long (&count)[2]) {
+  count[line / 16] += 1ull << (4 * (line % 16));
 }
 
 // What the vertices add up to (enumerate_fixed, step 3), all relative to the reference point o.
@@ -199,9 +195,9 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
           else
             corners[n_vertices++] = static_cast<unsigned short>(i | (j << 4) | (k << 8));
           used |= (1u << i) | (1u << j) | (1u << k);
-          count_on_line(enumeration_line(M, i, j), 1, on_line[0], on_line[1]);
-          count_on_line(enumeration_line(M, j, k), 1, on_line[0], on_line[1]);
-          count_on_line(enumeration_line(M, i, k), 1, on_line[0], on_line[1]);
+          count_on_line(enumeration_line(M, i, j), on_line);
+          count_on_line(enumeration_line(M, j, k), on_line);
+          count_on_line(enumeration_line(M, i, k), on_line);
         }
       }
     }
