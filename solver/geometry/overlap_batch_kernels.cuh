@@ -274,7 +274,11 @@ __global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
 // Phase 2 for the pairs of at most kEnumerationPlanes kept planes, order[begin..begin + count):
 // the vertex enumeration alone (overlap_enumerate_from_mask), with no workspace, in a kernel of
 // its own so that its registers are not those of the hull; what it declines is deferred to the
-// launch that runs the whole overlap (which declines there too and builds the hull).
+// launch that runs the whole overlap (which declines there too and builds the hull). Nothing of
+// a pair goes through the thread's local memory: its planes are kept in shared memory (thread
+// t's plane p at planes[p * kBatchBlock + t], so that a warp reads one plane of 32 threads from
+// consecutive addresses), and the enumeration reads the views (shared) and the poses (global)
+// where they lie.
 template <class Real>
 __global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks)
     enumerate_kernel(ConvexView<Real> a, ConvexView<Real> b,
@@ -285,14 +289,16 @@ __global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks)
                      const unsigned long long* __restrict__ masks,
                      OverlapResult<Real>* __restrict__ out) {
   const ConvexView<Real>* views = stage_views<Real, true>(a, b, args);
+  __shared__ overlap_detail::EnumerationPlane<Real> planes[kEnumerationPlanes * kBatchBlock];
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= args.count) return;
   const int i = args.order[begin + j];
-  const Pose<Real> pose_a{position_a[i], orientation_a[i]};
-  const Pose<Real> pose_b{position_b[i], orientation_b[i]};
+  const overlap_detail::EnumerationBodies<Real> bodies{
+      views[0],      views[1],         position_a[i], orientation_a[i],
+      position_b[i], orientation_b[i], Real(0)};
   // The result goes straight to global memory: the enumeration sets every field when it answers
   // and none when it declines.
-  if (!overlap_enumerate_from_mask(views[0], pose_a, views[1], pose_b, masks[i], out[i]))
+  if (!overlap_enumerate_from_mask(bodies, masks[i], planes + threadIdx.x, kBatchBlock, out[i]))
     defer_pair(args, i);
 }
 

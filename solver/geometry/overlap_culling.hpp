@@ -211,6 +211,15 @@ TALUS_HD inline int pop_lowest_bit(unsigned long long& mask) {
   return p;
 }
 
+// The number of set bits of a mask.
+TALUS_HD inline int bit_count(unsigned long long mask) {
+#ifdef __CUDA_ARCH__
+  return __popcll(mask);
+#else
+  return __builtin_popcountll(mask);
+#endif
+}
+
 // Step 2 by vertex masks, for templates of at most 64 vertices and 64 faces together, both with
 // their face loops: the decisions of cull_plane (the same sphere test and the same vertex
 // heights in the other body's frame: dropped, beyond or kept), with the face test read from bit
@@ -352,11 +361,7 @@ TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Re
     outside |= faces_within(other, heights.above, o == 0 ? 0 : a.n_faces);
   }
   kept = candidates & ~outside;
-#ifdef __CUDA_ARCH__
-  return __popcll(kept);
-#else
-  return __builtin_popcountll(kept);
-#endif
+  return bit_count(kept);
 }
 
 }  // namespace overlap_detail

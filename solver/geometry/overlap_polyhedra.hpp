@@ -115,6 +115,7 @@ template <class Real, class Workspace>
 TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
                                                    const Pose<Real>& pose_a,
                                                    const ConvexView<Real>& b,
+                                                   const Pose<Real>& pose_b,
                                                    const OverlapFrame<Real>& frame, Workspace& ws,
                                                    int m, OverlapOptions options) {
   OverlapResult<Real> result;
@@ -132,7 +133,9 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
       planes[i] = {plane_normal[i], ws.plane_offset[i]};
       if (ws.plane_owner[i] != 0) b_planes |= 1u << i;
     }
-    if (enumerate_overlap(a, b, frame, planes, b_planes, m, pose_a.position, result)) return result;
+    const EnumerationBodies<Real> bodies{
+        a, b, pose_a.position, pose_a.orientation, pose_b.position, pose_b.orientation, round_off};
+    if (enumerate_overlap(bodies, planes, 1, b_planes, m, result)) return result;
   }
   // Step 3. Reference point: the Chebyshev centre of the kept planes.
   const Real radius_sum = a.bounding_radius + b.bounding_radius;
@@ -256,12 +259,10 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
 // Steps 3-5 for the planes of `mask` (planes_from_mask), or workspace_overrun when the workspace
 // cannot hold them.
 template <class Real, class Workspace>
-TALUS_HD inline OverlapResult<Real> finish_from_mask(const ConvexView<Real>& a,
-                                                     const Pose<Real>& pose_a,
-                                                     const ConvexView<Real>& b,
-                                                     const OverlapFrame<Real>& frame,
-                                                     unsigned long long mask, Workspace& ws,
-                                                     OverlapOptions options) {
+TALUS_HD inline OverlapResult<Real> finish_from_mask(
+    const ConvexView<Real>& a, const Pose<Real>& pose_a, const ConvexView<Real>& b,
+    const Pose<Real>& pose_b, const OverlapFrame<Real>& frame, unsigned long long mask,
+    Workspace& ws, OverlapOptions options) {
   const int m = planes_from_mask(a, b, frame, mask, ws);
   if (m < 0) {
     OverlapResult<Real> result;
@@ -269,7 +270,7 @@ TALUS_HD inline OverlapResult<Real> finish_from_mask(const ConvexView<Real>& a,
     result.status = OverlapStatus::degenerate;
     return result;
   }
-  return overlap_finish(a, pose_a, b, frame, ws, m, options);
+  return overlap_finish(a, pose_a, b, pose_b, frame, ws, m, options);
 }
 
 }  // namespace overlap_detail
@@ -292,7 +293,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
   if (culls_by_masks(a, b, options)) {
     unsigned long long kept = 0;
     if (cull_by_masks(a, b, frame, kept, result) < 0) return result;
-    return finish_from_mask(a, pose_a, b, frame, kept, ws, options);
+    return finish_from_mask(a, pose_a, b, pose_b, frame, kept, ws, options);
   }
   const CullFrame<Real> cf = cull_frame(frame);
   int m = 0;
@@ -326,7 +327,7 @@ TALUS_HD inline OverlapResult<Real> overlap_polyhedra(const ConvexView<Real>& a,
       ++m;
     }
   }
-  return overlap_finish(a, pose_a, b, frame, ws, m, options);
+  return overlap_finish(a, pose_a, b, pose_b, frame, ws, m, options);
 }
 
 // Step 2 alone, for a batch that culls in one kernel and builds the polytope in another: bit
@@ -383,7 +384,7 @@ TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
   OverlapResult<Real> result;
   OverlapFrame<Real> frame;
   if (!overlap_frame(a, pose_a, b, pose_b, frame, result)) return result;
-  return finish_from_mask(a, pose_a, b, frame, mask, ws, options);
+  return finish_from_mask(a, pose_a, b, pose_b, frame, mask, ws, options);
 }
 
 // The vertex enumeration alone for the planes of `mask` (overlap_cull_mask), with no workspace:
@@ -391,29 +392,54 @@ TALUS_HD inline OverlapResult<Real> overlap_from_mask(const ConvexView<Real>& a,
 // order through the same function) when the enumeration answers; false when it declines (more
 // than kEnumerationPlanes planes, or a case it cannot certify), for the caller to run
 // overlap_polyhedra or overlap_from_mask. For a GPU kernel over the pairs with few kept planes:
-// its threads then hold neither the LP nor the hull.
+// its threads then hold neither the LP nor the hull. The planes are written to
+// plane[p * stride], p < kEnumerationPlanes (a GPU kernel gives each thread its slice of an
+// array in shared memory, interleaved with the other threads' slices, so that nothing of the
+// pair goes through the thread's local memory); `bodies.round_off` is set here.
+template <class Real>
+TALUS_HD inline bool overlap_enumerate_from_mask(overlap_detail::EnumerationBodies<Real> bodies,
+                                                 unsigned long long mask,
+                                                 overlap_detail::EnumerationPlane<Real>* plane,
+                                                 int stride, OverlapResult<Real>& result) {
+  using namespace overlap_detail;
+  OverlapFrame<Real> frame;
+  OverlapResult<Real> scratch;
+  const Pose<Real> pose_a{bodies.position_a, bodies.orientation_a};
+  const Pose<Real> pose_b{bodies.position_b, bodies.orientation_b};
+  if (!overlap_frame(bodies.a, pose_a, bodies.b, pose_b, frame, scratch)) return false;
+  if (bit_count(mask) > kEnumerationPlanes) return false;
+  // A's planes, then B's: each loop names its body at compile time, so that no rotation is
+  // chosen at run time (on the GPU that would put the frame in the thread's local memory).
+  const int n_a = bodies.a.n_faces;
+  const unsigned long long a_bits = n_a >= 64 ? mask : mask & ((1ull << n_a) - 1);
+  int m = 0;
+  for (unsigned long long bits = a_bits; bits != 0; ++m) {
+    EnumerationPlane<Real> q;
+    frame_plane(bodies.a, frame, 0, pop_lowest_bit(bits), q.n, q.h);
+    plane[m * stride] = q;
+  }
+  unsigned b_planes = 0;
+  for (unsigned long long bits = mask & ~a_bits; bits != 0; ++m) {
+    EnumerationPlane<Real> q;
+    frame_plane(bodies.b, frame, 1, pop_lowest_bit(bits) - n_a, q.n, q.h);
+    plane[m * stride] = q;
+    b_planes |= 1u << m;
+  }
+  bodies.round_off = frame.round_off;
+  return enumerate_overlap(bodies, plane, stride, b_planes, m, result);
+}
+
+// The same with the planes in a local array.
 template <class Real>
 TALUS_HD inline bool overlap_enumerate_from_mask(const ConvexView<Real>& a,
                                                  const Pose<Real>& pose_a,
                                                  const ConvexView<Real>& b,
                                                  const Pose<Real>& pose_b, unsigned long long mask,
                                                  OverlapResult<Real>& result) {
-  using namespace overlap_detail;
-  OverlapFrame<Real> frame;
-  OverlapResult<Real> scratch;
-  if (!overlap_frame(a, pose_a, b, pose_b, frame, scratch)) return false;
-  EnumerationPlane<Real> planes[kEnumerationPlanes];
-  unsigned b_planes = 0;
-  int m = 0;
-  while (mask != 0) {
-    const int p = pop_lowest_bit(mask);
-    if (m == kEnumerationPlanes) return false;
-    const int o = p < a.n_faces ? 0 : 1;
-    frame_plane(o == 0 ? a : b, frame, o, o == 0 ? p : p - a.n_faces, planes[m].n, planes[m].h);
-    if (o != 0) b_planes |= 1u << m;
-    ++m;
-  }
-  return enumerate_overlap(a, b, frame, planes, b_planes, m, pose_a.position, result);
+  overlap_detail::EnumerationPlane<Real> planes[kEnumerationPlanes];
+  const overlap_detail::EnumerationBodies<Real> bodies{
+      a, b, pose_a.position, pose_a.orientation, pose_b.position, pose_b.orientation, Real(0)};
+  return overlap_enumerate_from_mask(bodies, mask, planes, 1, result);
 }
 
 }  // namespace talus

@@ -57,6 +57,30 @@ TALUS_HD inline bool strictly_inside(const ConvexView<Real>& body, const Mat3<Re
   return true;
 }
 
+// The two posed bodies as the enumeration needs them: references to where the caller keeps the
+// views and the poses (on the GPU, the views in shared memory and the poses in the batch's
+// arrays), so that a call passes a few addresses and no copy, and the rotations are computed
+// again from the quaternions where they are needed (overlap_frame computes them the same way, so
+// the results do not change). `round_off`: the frame's (overlap_frame).
+template <class Real>
+struct EnumerationBodies {
+  const ConvexView<Real>& a;
+  const ConvexView<Real>& b;
+  const Vec3<Real>& position_a;
+  const Quat<Real>& orientation_a;
+  const Vec3<Real>& position_b;
+  const Quat<Real>& orientation_b;
+  Real round_off;
+
+  // True when p (in the pair's frame, centred on A) lies inside every face plane of both bodies
+  // by more than the round-off.
+  TALUS_HD bool hold_strictly(const Vec3<Real>& p) const {
+    return strictly_inside(a, rotation_matrix(orientation_a), Vec3<Real>(), p, round_off) &&
+           strictly_inside(b, rotation_matrix(orientation_b), position_b - position_a, p,
+                           round_off);
+  }
+};
+
 // The index of the line of planes f < g among the C(M, 2) lines of M planes, in the order
 // (0,1), (0,2), ..., (1,2), ...
 TALUS_HD constexpr int enumeration_line(int M, int f, int g) {
@@ -106,14 +130,38 @@ TALUS_HD inline void add_line_end(const Vec3<Real>& n_f, Real h_f, bool f_on_a,
   sums.moment12 += (x0 + v) * (cone_f + cone_g) + n_f * (cone_f * h_f) + n_g * (cone_g * h_g);
 }
 
+// The vertices kept by step 1, in the order found, each as the indices of its three planes
+// (i | j << 3 | k << 6, 9 bits): seven to a word, in two words held in registers (an array
+// indexed at run time would live in a GPU thread's local memory).
+struct EnumerationCorners {
+  unsigned long long word[2] = {0, 0};
+
+  TALUS_HD void set(int v, int i, int j, int k) {
+    const unsigned long long code = unsigned(i | (j << 3) | (k << 6));
+    if (v < 7)
+      word[0] |= code << (9 * v);
+    else
+      word[1] |= code << (9 * (v - 7));
+  }
+  TALUS_HD void get(int v, int& i, int& j, int& k) const {
+    const unsigned code = unsigned((v < 7 ? word[0] >> (9 * v) : word[1] >> (9 * (v - 7))) & 511u);
+    i = code & 7u;
+    j = (code >> 3) & 7u;
+    k = code >> 6;
+  }
+};
+static_assert(kEnumerationPlanes <= 8 && kEnumerationVertices <= 14,
+              "EnumerationCorners holds 14 vertices of planes 0-7");
+
 // The fast path for exactly M planes (4 <= M <= 8), every loop over planes unrolled so that the
-// planes stay in registers. Planes in the pair's frame (centred on A), bit i of `b_planes` set
-// when plane i is B's; `origin`: A's world position. Returns true with `result` filled (status
+// planes stay in registers. Plane p is plane[p * stride] (in the pair's frame, centred on A; a
+// GPU kernel keeps each thread's planes in shared memory, interleaved with the other threads'),
+// bit p of `b_planes` set when plane p is B's. Returns true with `result` filled (status
 // overlapping), or false (declined; `result` untouched).
 //
 // 1. Every triple (i, j, k): its meet v = w / det by Cramer's rule, kept when every other plane
-//    holds it by more than its round-off; its planes are recorded in a short list, and each of
-//    its three lines (i, j), (j, k), (k, i) counts one more vertex.
+//    holds it by more than its round-off; its planes are recorded (EnumerationCorners), and each
+//    of its three lines (i, j), (j, k), (k, i) counts one more vertex.
 // 2. The certificates of a simple polytope: every line with a vertex has exactly two (the ends of
 //    an edge: so every vertex has three edges, one along each pair of its planes), Euler's
 //    F = 2 + V / 2, and o, the mean of the vertices, strictly inside both bodies and every
@@ -126,25 +174,25 @@ TALUS_HD inline void add_line_end(const Vec3<Real>& n_f, Real h_f, bool f_on_a,
 //    det(n_i, n_j, n_k) = n_k . (n_i x n_j) > 0, so v is then the far end of the edge along
 //    n_i x n_j, and likewise for the lines (j, k) and (k, i), with the same det.
 template <class Real, int M>
-TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                                     const OverlapFrame<Real>& frame,
-                                     const EnumerationPlane<Real>* plane, unsigned b_planes,
-                                     const Vec3<Real>& origin, OverlapResult<Real>& result) {
+TALUS_HD inline bool enumerate_fixed(const EnumerationBodies<Real>& bodies,
+                                     const EnumerationPlane<Real>* plane, int stride,
+                                     unsigned b_planes, OverlapResult<Real>& result) {
   static_assert(M >= 4 && M <= kEnumerationPlanes, "the fast path takes 4 to 8 planes");
   static_assert(M * (M - 1) / 2 <= 32, "two words of 4-bit line counters");
-  const Real round_off = frame.round_off;
+  const Real round_off = bodies.round_off;
   Vec3<Real> n[M];
   Real h[M];
   TALUS_UNROLL
   for (int p = 0; p < M; ++p) {
-    n[p] = plane[p].n;
-    h[p] = plane[p].h;
+    const EnumerationPlane<Real> q = plane[p * stride];
+    n[p] = q.n;
+    h[p] = q.h;
   }
   // Every intersection point lies in A, within its bounding sphere about the frame's origin; a
   // triple meeting farther (nearly parallel planes), or at a non-finite point, is no vertex.
-  const Real reach = a.bounding_radius * Real(1.01);
+  const Real reach = bodies.a.bounding_radius * Real(1.01);
   const Real reach2 = reach * reach;
-  unsigned short corners[kEnumerationVertices];  // each vertex's planes: i | j << 4 | k << 8
+  EnumerationCorners corners;
   int n_vertices = 0;
   unsigned used = 0;                       // the planes some vertex lies on
   unsigned long long on_line[2] = {0, 0};  // 4-bit vertex count of each line
@@ -193,7 +241,7 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
           if (ambiguous || n_vertices == kEnumerationVertices)
             declined = true;
           else
-            corners[n_vertices++] = static_cast<unsigned short>(i | (j << 4) | (k << 8));
+            corners.set(n_vertices++, i, j, k);
           used |= (1u << i) | (1u << j) | (1u << k);
           count_on_line(enumeration_line(M, i, j), on_line);
           count_on_line(enumeration_line(M, j, k), on_line);
@@ -214,16 +262,16 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
   // The reference point o: the mean of the vertices, inside the polytope.
   Vec3<Real> o;
   for (int v = 0; v < n_vertices; ++v) {
-    const int i = corners[v] & 0xf, j = (corners[v] >> 4) & 0xf, k = corners[v] >> 8;
-    const EnumerationPlane<Real> pi = plane[i], pj = plane[j], pk = plane[k];
+    int i, j, k;
+    corners.get(v, i, j, k);
+    const EnumerationPlane<Real> pi = plane[i * stride], pj = plane[j * stride],
+                                 pk = plane[k * stride];
     const Vec3<Real> c_ij = cross(pi.n, pj.n);
     const Vec3<Real> w = cross(pj.n * pi.h - pi.n * pj.h, pk.n) + c_ij * pk.h;
     o += w * (Real(1) / dot(c_ij, pk.n));
   }
   o = o * (Real(1) / Real(n_vertices));
-  if (!strictly_inside(a, frame.rot[0], frame.center[0], o, round_off) ||
-      !strictly_inside(b, frame.rot[1], frame.center[1], o, round_off))
-    return false;
+  if (!bodies.hold_strictly(o)) return false;
   // Every bounding plane holds o by more than the round-off; the least height bounds the
   // inradius from below (a ball about o of that radius lies inside).
   Real least_height = 0;
@@ -239,8 +287,10 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
   // Step 3, relative to o: the offsets become the planes' heights above o.
   EnumerationSums<Real> sums;
   for (int v = 0; v < n_vertices; ++v) {
-    const int i = corners[v] & 0xf, j = (corners[v] >> 4) & 0xf, k = corners[v] >> 8;
-    const EnumerationPlane<Real> pi = plane[i], pj = plane[j], pk = plane[k];
+    int i, j, k;
+    corners.get(v, i, j, k);
+    const EnumerationPlane<Real> pi = plane[i * stride], pj = plane[j * stride],
+                                 pk = plane[k * stride];
     const Real hi = pi.h - dot(pi.n, o), hj = pj.h - dot(pj.n, o), hk = pk.h - dot(pk.n, o);
     const Vec3<Real> d_ij = cross(pi.n, pj.n), d_jk = cross(pj.n, pk.n), d_ki = cross(pk.n, pi.n);
     const Real det = dot(d_ij, pk.n);
@@ -260,7 +310,7 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
   result.status = OverlapStatus::overlapping;
   result.volume = volume;
   result.vector_area = sums.vector_area;
-  result.centroid = origin + o + sums.moment12 * (Real(1) / (Real(12) * volume));
+  result.centroid = bodies.position_a + o + sums.moment12 * (Real(1) / (Real(12) * volume));
   result.depth_hint = least_height;  // a ball about o of this radius lies inside: <= inradius
   result.hull_points = faces;
   result.workspace_overrun = false;
@@ -268,26 +318,25 @@ TALUS_HD inline bool enumerate_fixed(const ConvexView<Real>& a, const ConvexView
   return true;
 }
 
-// The fast path. Planes i < m (in the pair's frame, centred on A), bit i of `b_planes` set when
-// plane i is B's; `origin`: A's world position. Returns true with `result` filled (status
-// overlapping), or false (declined; `result` untouched).
+// The fast path for m planes, plane p at plane[p * stride] (in the pair's frame, centred on A),
+// bit p of `b_planes` set when plane p is B's. Returns true with `result` filled (status
+// overlapping), or false (declined; `result` untouched). The bodies come by value: a few
+// addresses, which a GPU thread passes in registers.
 template <class Real>
-TALUS_HD inline bool enumerate_overlap(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                                       const OverlapFrame<Real>& frame,
-                                       const EnumerationPlane<Real>* plane, unsigned b_planes,
-                                       int m, const Vec3<Real>& origin,
-                                       OverlapResult<Real>& result) {
+TALUS_HD inline bool enumerate_overlap(EnumerationBodies<Real> bodies,
+                                       const EnumerationPlane<Real>* plane, int stride,
+                                       unsigned b_planes, int m, OverlapResult<Real>& result) {
   switch (m) {
     case 4:
-      return enumerate_fixed<Real, 4>(a, b, frame, plane, b_planes, origin, result);
+      return enumerate_fixed<Real, 4>(bodies, plane, stride, b_planes, result);
     case 5:
-      return enumerate_fixed<Real, 5>(a, b, frame, plane, b_planes, origin, result);
+      return enumerate_fixed<Real, 5>(bodies, plane, stride, b_planes, result);
     case 6:
-      return enumerate_fixed<Real, 6>(a, b, frame, plane, b_planes, origin, result);
+      return enumerate_fixed<Real, 6>(bodies, plane, stride, b_planes, result);
     case 7:
-      return enumerate_fixed<Real, 7>(a, b, frame, plane, b_planes, origin, result);
+      return enumerate_fixed<Real, 7>(bodies, plane, stride, b_planes, result);
     case 8:
-      return enumerate_fixed<Real, 8>(a, b, frame, plane, b_planes, origin, result);
+      return enumerate_fixed<Real, 8>(bodies, plane, stride, b_planes, result);
     default:
       return false;
   }
