@@ -6,6 +6,15 @@
 
 namespace talus {
 
+// A vertex and the faces it is a corner of (bit f: face f), in one 32-byte record, so that a GPU
+// thread reads it in two 16-byte loads: the mask culling's pass over a body's vertices
+// (overlap_culling.hpp) reads nothing else.
+template <class Real>
+struct alignas(32) VertexRecord {
+  Vec3<Real> position;
+  unsigned long long faces;
+};
+
 template <class Real>
 struct ConvexView {
   const Vec3<Real>* vertices = nullptr;      // body frame, centroid at the origin
@@ -26,6 +35,9 @@ struct ConvexView {
   // overlap's mask culling (overlap_culling.hpp). Optional: only for templates of at most 64
   // vertices with face loops; without it the masks are taken from the loops when needed.
   const unsigned long long* face_corners = nullptr;
+  // The vertices again, each with its faces (VertexRecord), for the mask culling. Optional: only
+  // for templates of at most 64 vertices and 64 faces with face loops.
+  const VertexRecord<Real>* vertex_records = nullptr;
   int n_vertices = 0;
   int n_faces = 0;
   int n_edges = 0;

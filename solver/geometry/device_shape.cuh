@@ -12,6 +12,7 @@ struct DeviceShape {
   DeviceBuffer<Real> face_offsets;
   DeviceBuffer<int> edges, edge_faces, triangles, loop_offsets, loop_vertices;
   DeviceBuffer<unsigned long long> face_corners;
+  DeviceBuffer<VertexRecord<Real>> vertex_records;
   ConvexView<Real> view;
 
   explicit DeviceShape(const ConvexView<Real>& host) {
@@ -26,6 +27,7 @@ struct DeviceShape {
       loop_vertices.upload(host.face_loop_vertices, host.face_loop_offsets[host.n_faces]);
     }
     if (host.face_corners) face_corners.upload(host.face_corners, host.n_faces);
+    if (host.vertex_records) vertex_records.upload(host.vertex_records, host.n_vertices);
     view = host;
     view.vertices = vertices.data();
     view.face_normals = face_normals.data();
@@ -36,6 +38,7 @@ struct DeviceShape {
     view.face_loop_offsets = host.face_loop_offsets ? loop_offsets.data() : nullptr;
     view.face_loop_vertices = host.face_loop_offsets ? loop_vertices.data() : nullptr;
     view.face_corners = host.face_corners ? face_corners.data() : nullptr;
+    view.vertex_records = host.vertex_records ? vertex_records.data() : nullptr;
   }
 };
 

@@ -22,13 +22,14 @@ namespace talus {
 namespace overlap_batch_detail {
 
 // Where a template's arrays sit in the block's shared memory (byte offsets; -1: not staged). Only
-// what the overlap reads is staged: vertices, face planes, face loops and face corner masks.
+// what the overlap reads is staged: vertices, face planes, face loops, face corner masks and
+// vertex records.
 // The phased kernel keeps a pair's planes as the bits of a 64-bit mask.
 constexpr int kMaxPhasedPlanes = 64;
 
 struct SharedShapeLayout {
   int vertices = -1, face_normals = -1, face_offsets = -1, loop_offsets = -1, loop_vertices = -1,
-      face_corners = -1;
+      face_corners = -1, vertex_records = -1;
   int loop_entries = 0;
   int bytes = 0;
 };
@@ -37,9 +38,9 @@ template <class Real>
 SharedShapeLayout shared_layout_for(const ConvexView<Real>& shape, int begin) {
   SharedShapeLayout layout;
   int at = begin;
-  auto take = [&at](int bytes) {
+  auto take = [&at](int bytes) {  // 32-byte aligned, as VertexRecord
     const int offset = at;
-    at += (bytes + 15) / 16 * 16;
+    at += (bytes + 31) / 32 * 32;
     return offset;
   };
   layout.vertices = take(shape.n_vertices * int(sizeof(Vec3<Real>)));
@@ -52,6 +53,8 @@ SharedShapeLayout shared_layout_for(const ConvexView<Real>& shape, int begin) {
   }
   if (shape.face_corners)
     layout.face_corners = take(shape.n_faces * int(sizeof(unsigned long long)));
+  if (shape.vertex_records)
+    layout.vertex_records = take(shape.n_vertices * int(sizeof(VertexRecord<Real>)));
   layout.bytes = at - begin;
   return layout;
 }
@@ -82,16 +85,21 @@ constexpr int kSharedTemplateLimit = 48 * 1024;
 // Threads per block of every batch kernel.
 constexpr int kBatchBlock = 128;
 // Blocks per SM that the culling and the enumeration kernels are compiled for (at most 96 and
-// 128 registers a thread). Without the caps they took 102 and 196 registers (the enumeration
-// then shared its kernel with the hull), which left 4 and 2 warps per scheduler, and both were
-// latency-bound (Nsight Compute on the H100, 2^20 shallow dodecahedron pairs: issue slots 64%
-// and 26% busy). Tried on the whole batch (2^22 pairs): enumeration 4, 5, 6 blocks: 7.48,
-// 7.95, 9.51 ms (spills); culling 4, 5, 6 blocks: 7.63, 7.48, 7.57 ms. Again after the
-// enumeration's sums over vertices and the culling's CullFrame (session 7): culling 4, 5, 6
-// blocks 4.88, 4.77, 4.73-4.77 ms; asking for the largest L1 (the least shared memory,
-// cudaSharedmemCarveoutMaxL1) made the batch 5.86 ms.
+// 128 registers a thread; 96 for the enumeration in float, at 5 blocks). Without the caps they took
+// 102 and 196 registers (the enumeration then shared its kernel with the hull), which left 4 and 2
+// warps per scheduler, and both were latency-bound (Nsight Compute on the H100, 2^20 shallow
+// dodecahedron pairs: issue slots 64% and 26% busy). Tried on the whole batch (2^22 pairs):
+// enumeration 4, 5, 6 blocks: 7.48, 7.95, 9.51 ms (spills); culling 4, 5, 6
+// blocks: 7.63, 7.48, 7.57 ms. Again after the enumeration's sums over vertices and the culling's
+// CullFrame (session 7): culling 4, 5, 6 blocks 4.88, 4.77, 4.73-4.77 ms; asking for the largest L1
+// (the least shared memory, cudaSharedmemCarveoutMaxL1) made the batch 5.86 ms. With the vertex
+// records (session 8), culling at 5 and 6 blocks: 4.07-4.08 and 4.11-4.14 ms in double, 3.25-3.27
+// and 3.22-3.24 ms in float.
 constexpr int kCullBlocks = 5;
-constexpr int kEnumerateBlocks = 4;
+// With nothing of a pair in local memory (session 8), enumeration at 3, 4, 5 blocks: 4.31-4.34,
+// 4.09-4.14, 4.59-4.64 ms in double; 3.64-3.67, 3.62-3.67, 3.55 ms in float.
+template <class Real>
+constexpr int kEnumerateBlocks = sizeof(Real) == 4 ? 5 : 4;
 
 }  // namespace overlap_batch_detail
 
@@ -132,12 +140,17 @@ __device__ ConvexView<Real> stage_shape(const ConvexView<Real>& shape, char* sha
     copy_to_shared(corners, shape.face_corners, shape.n_faces);
     view.face_corners = corners;
   }
+  if (layout.vertex_records >= 0) {
+    auto* records = reinterpret_cast<VertexRecord<Real>*>(shared + layout.vertex_records);
+    copy_to_shared(records, shape.vertex_records, shape.n_vertices);
+    view.vertex_records = records;
+  }
   return view;
 }
 
 template <class Real, bool Staged>
 __device__ void stage_both(ConvexView<Real>& a, ConvexView<Real>& b, const KernelArgs& args) {
-  extern __shared__ __align__(16) char shared[];
+  extern __shared__ __align__(32) char shared[];
   if (Staged) {
     a = stage_shape(a, shared, args.layout_a);
     b = stage_shape(b, shared, args.layout_b);
@@ -280,7 +293,7 @@ __global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
 // consecutive addresses), and the enumeration reads the views (shared) and the poses (global)
 // where they lie.
 template <class Real>
-__global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks)
+__global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks<Real>)
     enumerate_kernel(ConvexView<Real> a, ConvexView<Real> b,
                      const Vec3<Real>* __restrict__ position_a,
                      const Quat<Real>* __restrict__ orientation_a,

@@ -286,23 +286,100 @@ TALUS_HD inline Real lowest_height(const ConvexView<Real>& other, const Vec3<Rea
   return low - h_body;
 }
 
-// The faces of `other` (bit g + first for face g) whose corners all lie in `above`: outside the
-// body whose plane gave that mask.
+// The faces of `other` (bit g for face g) whose corners all lie in `above`: outside the body
+// whose plane gave that mask.
 template <class Real>
 TALUS_HD inline unsigned long long faces_within(const ConvexView<Real>& other,
-                                                unsigned long long above, int first) {
+                                                unsigned long long above) {
   unsigned long long within = 0;
   if (other.face_corners) {
 #ifdef __CUDA_ARCH__
 #pragma unroll 4
 #endif
     for (int g = 0; g < other.n_faces; ++g)
-      if ((other.face_corners[g] & ~above) == 0) within |= 1ull << (first + g);
+      if ((other.face_corners[g] & ~above) == 0) within |= 1ull << g;
   } else {
     for (int g = 0; g < other.n_faces; ++g)
-      if ((face_corner_mask(other, g) & ~above) == 0) within |= 1ull << (first + g);
+      if ((face_corner_mask(other, g) & ~above) == 0) within |= 1ull << g;
   }
   return within;
+}
+
+// The same pass over a body's vertex records (ConvexView::vertex_records), with the face test
+// folded in: `touched` holds the faces of `other` with a corner not above the plane
+// (d <= round_off), so that every other face has all its corners above (faces_within's test,
+// with no loop over the faces and no vertex mask). The heights are those of vertex_heights, bit
+// for bit. FaceMask: an unsigned type of at least other.n_faces bits.
+template <class FaceMask>
+struct VertexTouches {
+  FaceMask touched;
+  bool beyond, below;
+};
+
+template <class FaceMask, class Real>
+TALUS_HD inline VertexTouches<FaceMask> vertex_touches(const ConvexView<Real>& other,
+                                                       const Vec3<Real>& n_body, Real h_body,
+                                                       Real round_off) {
+  FaceMask touched = 0;
+  bool any_low = false, any_high = false;  // some d <= -round_off; some d >= -round_off
+#ifdef __CUDA_ARCH__
+#pragma unroll 4
+#endif
+  for (int v = 0; v < other.n_vertices; ++v) {
+    const VertexRecord<Real> record = other.vertex_records[v];
+    const Real d = dot(n_body, record.position) - h_body;
+    if (!(d > round_off)) touched |= FaceMask(record.faces);
+    any_low |= !(d > -round_off);
+    any_high |= !(d < -round_off);
+  }
+  return {touched, !any_low, !any_high};
+}
+
+// What cull_by_masks learns of one plane (n_body, h_body) in the other body's frame from one pass
+// over that body's vertices: `beyond` (a separating plane), `below` (the body lies strictly
+// inside: the plane bounds nothing), else the other body's faces that lie outside the plane's
+// body (bit g for face g).
+struct PlanePass {
+  unsigned long long outside = 0;
+  bool beyond = false, below = false;
+};
+
+template <class Real>
+TALUS_HD inline PlanePass plane_pass(const ConvexView<Real>& other, const Vec3<Real>& n_body,
+                                     Real h_body, Real round_off) {
+  PlanePass pass;
+  if (other.vertex_records) {
+    const unsigned long long faces =
+        other.n_faces >= 64 ? ~0ull : (1ull << other.n_faces) - 1;  // every face of `other`
+    // 32-bit masks where the other body has at most 32 faces: half the integer work a vertex.
+    if (other.n_faces <= 32) {
+      const VertexTouches<unsigned> t = vertex_touches<unsigned>(other, n_body, h_body, round_off);
+      pass.outside = faces & ~static_cast<unsigned long long>(t.touched);
+      pass.beyond = t.beyond;
+      pass.below = t.below;
+    } else {
+      const VertexTouches<unsigned long long> t =
+          vertex_touches<unsigned long long>(other, n_body, h_body, round_off);
+      pass.outside = faces & ~t.touched;
+      pass.beyond = t.beyond;
+      pass.below = t.below;
+    }
+    return pass;
+  }
+  // 32-bit masks where the other body has at most 32 vertices.
+  VertexHeights<unsigned long long> heights;
+  if (other.n_vertices <= 32) {
+    const VertexHeights<unsigned> narrow =
+        vertex_heights<unsigned>(other, n_body, h_body, round_off);
+    heights = {narrow.above, narrow.beyond, narrow.below};
+  } else {
+    heights = vertex_heights<unsigned long long>(other, n_body, h_body, round_off);
+  }
+  pass.beyond = heights.beyond;
+  pass.below = heights.below;
+  // The other body's faces with every corner above this plane lie outside self.
+  if (!pass.beyond && !pass.below) pass.outside = faces_within(other, heights.above);
+  return pass;
 }
 
 // Returns the number of kept planes with bit p of `kept` set for each (A's faces first, then
@@ -311,9 +388,10 @@ TALUS_HD inline unsigned long long faces_within(const ConvexView<Real>& other,
 // Two passes, so that the threads of a GPU warp loop together over few planes: the bounding
 // sphere test of every plane first (cheap: most planes of a shallow contact face away from the
 // other body and drop here), then, for each plane left, in the same order, one full pass over
-// the other body's vertices (no early exit: the warp's threads run the same loop) and the face
-// test of the other body's faces against its mask. A plane dropped by the sphere or lying
-// strictly inside marks no face (its mask would be empty), as the per-face test finds.
+// the other body's vertices (no early exit: the warp's threads run the same loop) with the face
+// test of the other body's faces (plane_pass: from the vertex records, folded into the pass, or
+// against the mask of the vertices above). A plane dropped by the sphere or lying strictly
+// inside marks no face (its mask would be empty), as the per-face test finds.
 template <class Real>
 TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                   const OverlapFrame<Real>& frame, unsigned long long& kept,
@@ -342,23 +420,14 @@ TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Re
     Vec3<Real> n_body;
     Real h_body;
     plane_in_other(self, owner, owner == 0 ? p : p - a.n_faces, cf, n_body, h_body);
-    // 32-bit masks where the other body has at most 32 vertices: half the integer work a vertex.
-    VertexHeights<unsigned long long> heights;
-    if (other.n_vertices <= 32) {
-      const VertexHeights<unsigned> narrow =
-          vertex_heights<unsigned>(other, n_body, h_body, round_off);
-      heights = {narrow.above, narrow.beyond, narrow.below};
-    } else {
-      heights = vertex_heights<unsigned long long>(other, n_body, h_body, round_off);
-    }
-    if (heights.beyond) {  // the other body lies beyond: a separating plane
+    const PlanePass pass = plane_pass(other, n_body, h_body, round_off);
+    if (pass.beyond) {  // the other body lies beyond: a separating plane
       result.status = beyond_status(lowest_height(other, n_body, h_body), round_off);
       return -1;
     }
-    if (heights.below) continue;  // strictly inside: bounds nothing
+    if (pass.below) continue;  // strictly inside: bounds nothing
     candidates |= 1ull << p;
-    // The other body's faces with every corner above this plane lie outside self.
-    outside |= faces_within(other, heights.above, o == 0 ? 0 : a.n_faces);
+    outside |= pass.outside << (o == 0 ? 0 : a.n_faces);
   }
   kept = candidates & ~outside;
   return bit_count(kept);

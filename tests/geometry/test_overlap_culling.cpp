@@ -49,8 +49,9 @@ int cull_by_loop(const ConvexView<Real>& a, const ConvexView<Real>& b,
 
 // Every pair of built-ins the masks take (at most 64 vertices each and 64 faces together), at
 // shallow, medium and deep overlaps and just apart (the bounding spheres overlap, the bodies
-// may not), 60 poses each. The masks come from the templates' face_corners and, again, from
-// the face loops (a view without face_corners): all three must agree exactly.
+// may not), 60 poses each. The masks culling runs three times: with the templates' vertex
+// records (the face test folded into the vertex pass), with their face_corners (a view without
+// records) and with the face loops alone (neither): all four must agree exactly.
 template <class Real>
 void masks_match_loop() {
   std::vector<TestShape> shapes;
@@ -63,7 +64,10 @@ void masks_match_loop() {
       const ConvexView<Real> a = view_of<Real>(sa), b = view_of<Real>(sb);
       if (!culls_by_masks(a, b, OverlapOptions())) continue;
       ASSERT_NE(a.face_corners, nullptr);
-      ConvexView<Real> a_loops = a, b_loops = b;
+      ASSERT_NE(a.vertex_records, nullptr);
+      ConvexView<Real> a_corners = a, b_corners = b;
+      a_corners.vertex_records = b_corners.vertex_records = nullptr;
+      ConvexView<Real> a_loops = a_corners, b_loops = b_corners;
       a_loops.face_corners = b_loops.face_corners = nullptr;
       for (const auto& depth : depths) {
         for (int k = 0; k < 60; ++k) {
@@ -73,24 +77,29 @@ void masks_match_loop() {
           OverlapFrame<Real> frame;
           OverlapResult<Real> unused;
           if (!overlap_frame(a, pa, b, pb, frame, unused)) continue;
-          unsigned long long by_loop = 0, by_masks = 0, by_loops_masks = 0;
+          unsigned long long by_loop = 0, by_masks = 0, by_corners = 0, by_loops_masks = 0;
           OverlapStatus loop_status = OverlapStatus::overlapping;
-          OverlapResult<Real> masks_result, loops_result;
+          OverlapResult<Real> masks_result, corners_result, loops_result;
           const int m_loop = cull_by_loop(a, b, frame, by_loop, loop_status);
           const int m_masks = cull_by_masks(a, b, frame, by_masks, masks_result);
+          const int m_corners =
+              cull_by_masks(a_corners, b_corners, frame, by_corners, corners_result);
           const int m_loops = cull_by_masks(a_loops, b_loops, frame, by_loops_masks, loops_result);
           const std::string what = sa.shape.name + " / " + sb.shape.name + " pose " +
                                    std::to_string(k) + " depth " + std::to_string(depth[1]);
           ++compared;
           ASSERT_EQ(m_masks, m_loop) << what;
+          ASSERT_EQ(m_corners, m_loop) << what;
           ASSERT_EQ(m_loops, m_loop) << what;
           if (m_loop < 0) {
             ++separated;
             EXPECT_EQ(masks_result.status, loop_status) << what;
+            EXPECT_EQ(corners_result.status, loop_status) << what;
             EXPECT_EQ(loops_result.status, loop_status) << what;
           } else {
             kept_total += m_loop;
             EXPECT_EQ(by_masks, by_loop) << what;
+            EXPECT_EQ(by_corners, by_loop) << what;
             EXPECT_EQ(by_loops_masks, by_loop) << what;
           }
         }
