@@ -15,6 +15,14 @@ struct alignas(32) VertexRecord {
   unsigned long long faces;
 };
 
+// A vertex rounded to float, with its faces (bit f: face f; templates of at most 32 faces), in
+// 16 bytes: the mask culling's float pass in double (filtered_pass in overlap_culling.hpp), which
+// decides a plane from these unless some vertex lies within the float round-off of it.
+struct alignas(16) FilterVertex {
+  float x, y, z;
+  unsigned faces;
+};
+
 template <class Real>
 struct ConvexView {
   const Vec3<Real>* vertices = nullptr;      // body frame, centroid at the origin
@@ -31,13 +39,12 @@ struct ConvexView {
   // without them the overlap skips its face-polygon culling test.
   const int* face_loop_offsets = nullptr;
   const int* face_loop_vertices = nullptr;
-  // Each merged face's corners as a bit mask (bit v: vertex v is on the loop), read by the
-  // overlap's mask culling (overlap_culling.hpp). Optional: only for templates of at most 64
-  // vertices with face loops; without it the masks are taken from the loops when needed.
-  const unsigned long long* face_corners = nullptr;
   // The vertices again, each with its faces (VertexRecord), for the mask culling. Optional: only
   // for templates of at most 64 vertices and 64 faces with face loops.
   const VertexRecord<Real>* vertex_records = nullptr;
+  // The vertices rounded to float, each with its faces (FilterVertex), for the mask culling's
+  // float pass. Optional: only for double templates with vertex records and at most 32 faces.
+  const FilterVertex* filter_vertices = nullptr;
   int n_vertices = 0;
   int n_faces = 0;
   int n_edges = 0;

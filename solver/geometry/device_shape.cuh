@@ -11,8 +11,8 @@ struct DeviceShape {
   DeviceBuffer<Vec3<Real>> vertices, face_normals;
   DeviceBuffer<Real> face_offsets;
   DeviceBuffer<int> edges, edge_faces, triangles, loop_offsets, loop_vertices;
-  DeviceBuffer<unsigned long long> face_corners;
   DeviceBuffer<VertexRecord<Real>> vertex_records;
+  DeviceBuffer<FilterVertex> filter_vertices;
   ConvexView<Real> view;
 
   explicit DeviceShape(const ConvexView<Real>& host) {
@@ -26,8 +26,8 @@ struct DeviceShape {
       loop_offsets.upload(host.face_loop_offsets, host.n_faces + 1);
       loop_vertices.upload(host.face_loop_vertices, host.face_loop_offsets[host.n_faces]);
     }
-    if (host.face_corners) face_corners.upload(host.face_corners, host.n_faces);
     if (host.vertex_records) vertex_records.upload(host.vertex_records, host.n_vertices);
+    if (host.filter_vertices) filter_vertices.upload(host.filter_vertices, host.n_vertices);
     view = host;
     view.vertices = vertices.data();
     view.face_normals = face_normals.data();
@@ -37,8 +37,8 @@ struct DeviceShape {
     view.triangles = host.triangles ? triangles.data() : nullptr;
     view.face_loop_offsets = host.face_loop_offsets ? loop_offsets.data() : nullptr;
     view.face_loop_vertices = host.face_loop_offsets ? loop_vertices.data() : nullptr;
-    view.face_corners = host.face_corners ? face_corners.data() : nullptr;
     view.vertex_records = host.vertex_records ? vertex_records.data() : nullptr;
+    view.filter_vertices = host.filter_vertices ? filter_vertices.data() : nullptr;
   }
 };
 

@@ -22,14 +22,14 @@ namespace talus {
 namespace overlap_batch_detail {
 
 // Where a template's arrays sit in the block's shared memory (byte offsets; -1: not staged). Only
-// what the overlap reads is staged: vertices, face planes, face loops, face corner masks and
-// vertex records.
+// what the overlap reads is staged: vertices, face planes, face loops, vertex records and the
+// float vertices.
 // The phased kernel keeps a pair's planes as the bits of a 64-bit mask.
 constexpr int kMaxPhasedPlanes = 64;
 
 struct SharedShapeLayout {
   int vertices = -1, face_normals = -1, face_offsets = -1, loop_offsets = -1, loop_vertices = -1,
-      face_corners = -1, vertex_records = -1;
+      vertex_records = -1, filter_vertices = -1;
   int loop_entries = 0;
   int bytes = 0;
 };
@@ -51,10 +51,10 @@ SharedShapeLayout shared_layout_for(const ConvexView<Real>& shape, int begin) {
     layout.loop_entries = shape.face_loop_offsets[shape.n_faces];
     layout.loop_vertices = take(layout.loop_entries * int(sizeof(int)));
   }
-  if (shape.face_corners)
-    layout.face_corners = take(shape.n_faces * int(sizeof(unsigned long long)));
   if (shape.vertex_records)
     layout.vertex_records = take(shape.n_vertices * int(sizeof(VertexRecord<Real>)));
+  if (shape.filter_vertices)
+    layout.filter_vertices = take(shape.n_vertices * int(sizeof(FilterVertex)));
   layout.bytes = at - begin;
   return layout;
 }
@@ -85,19 +85,19 @@ constexpr int kSharedTemplateLimit = 48 * 1024;
 // Threads per block of every batch kernel.
 constexpr int kBatchBlock = 128;
 // Blocks per SM that the culling and the enumeration kernels are compiled for (at most 96 and
-// 128 registers a thread; 96 for the enumeration in float, at 5 blocks). Without the caps they took
-// 102 and 196 registers (the enumeration then shared its kernel with the hull), which left 4 and 2
-// warps per scheduler, and both were latency-bound (Nsight Compute on the H100, 2^20 shallow
-// dodecahedron pairs: issue slots 64% and 26% busy). Tried on the whole batch (2^22 pairs):
-// enumeration 4, 5, 6 blocks: 7.48, 7.95, 9.51 ms (spills); culling 4, 5, 6
-// blocks: 7.63, 7.48, 7.57 ms. Again after the enumeration's sums over vertices and the culling's
-// CullFrame (session 7): culling 4, 5, 6 blocks 4.88, 4.77, 4.73-4.77 ms; asking for the largest L1
-// (the least shared memory, cudaSharedmemCarveoutMaxL1) made the batch 5.86 ms. With the vertex
-// records (session 8), culling at 5 and 6 blocks: 4.07-4.08 and 4.11-4.14 ms in double, 3.25-3.27
-// and 3.22-3.24 ms in float.
+// 128 registers a thread; 96 for the enumeration in float, at 5 blocks). Without the caps they
+// took 102 and 196 registers (the enumeration then shared its kernel with the hull), which left
+// 4 and 2 warps per scheduler, and both were latency-bound (Nsight Compute on the H100, 2^20
+// shallow dodecahedron pairs: issue slots 64% and 26% busy). Tried on the whole batch (2^22
+// pairs): enumeration 4, 5, 6 blocks: 7.48, 7.95, 9.51 ms (spills); culling 4, 5, 6 blocks: 7.63,
+// 7.48, 7.57 ms. Again after the enumeration's sums over vertices and the culling's CullFrame
+// (session 7): culling 4, 5, 6 blocks 4.88, 4.77, 4.73-4.77 ms; asking for the largest L1 (the
+// least shared memory, cudaSharedmemCarveoutMaxL1) made the batch 5.86 ms. Session 8: with the
+// vertex records, culling at 5 and 6 blocks took 4.07-4.08 and 4.11-4.14 ms in double
+// (3.25-3.27 and 3.22-3.24 ms in float), and with the float pass 3.77-3.79 and 3.83-3.84 ms;
+// with nothing of a pair in local memory, the enumeration at 3, 4, 5 blocks took 4.31-4.34,
+// 4.09-4.14, 4.59-4.64 ms in double and 3.64-3.67, 3.62-3.67, 3.55 ms in float.
 constexpr int kCullBlocks = 5;
-// With nothing of a pair in local memory (session 8), enumeration at 3, 4, 5 blocks: 4.31-4.34,
-// 4.09-4.14, 4.59-4.64 ms in double; 3.64-3.67, 3.62-3.67, 3.55 ms in float.
 template <class Real>
 constexpr int kEnumerateBlocks = sizeof(Real) == 4 ? 5 : 4;
 
@@ -135,15 +135,15 @@ __device__ ConvexView<Real> stage_shape(const ConvexView<Real>& shape, char* sha
     view.face_loop_offsets = loop_offsets;
     view.face_loop_vertices = loop_vertices;
   }
-  if (layout.face_corners >= 0) {
-    auto* corners = reinterpret_cast<unsigned long long*>(shared + layout.face_corners);
-    copy_to_shared(corners, shape.face_corners, shape.n_faces);
-    view.face_corners = corners;
-  }
   if (layout.vertex_records >= 0) {
     auto* records = reinterpret_cast<VertexRecord<Real>*>(shared + layout.vertex_records);
     copy_to_shared(records, shape.vertex_records, shape.n_vertices);
     view.vertex_records = records;
+  }
+  if (layout.filter_vertices >= 0) {
+    auto* filter = reinterpret_cast<FilterVertex*>(shared + layout.filter_vertices);
+    copy_to_shared(filter, shape.filter_vertices, shape.n_vertices);
+    view.filter_vertices = filter;
   }
   return view;
 }

@@ -220,60 +220,19 @@ TALUS_HD inline int bit_count(unsigned long long mask) {
 #endif
 }
 
-// Step 2 by vertex masks, for templates of at most 64 vertices and 64 faces together, both with
-// their face loops: the decisions of cull_plane (the same sphere test and the same vertex
-// heights in the other body's frame: dropped, beyond or kept), with the face test read from bit
-// masks instead of a loop over the other body's planes per face. Each plane's pass over the
-// other body's vertices records which of them lie above it by more than the round-off; a face of
-// the other body whose corners all lie in that mask is outside this plane's body, and so cannot
-// bound the intersection (face_outside's argument, with the roles of the two bodies swapped).
+// Step 2 by vertex masks, for templates with vertex records (ConvexView::vertex_records: at most
+// 64 vertices and 64 faces) and face loops, 64 faces together: the decisions of cull_plane (the
+// same sphere test and the same vertex heights in the other body's frame: dropped, beyond or
+// kept), with the face test folded into each plane's pass over the other body's vertices instead
+// of a loop over the other body's planes per face. A face of the other body whose corners all lie
+// above the plane by more than the round-off is outside this plane's body, and so cannot bound
+// the intersection (face_outside's argument, with the roles of the two bodies swapped): the pass
+// collects the faces of the vertices that are not above, and the rest are outside.
 template <class Real>
 TALUS_HD inline bool culls_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                     OverlapOptions options) {
   return uses_face_test(a, options) && uses_face_test(b, options) && a.n_faces + b.n_faces <= 64 &&
-         a.n_vertices <= 64 && b.n_vertices <= 64;
-}
-
-// Face f's corners as a bit mask over the template's vertices (ConvexView::face_corners, or from
-// the face loop).
-template <class Real>
-TALUS_HD inline unsigned long long face_corner_mask(const ConvexView<Real>& shape, int f) {
-  if (shape.face_corners) return shape.face_corners[f];
-  unsigned long long corners = 0;
-  for (int k = shape.face_loop_offsets[f]; k < shape.face_loop_offsets[f + 1]; ++k)
-    corners |= 1ull << shape.face_loop_vertices[k];
-  return corners;
-}
-
-// What one pass over a body's vertices tells of a plane (n_body, h_body) in that body's frame,
-// with d = dot(n_body, x) - h_body the height of vertex x (as plane_side computes it):
-// `above`, the mask of the vertices with d > round_off; `beyond`, every d > -round_off (a
-// separating plane: the body lies beyond it); `below`, every d < -round_off (the body lies
-// strictly inside the half-space). Rounding is monotone, so these read as plane_side's tests on
-// the least and greatest dot products.
-template <class Mask>
-struct VertexHeights {
-  Mask above;
-  bool beyond, below;
-};
-
-// Mask: an unsigned type of at least other.n_vertices bits.
-template <class Mask, class Real>
-TALUS_HD inline VertexHeights<Mask> vertex_heights(const ConvexView<Real>& other,
-                                                   const Vec3<Real>& n_body, Real h_body,
-                                                   Real round_off) {
-  Mask above = 0;
-  bool any_low = false, any_high = false;  // some d <= -round_off; some d >= -round_off
-#ifdef __CUDA_ARCH__
-#pragma unroll 4
-#endif
-  for (int v = 0; v < other.n_vertices; ++v) {
-    const Real d = dot(n_body, other.vertices[v]) - h_body;
-    if (d > round_off) above |= Mask(1) << v;
-    any_low |= !(d > -round_off);
-    any_high |= !(d < -round_off);
-  }
-  return {above, !any_low, !any_high};
+         a.vertex_records != nullptr && b.vertex_records != nullptr;
 }
 
 // The least height over the other body's vertices above the plane (plane_side's `lowest`):
@@ -286,40 +245,37 @@ TALUS_HD inline Real lowest_height(const ConvexView<Real>& other, const Vec3<Rea
   return low - h_body;
 }
 
-// The faces of `other` (bit g for face g) whose corners all lie in `above`: outside the body
-// whose plane gave that mask.
-template <class Real>
-TALUS_HD inline unsigned long long faces_within(const ConvexView<Real>& other,
-                                                unsigned long long above) {
-  unsigned long long within = 0;
-  if (other.face_corners) {
-#ifdef __CUDA_ARCH__
-#pragma unroll 4
-#endif
-    for (int g = 0; g < other.n_faces; ++g)
-      if ((other.face_corners[g] & ~above) == 0) within |= 1ull << g;
-  } else {
-    for (int g = 0; g < other.n_faces; ++g)
-      if ((face_corner_mask(other, g) & ~above) == 0) within |= 1ull << g;
-  }
-  return within;
-}
-
-// The same pass over a body's vertex records (ConvexView::vertex_records), with the face test
-// folded in: `touched` holds the faces of `other` with a corner not above the plane
-// (d <= round_off), so that every other face has all its corners above (faces_within's test,
-// with no loop over the faces and no vertex mask). The heights are those of vertex_heights, bit
-// for bit. FaceMask: an unsigned type of at least other.n_faces bits.
-template <class FaceMask>
-struct VertexTouches {
-  FaceMask touched;
-  bool beyond, below;
+// What cull_by_masks learns of one plane (n_body, h_body) in the other body's frame from one pass
+// over that body's vertices, with d = dot(n_body, x) - h_body the height of vertex x (as
+// plane_side computes it): `beyond`, every d > -round_off (a separating plane: the body lies
+// beyond it); `below`, every d < -round_off (the body lies strictly inside the half-space: the
+// plane bounds nothing); else `outside`, the other body's faces (bit g for face g) whose corners
+// all have d > round_off. Rounding is monotone, so these read as plane_side's tests on the least
+// and greatest dot products.
+struct PlanePass {
+  unsigned long long outside = 0;
+  bool beyond = false, below = false;
 };
 
+// The pass's verdict from the faces of the vertices not above the plane (`touched`) and whether
+// some vertex has d <= -round_off (`any_low`) and some d >= -round_off (`any_high`).
+template <class Real>
+TALUS_HD inline PlanePass plane_pass_from(const ConvexView<Real>& other, unsigned long long touched,
+                                          bool any_low, bool any_high) {
+  const unsigned long long faces = other.n_faces >= 64 ? ~0ull : (1ull << other.n_faces) - 1;
+  PlanePass pass;
+  pass.outside = faces & ~touched;  // every corner above the plane
+  pass.beyond = !any_low;
+  pass.below = !any_high;
+  return pass;
+}
+
+// The pass over the vertex records. `touched` collects the faces of the vertices with
+// d <= round_off; every other face has all its corners above. FaceMask: an unsigned type of at
+// least other.n_faces bits (32 where they suffice: half the integer work a vertex).
 template <class FaceMask, class Real>
-TALUS_HD inline VertexTouches<FaceMask> vertex_touches(const ConvexView<Real>& other,
-                                                       const Vec3<Real>& n_body, Real h_body,
-                                                       Real round_off) {
+TALUS_HD inline PlanePass records_pass(const ConvexView<Real>& other, const Vec3<Real>& n_body,
+                                       Real h_body, Real round_off) {
   FaceMask touched = 0;
   bool any_low = false, any_high = false;  // some d <= -round_off; some d >= -round_off
 #ifdef __CUDA_ARCH__
@@ -332,54 +288,57 @@ TALUS_HD inline VertexTouches<FaceMask> vertex_touches(const ConvexView<Real>& o
     any_low |= !(d > -round_off);
     any_high |= !(d < -round_off);
   }
-  return {touched, !any_low, !any_high};
+  return plane_pass_from(other, touched, any_low, any_high);
 }
 
-// What cull_by_masks learns of one plane (n_body, h_body) in the other body's frame from one pass
-// over that body's vertices: `beyond` (a separating plane), `below` (the body lies strictly
-// inside: the plane bounds nothing), else the other body's faces that lie outside the plane's
-// body (bit g for face g).
-struct PlanePass {
-  unsigned long long outside = 0;
-  bool beyond = false, below = false;
-};
+// The same decisions from the vertices rounded to float (ConvexView::filter_vertices), for a
+// double body: true with `pass` filled when every vertex's float height lies farther from 0 than
+// `band`, a bound on its difference from the double height (plus the round-off), so that each
+// test reads as it does in double; false (`pass` untouched) when some vertex lies within the band,
+// or a value is not finite, for the caller to run the pass in double. The heights of the float
+// pass: the rounded normal, vertex and offset (relative error 2^-24 each: 2 * 2^-24 * R on the
+// dot product, with R >= |x| the bounding radius and |n| = 1, and 2^-24 |h|) and at most six
+// roundings in the products and sums (fused or not; each at most 2^-24 (R + |h|)) differ from
+// the exact height by less than 8 * 2^-24 * (R + |h|), and the double height from the exact one
+// by about 1e-16 (R + |h|): the band takes 12 * 2^-24 * (R + |h|) + round_off. A GPU warp then
+// reads 16 bytes a vertex instead of 32 and runs single-precision arithmetic, at twice the
+// double rate.
+template <class Real>
+TALUS_HD inline bool filtered_pass(const ConvexView<Real>& other, const Vec3<Real>& n_body,
+                                   Real h_body, Real round_off, PlanePass& pass) {
+  constexpr Real kHalfUlp = Real(1) / Real(1 << 24);  // 2^-24, float's unit round-off
+  const Real bound = Real(12) * kHalfUlp * (other.bounding_radius + abs_of(h_body)) + round_off;
+  // Rounded to float upwards (the product's excess is far more than float's half ulp), with a
+  // floor far below any vertex height a template meets, against underflow.
+  const float band = static_cast<float>(bound * Real(1.000001)) + 1e-30f;
+  const float nx = static_cast<float>(n_body.x), ny = static_cast<float>(n_body.y),
+              nz = static_cast<float>(n_body.z), h = static_cast<float>(h_body);
+  unsigned touched = 0;
+  bool any_low = false, any_high = false, ambiguous = false;
+#ifdef __CUDA_ARCH__
+#pragma unroll 4
+#endif
+  for (int v = 0; v < other.n_vertices; ++v) {
+    const FilterVertex vertex = other.filter_vertices[v];
+    const float d = nx * vertex.x + ny * vertex.y + nz * vertex.z - h;
+    ambiguous |= !(abs_of(d) > band);  // NaN too
+    const bool up = d > 0.0f;          // d > band: above; d < -band: below -round_off
+    if (!up) touched |= vertex.faces;
+    any_low |= !up;
+    any_high |= up;
+  }
+  if (ambiguous) return false;
+  pass = plane_pass_from(other, touched, any_low, any_high);
+  return true;
+}
 
 template <class Real>
 TALUS_HD inline PlanePass plane_pass(const ConvexView<Real>& other, const Vec3<Real>& n_body,
                                      Real h_body, Real round_off) {
   PlanePass pass;
-  if (other.vertex_records) {
-    const unsigned long long faces =
-        other.n_faces >= 64 ? ~0ull : (1ull << other.n_faces) - 1;  // every face of `other`
-    // 32-bit masks where the other body has at most 32 faces: half the integer work a vertex.
-    if (other.n_faces <= 32) {
-      const VertexTouches<unsigned> t = vertex_touches<unsigned>(other, n_body, h_body, round_off);
-      pass.outside = faces & ~static_cast<unsigned long long>(t.touched);
-      pass.beyond = t.beyond;
-      pass.below = t.below;
-    } else {
-      const VertexTouches<unsigned long long> t =
-          vertex_touches<unsigned long long>(other, n_body, h_body, round_off);
-      pass.outside = faces & ~t.touched;
-      pass.beyond = t.beyond;
-      pass.below = t.below;
-    }
-    return pass;
-  }
-  // 32-bit masks where the other body has at most 32 vertices.
-  VertexHeights<unsigned long long> heights;
-  if (other.n_vertices <= 32) {
-    const VertexHeights<unsigned> narrow =
-        vertex_heights<unsigned>(other, n_body, h_body, round_off);
-    heights = {narrow.above, narrow.beyond, narrow.below};
-  } else {
-    heights = vertex_heights<unsigned long long>(other, n_body, h_body, round_off);
-  }
-  pass.beyond = heights.beyond;
-  pass.below = heights.below;
-  // The other body's faces with every corner above this plane lie outside self.
-  if (!pass.beyond && !pass.below) pass.outside = faces_within(other, heights.above);
-  return pass;
+  if (other.filter_vertices && filtered_pass(other, n_body, h_body, round_off, pass)) return pass;
+  if (other.n_faces <= 32) return records_pass<unsigned>(other, n_body, h_body, round_off);
+  return records_pass<unsigned long long>(other, n_body, h_body, round_off);
 }
 
 // Returns the number of kept planes with bit p of `kept` set for each (A's faces first, then

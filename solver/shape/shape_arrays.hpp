@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -18,8 +19,8 @@ struct ShapeArrays {
   std::vector<int> edges, triangles;                       // 2 and 3 vertex indices each, flattened
   std::vector<int> face_loop_offsets, face_loop_vertices;  // compressed rows, see ConvexView
   std::vector<int> edge_faces;  // 2 faces per edge, see ConvexView; empty if the loops disagree
-  std::vector<unsigned long long> face_corners;    // see ConvexView; empty above 64 vertices
   std::vector<VertexRecord<Real>> vertex_records;  // see ConvexView; empty above 64 of either
+  std::vector<FilterVertex> filter_vertices;       // see ConvexView; double, at most 32 faces
   Real bounding_radius = 0, volume = 0;
 
   explicit ShapeArrays(const ShapeTemplate& shape)
@@ -47,17 +48,15 @@ struct ShapeArrays {
       face_loop_vertices.insert(face_loop_vertices.end(), face.loop.begin(), face.loop.end());
       face_loop_offsets.push_back(int(face_loop_vertices.size()));
     }
-    if (vertices.size() <= 64) {
-      for (const Face& face : shape.faces) {
-        unsigned long long corners = 0;
-        for (int v : face.loop) corners |= 1ull << v;
-        face_corners.push_back(corners);
-      }
-    }
     if (vertices.size() <= 64 && shape.faces.size() <= 64) {
       for (const Vec3<Real>& v : vertices) vertex_records.push_back({v, 0});
       for (std::size_t f = 0; f < shape.faces.size(); ++f)
         for (int v : shape.faces[f].loop) vertex_records[v].faces |= 1ull << f;
+      if (std::is_same_v<Real, double> && shape.faces.size() <= 32) {
+        for (const VertexRecord<Real>& r : vertex_records)
+          filter_vertices.push_back(
+              {float(r.position.x), float(r.position.y), float(r.position.z), unsigned(r.faces)});
+      }
     }
     for (const auto& e : shape.edges) edges.insert(edges.end(), {e[0], e[1]});
     fill_edge_faces(shape);
@@ -104,8 +103,8 @@ struct ShapeArrays {
     view.triangles = triangles.data();
     view.face_loop_offsets = face_loop_offsets.data();
     view.face_loop_vertices = face_loop_vertices.data();
-    view.face_corners = face_corners.empty() ? nullptr : face_corners.data();
     view.vertex_records = vertex_records.empty() ? nullptr : vertex_records.data();
+    view.filter_vertices = filter_vertices.empty() ? nullptr : filter_vertices.data();
     view.n_vertices = int(vertices.size());
     view.n_faces = int(face_normals.size());
     view.n_edges = int(edges.size() / 2);

@@ -2,6 +2,9 @@
 // loop's decisions (cull_plane with the face-polygon test): the same kept planes, and the same
 // separating-plane verdict where it exits. Both are exact filters (docs/geometry.md), so a
 // difference would not show in the volume, only in the work: this compares the masks directly.
+// The masks' float pass (filtered_pass, for double templates) must decide each plane as the
+// double pass does, or hand it over: that is tested plane by plane, at heights inside and around
+// its band.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -49,9 +52,8 @@ int cull_by_loop(const ConvexView<Real>& a, const ConvexView<Real>& b,
 
 // Every pair of built-ins the masks take (at most 64 vertices each and 64 faces together), at
 // shallow, medium and deep overlaps and just apart (the bounding spheres overlap, the bodies
-// may not), 60 poses each. The masks culling runs three times: with the templates' vertex
-// records (the face test folded into the vertex pass), with their face_corners (a view without
-// records) and with the face loops alone (neither): all four must agree exactly.
+// may not), 60 poses each. The masks run twice: with the float pass first where the template has
+// one (double, at most 32 faces) and with the double pass alone: all three must agree exactly.
 template <class Real>
 void masks_match_loop() {
   std::vector<TestShape> shapes;
@@ -63,12 +65,9 @@ void masks_match_loop() {
     for (const TestShape& sb : shapes) {
       const ConvexView<Real> a = view_of<Real>(sa), b = view_of<Real>(sb);
       if (!culls_by_masks(a, b, OverlapOptions())) continue;
-      ASSERT_NE(a.face_corners, nullptr);
       ASSERT_NE(a.vertex_records, nullptr);
-      ConvexView<Real> a_corners = a, b_corners = b;
-      a_corners.vertex_records = b_corners.vertex_records = nullptr;
-      ConvexView<Real> a_loops = a_corners, b_loops = b_corners;
-      a_loops.face_corners = b_loops.face_corners = nullptr;
+      ConvexView<Real> a_exact = a, b_exact = b;
+      a_exact.filter_vertices = b_exact.filter_vertices = nullptr;
       for (const auto& depth : depths) {
         for (int k = 0; k < 60; ++k) {
           const PosePair p = random_overlapping_pair(rng, sa.shape.bounding_radius,
@@ -77,30 +76,25 @@ void masks_match_loop() {
           OverlapFrame<Real> frame;
           OverlapResult<Real> unused;
           if (!overlap_frame(a, pa, b, pb, frame, unused)) continue;
-          unsigned long long by_loop = 0, by_masks = 0, by_corners = 0, by_loops_masks = 0;
+          unsigned long long by_loop = 0, by_masks = 0, by_exact = 0;
           OverlapStatus loop_status = OverlapStatus::overlapping;
-          OverlapResult<Real> masks_result, corners_result, loops_result;
+          OverlapResult<Real> masks_result, exact_result;
           const int m_loop = cull_by_loop(a, b, frame, by_loop, loop_status);
           const int m_masks = cull_by_masks(a, b, frame, by_masks, masks_result);
-          const int m_corners =
-              cull_by_masks(a_corners, b_corners, frame, by_corners, corners_result);
-          const int m_loops = cull_by_masks(a_loops, b_loops, frame, by_loops_masks, loops_result);
+          const int m_exact = cull_by_masks(a_exact, b_exact, frame, by_exact, exact_result);
           const std::string what = sa.shape.name + " / " + sb.shape.name + " pose " +
                                    std::to_string(k) + " depth " + std::to_string(depth[1]);
           ++compared;
           ASSERT_EQ(m_masks, m_loop) << what;
-          ASSERT_EQ(m_corners, m_loop) << what;
-          ASSERT_EQ(m_loops, m_loop) << what;
+          ASSERT_EQ(m_exact, m_loop) << what;
           if (m_loop < 0) {
             ++separated;
             EXPECT_EQ(masks_result.status, loop_status) << what;
-            EXPECT_EQ(corners_result.status, loop_status) << what;
-            EXPECT_EQ(loops_result.status, loop_status) << what;
+            EXPECT_EQ(exact_result.status, loop_status) << what;
           } else {
             kept_total += m_loop;
             EXPECT_EQ(by_masks, by_loop) << what;
-            EXPECT_EQ(by_corners, by_loop) << what;
-            EXPECT_EQ(by_loops_masks, by_loop) << what;
+            EXPECT_EQ(by_exact, by_loop) << what;
           }
         }
       }
@@ -118,6 +112,70 @@ TEST(OverlapCulling, MasksMakeThePlaneLoopsDecisionsInDouble) {
 }
 TEST(OverlapCulling, MasksMakeThePlaneLoopsDecisionsInFloat) {
   masks_match_loop<float>();
+}
+
+// The float pass against the double pass, plane by plane: planes of random direction through
+// each vertex of every double built-in that has the float vertices, shifted by heights from 0 to
+// a tenth of the radius, both ways, so that the vertex lies inside the band (the float pass must
+// hand the plane over), just outside it and far from it (it must decide as the double pass does:
+// the same faces outside, the same beyond and below).
+TEST(OverlapCulling, FloatPassDecidesAsTheDoublePassOrHandsOver) {
+  std::mt19937_64 rng(20261124);
+  std::normal_distribution<double> gauss;
+  // Heights relative to the radius: 0 and the double round-off's scale (inside the band of
+  // 12 * 2^-24 = 7.2e-7 relative, more with the offset), around the band, and far beyond it.
+  const double shifts[] = {0, 1e-15, 1e-12, 1e-9, 1e-7, 5e-7, 7e-7, 1e-6, 2e-6, 1e-5, 1e-3, 0.1};
+  int shapes = 0, decided = 0, handed_over = 0, far = 0, far_decided = 0;
+  for (const std::string& spec : testing::builtin_specs()) {
+    const TestShape s(spec);
+    const ConvexView<double> filtered = s.view();
+    if (!filtered.filter_vertices) continue;
+    ++shapes;
+    ConvexView<double> exact = filtered;
+    exact.filter_vertices = nullptr;
+    const double radius = filtered.bounding_radius;
+    const double round_off = 64 * Eps<double>::value * 2 * radius;  // as overlap_frame's
+    for (int k = 0; k < 40; ++k) {
+      Vec3d n(gauss(rng), gauss(rng), gauss(rng));
+      n = n * (1 / norm(n));
+      for (int v = 0; v < filtered.n_vertices; ++v) {
+        for (const double shift : shifts) {
+          for (const double sign : {-1.0, 1.0}) {
+            const double h = dot(n, filtered.vertices[v]) + sign * shift * radius;
+            const PlanePass want = plane_pass(exact, n, h, round_off);
+            PlanePass got;
+            const std::string what =
+                spec + " vertex " + std::to_string(v) + " shift " + std::to_string(sign * shift);
+            const bool answered = filtered_pass(filtered, n, h, round_off, got);
+            // The band is at least 12 * 2^-24 * R = 7.2e-7 R wide: a vertex nearer the plane
+            // must hand it over.
+            if (shift <= 5e-7) EXPECT_FALSE(answered) << what;
+            if (shift >= 1e-5) {
+              ++far;
+              far_decided += answered;
+            }
+            if (!answered) {
+              ++handed_over;
+              continue;
+            }
+            ++decided;
+            ASSERT_EQ(got.beyond, want.beyond) << what;
+            ASSERT_EQ(got.below, want.below) << what;
+            ASSERT_EQ(got.outside, want.outside) << what;
+          }
+        }
+      }
+    }
+  }
+  // The dodecahedron, cube, ... (at most 32 faces) have the float vertices; the sweep must reach
+  // both branches. A plane 1e-5 R or more from the vertex it passes by is handed over only when
+  // another vertex lies within the band, which random directions make rare: at least 90% of
+  // them are decided in float.
+  EXPECT_GE(shapes, 5);
+  EXPECT_GT(handed_over, 0);
+  EXPECT_GT(far_decided, 0.9 * far) << far_decided << " of " << far;
+  RecordProperty("decided", decided);
+  RecordProperty("handed_over", handed_over);
 }
 
 }  // namespace
