@@ -71,19 +71,39 @@ struct Mat3 {
   }
 };
 
+// a * b rounded on its own. A GPU compiler may fuse a product into the sum it feeds (one rounding
+// instead of two), and whether it does for a product with several uses depends on the code
+// around it: the same quaternion could then give two kernels rotations that differ in the last
+// bit. Rounded products leave nothing to fuse (a product by 2 is exact, fused or not). The host
+// compiler fuses nothing without FMA instructions, so the host gives the same rotation.
+template <class Real>
+TALUS_HD inline Real rounded_product(Real a, Real b) {
+#ifdef __CUDA_ARCH__
+  if constexpr (sizeof(Real) == sizeof(float))
+    return __fmul_rn(a, b);
+  else
+    return __dmul_rn(a, b);
+#else
+  return a * b;
+#endif
+}
+
 template <class Real>
 TALUS_HD inline Mat3<Real> rotation_matrix(const Quat<Real>& q) {
   const Real w = q.w, x = q.x, y = q.y, z = q.z;
+  const Real xx = rounded_product(x, x), yy = rounded_product(y, y), zz = rounded_product(z, z);
+  const Real xy = rounded_product(x, y), xz = rounded_product(x, z), yz = rounded_product(y, z);
+  const Real wx = rounded_product(w, x), wy = rounded_product(w, y), wz = rounded_product(w, z);
   Mat3<Real> r;
-  r.m[0][0] = 1 - 2 * (y * y + z * z);
-  r.m[0][1] = 2 * (x * y - w * z);
-  r.m[0][2] = 2 * (x * z + w * y);
-  r.m[1][0] = 2 * (x * y + w * z);
-  r.m[1][1] = 1 - 2 * (x * x + z * z);
-  r.m[1][2] = 2 * (y * z - w * x);
-  r.m[2][0] = 2 * (x * z - w * y);
-  r.m[2][1] = 2 * (y * z + w * x);
-  r.m[2][2] = 1 - 2 * (x * x + y * y);
+  r.m[0][0] = 1 - 2 * (yy + zz);
+  r.m[0][1] = 2 * (xy - wz);
+  r.m[0][2] = 2 * (xz + wy);
+  r.m[1][0] = 2 * (xy + wz);
+  r.m[1][1] = 1 - 2 * (xx + zz);
+  r.m[1][2] = 2 * (yz - wx);
+  r.m[2][0] = 2 * (xz - wy);
+  r.m[2][1] = 2 * (yz + wx);
+  r.m[2][2] = 1 - 2 * (xx + yy);
   return r;
 }
 

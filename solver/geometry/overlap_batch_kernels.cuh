@@ -302,7 +302,11 @@ __global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks<Real>)
                      const unsigned long long* __restrict__ masks,
                      OverlapResult<Real>* __restrict__ out) {
   const ConvexView<Real>* views = stage_views<Real, true>(a, b, args);
-  __shared__ overlap_detail::EnumerationPlane<Real> planes[kEnumerationPlanes * kBatchBlock];
+  // Raw bytes: a __shared__ array may not have a constructor, which EnumerationPlane's Vec3 has.
+  using Plane = overlap_detail::EnumerationPlane<Real>;
+  __shared__ __align__(
+      alignof(Plane)) unsigned char plane_bytes[kEnumerationPlanes * kBatchBlock * sizeof(Plane)];
+  Plane* planes = reinterpret_cast<Plane*>(plane_bytes);
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= args.count) return;
   const int i = args.order[begin + j];

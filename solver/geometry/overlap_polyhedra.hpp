@@ -87,27 +87,49 @@ TALUS_HD inline Vec3<Real> primal_vertex_of(const Workspace& ws, int f, Real w) 
   return hull.face_normal[f] / w;
 }
 
-// The planes of `mask` (A's faces first, then B's) into ws, in that order: their count, or -1
-// when more than the workspace holds.
+// The planes of `mask` (A's faces first, then B's) in the frame, each handed to
+// put(index, n, h, owner) in that order: their count, or -1 (none handed) when there are more
+// than `capacity`. A's planes and B's are taken in loops of their own, so that no rotation is
+// chosen at run time (on the GPU that would put the frame in the thread's local memory); every
+// caller takes its planes from here, so that the planes are the same, bit for bit, whichever
+// kernel computes them (a GPU compiler may contract a product and a sum into one fused
+// operation differently in code of another shape).
+template <class Real, class Put>
+TALUS_HD inline int mask_planes(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                                const OverlapFrame<Real>& frame, unsigned long long mask,
+                                int capacity, Put&& put) {
+  if (bit_count(mask) > capacity) return -1;
+  const int n_a = a.n_faces;
+  const unsigned long long a_bits = n_a >= 64 ? mask : mask & ((1ull << n_a) - 1);
+  int m = 0;
+  for (unsigned long long bits = a_bits; bits != 0; ++m) {
+    Vec3<Real> n;
+    Real h;
+    frame_plane(a, frame, 0, pop_lowest_bit(bits), n, h);
+    put(m, n, h, 0);
+  }
+  for (unsigned long long bits = mask & ~a_bits; bits != 0; ++m) {
+    Vec3<Real> n;
+    Real h;
+    frame_plane(b, frame, 1, pop_lowest_bit(bits) - n_a, n, h);
+    put(m, n, h, 1);
+  }
+  return m;
+}
+
+// The planes of `mask` into ws (mask_planes): their count, or -1 when more than the workspace
+// holds.
 template <class Real, class Workspace>
 TALUS_HD inline int planes_from_mask(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                      const OverlapFrame<Real>& frame, unsigned long long mask,
                                      Workspace& ws) {
-  int m = 0;
-  while (mask != 0) {
-    const int p = pop_lowest_bit(mask);
-    const int owner = p < a.n_faces ? 0 : 1;
-    if (m >= Workspace::kMaxPlanes) return -1;
-    Vec3<Real> n;
-    Real h;
-    frame_plane(owner == 0 ? a : b, frame, owner, owner == 0 ? p : p - a.n_faces, n, h);
-    ws.hull.plane_normal[m] = n;
-    ws.plane_offset[m] = h;
-    ws.plane_owner[m] = static_cast<signed char>(owner);
-    ws.plane_twin[m] = 0;
-    ++m;
-  }
-  return m;
+  return mask_planes(a, b, frame, mask, Workspace::kMaxPlanes,
+                     [&ws](int m, const Vec3<Real>& n, Real h, int owner) {
+                       ws.hull.plane_normal[m] = n;
+                       ws.plane_offset[m] = h;
+                       ws.plane_owner[m] = static_cast<signed char>(owner);
+                       ws.plane_twin[m] = 0;
+                     });
 }
 
 // Steps 3-5 on the m planes in ws (hull.plane_normal, plane_offset, plane_owner; twins cleared).
@@ -407,24 +429,14 @@ TALUS_HD inline bool overlap_enumerate_from_mask(overlap_detail::EnumerationBodi
   const Pose<Real> pose_a{bodies.position_a, bodies.orientation_a};
   const Pose<Real> pose_b{bodies.position_b, bodies.orientation_b};
   if (!overlap_frame(bodies.a, pose_a, bodies.b, pose_b, frame, scratch)) return false;
-  if (bit_count(mask) > kEnumerationPlanes) return false;
-  // A's planes, then B's: each loop names its body at compile time, so that no rotation is
-  // chosen at run time (on the GPU that would put the frame in the thread's local memory).
-  const int n_a = bodies.a.n_faces;
-  const unsigned long long a_bits = n_a >= 64 ? mask : mask & ((1ull << n_a) - 1);
-  int m = 0;
-  for (unsigned long long bits = a_bits; bits != 0; ++m) {
-    EnumerationPlane<Real> q;
-    frame_plane(bodies.a, frame, 0, pop_lowest_bit(bits), q.n, q.h);
-    plane[m * stride] = q;
-  }
   unsigned b_planes = 0;
-  for (unsigned long long bits = mask & ~a_bits; bits != 0; ++m) {
-    EnumerationPlane<Real> q;
-    frame_plane(bodies.b, frame, 1, pop_lowest_bit(bits) - n_a, q.n, q.h);
-    plane[m * stride] = q;
-    b_planes |= 1u << m;
-  }
+  const int m =
+      mask_planes(bodies.a, bodies.b, frame, mask, kEnumerationPlanes,
+                  [plane, stride, &b_planes](int k, const Vec3<Real>& n, Real h, int owner) {
+                    plane[k * stride] = {n, h};
+                    if (owner != 0) b_planes |= 1u << k;
+                  });
+  if (m < 0) return false;
   bodies.round_off = frame.round_off;
   return enumerate_overlap(bodies, plane, stride, b_planes, m, result);
 }
