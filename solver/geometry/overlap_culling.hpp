@@ -348,9 +348,10 @@ TALUS_HD inline PlanePass plane_pass(const ConvexView<Real>& other, const Vec3<R
 // sphere test of every plane first (cheap: most planes of a shallow contact face away from the
 // other body and drop here), then, for each plane left, in the same order, one full pass over
 // the other body's vertices (no early exit: the warp's threads run the same loop) with the face
-// test of the other body's faces (plane_pass: from the vertex records, folded into the pass, or
-// against the mask of the vertices above). A plane dropped by the sphere or lying strictly
-// inside marks no face (its mask would be empty), as the per-face test finds.
+// test of the other body's faces folded in (plane_pass: the faces of the vertices not above the
+// plane, read from the vertex records; for a double body first in float). A plane dropped by
+// the sphere or lying strictly inside marks no face (no corner lies above it), as the per-face
+// test finds.
 template <class Real>
 TALUS_HD inline int cull_by_masks(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                   const OverlapFrame<Real>& frame, unsigned long long& kept,
