@@ -16,8 +16,9 @@ struct alignas(32) VertexRecord {
 };
 
 // A vertex rounded to float, with its faces (bit f: face f; templates of at most 32 faces), in
-// 16 bytes: the mask culling's float pass in double (filtered_pass in overlap_culling.hpp), which
-// decides a plane from these unless some vertex lies within the float round-off of it.
+// 16 bytes: the mask culling's float pass in double on the GPU (filtered_pass in
+// overlap_culling.hpp), which decides a plane from these unless some vertex lies within the
+// float round-off of it.
 struct alignas(16) FilterVertex {
   float x, y, z;
   unsigned faces;
@@ -43,7 +44,8 @@ struct ConvexView {
   // for templates of at most 64 vertices and 64 faces with face loops.
   const VertexRecord<Real>* vertex_records = nullptr;
   // The vertices rounded to float, each with its faces (FilterVertex), for the mask culling's
-  // float pass. Optional: only for double templates with vertex records and at most 32 faces.
+  // float pass (GPU code only). Optional: only for double templates with vertex records and at
+  // most 32 faces.
   const FilterVertex* filter_vertices = nullptr;
   int n_vertices = 0;
   int n_faces = 0;
