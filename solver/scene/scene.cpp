@@ -76,7 +76,15 @@ const char* to_string(WallKind kind) {
 }
 
 const char* to_string(ContactModel model) {
-  return model == ContactModel::volume ? "volume" : "linear";
+  switch (model) {
+    case ContactModel::volume:
+      return "volume";
+    case ContactModel::volume_paper:
+      return "volume_paper";
+    case ContactModel::linear:
+      break;
+  }
+  return "linear";
 }
 
 const char* to_string(Probe probe) {
@@ -89,6 +97,8 @@ const char* to_string(Probe probe) {
       return "contact_count";
     case Probe::bed_height:
       return "bed_height";
+    case Probe::energy:
+      return "energy";
   }
   return "?";
 }

@@ -12,7 +12,7 @@ const std::string kTangentialDamping =
 
 // Returns whether the linear model's tangential_damping was given.
 bool parse_contact(const SceneNode& node, Effects& effects) {
-  const std::vector<std::string> models = {"volume", "linear"};
+  const std::vector<std::string> models = {"volume", "volume_paper", "linear"};
   const std::string what = "a contact model";
   if (!node.is_map()) {
     const std::string model = node.choice(models, what);
@@ -20,14 +20,16 @@ bool parse_contact(const SceneNode& node, Effects& effects) {
       node.fail(
           "the linear model needs its parameters: write {model: linear, stiffness: K_N, "
           "damping: eta, tangential_damping: gamma}");
-    effects.contact = ContactModel::volume;
+    effects.contact = model == "volume" ? ContactModel::volume : ContactModel::volume_paper;
     return false;
   }
   node.keys({"model", "stiffness", "damping", "tangential_damping"},
-            "a contact model: volume, or {model: linear, stiffness, damping, tangential_damping}");
-  const SceneNode model = node.at("model", what + ", one of volume, linear");
-  if (model.choice(models, what) == "volume") {
-    effects.contact = ContactModel::volume;
+            "a contact model: volume, volume_paper, or {model: linear, stiffness, damping, "
+            "tangential_damping}");
+  const SceneNode model = node.at("model", what + ", one of volume, volume_paper, linear");
+  const std::string name = model.choice(models, what);
+  if (name != "linear") {
+    effects.contact = name == "volume" ? ContactModel::volume : ContactModel::volume_paper;
     for (const char* key : {"stiffness", "damping", "tangential_damping"})
       if (auto extra = node.find(key))
         extra->fail(

@@ -148,10 +148,10 @@ TEST(SceneErrors, UnknownEffectOrContactModel) {
                "contact, friction, rotation, drag");
   EXPECT_STREQ(error_with("contact: volume", "contact: hertz").what(),
                "errors.yaml:19:12: effects.contact: expected a contact model, one of volume, "
-               "linear, got 'hertz'");
+               "volume_paper, linear, got 'hertz'");
   EXPECT_STREQ(error_with("contact: volume", "contact: {model: hertz}").what(),
                "errors.yaml:19:20: effects.contact.model: expected a contact model, one of "
-               "volume, linear, got 'hertz'");
+               "volume, volume_paper, linear, got 'hertz'");
 }
 
 TEST(SceneErrors, MissingFilesAreNamed) {
