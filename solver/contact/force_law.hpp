@@ -1,6 +1,8 @@
 // Contact force laws of the production solver, as stateless TALUS_HD functions on one contact:
-// the volume model of the method paper (§2.5, Eqs. 12-20) and the linear model of BLAZE-DEM
-// (§3.1, Eqs. 2-3). Conventions, for a contact between A and B (B may be a wall):
+// the volume laws of the method paper (§2.5, Eqs. 12-20: `volume`, the default, made linear in
+// the overlap volume where that is softer, and `volume_paper`, Eqs. 12-13 as printed;
+// docs/contact.md derives both) and the linear model of BLAZE-DEM (§3.1, Eqs. 2-3).
+// Conventions, for a contact between A and B (B may be a wall):
 //   n    unit normal from A into B (volume model: n = S / |S|, S the overlap's vector area on A);
 //   v_r  v_A(c) - v_B(c) at the contact point c; v_r . n > 0 while the bodies approach;
 //   the force returned acts on A; B gets its opposite; torques (c - x) x F (Eqs. 21-22).
@@ -13,6 +15,54 @@
 
 namespace talus {
 
+// The scene's contact law (scene ContactModel), as the kernels see it.
+enum class ContactLaw : int { volume = 0, volume_paper = 1, linear = 2 };
+
+// Whether the law's geometry is the overlap volume (else the linear law's depth).
+TALUS_HD inline bool has_volume_geometry(ContactLaw law) {
+  return law != ContactLaw::linear;
+}
+
+// A volume law's pressure p(V) = dU/dV, its slope p'(V) and its potential U(V): Feng's
+// construction (the paper's Eqs. 12-13 are of this form) makes the elastic force on A -p(V) S, the
+// gradient of U, whatever the shapes, so an elastic collision conserves energy.
+template <class Real>
+struct VolumePressure {
+  Real pressure = 0;  // p, Pa
+  Real slope = 0;     // p', Pa/m^3: the face-on-face stiffness is p' A_n^2
+  Real energy = 0;    // U, J
+};
+
+// volume: p = K min(V / A_ref, V^(1/3)), linear below the switch volume V_s = A_ref^(3/2) (the
+// paper's above it), so p' <= K / A_ref: bounded stiffness (docs/contact.md). volume_paper: p = K
+// V^(1/3) (Eq. 12 with k_n = K A_n, Eq. 13), p' unbounded as V -> 0. K = E_A/R_A + E_B/R_B.
+template <class Real>
+TALUS_HD inline VolumePressure<Real> volume_pressure(ContactLaw law, Real modulus,
+                                                     Real reference_area, Real volume) {
+  VolumePressure<Real> out;
+  const Real cube_root = std::cbrt(volume);
+  if (law == ContactLaw::volume && volume < reference_area * cube_root) {
+    out.pressure = modulus * volume / reference_area;
+    out.slope = modulus / reference_area;
+    out.energy = Real(0.5) * modulus * volume * volume / reference_area;
+  } else {
+    out.pressure = modulus * cube_root;
+    out.slope = cube_root > Real(0) ? modulus / (Real(3) * cube_root * cube_root) : Real(0);
+    out.energy = Real(0.75) * modulus * volume * cube_root;
+    // U continuous at V_s: 1/2 K A_ref^2 below, 3/4 K A_ref^2 from the paper's expression.
+    if (law == ContactLaw::volume)
+      out.energy -= Real(0.25) * modulus * reference_area * reference_area;
+  }
+  return out;
+}
+
+// A_ref of the default volume law: the cross-section of the smaller body's equivalent sphere.
+template <class Real>
+TALUS_HD inline Real volume_reference_area(Real radius_a, Real radius_b) {
+  const Real r = min_of(radius_a, radius_b);
+  return Real(3.14159265358979323846) * r * r;
+}
+
 template <class Real>
 struct NormalContactData {
   Vec3<Real> normal;              // n, unit, from A into B
@@ -21,6 +71,7 @@ struct NormalContactData {
   Real normal_stiffness = 0;      // k_n = K A_n (Eq. 13), N/m
   Real tangential_stiffness = 0;  // k_t (Eq. 19), N/m
   Real area = 0;                  // A_n, m^2
+  Real potential = 0;             // the normal elastic energy U, J
 };
 
 // What a contact carries across steps (keyed by the global ids, tangential_history.hpp): the
@@ -38,14 +89,19 @@ struct ContactForceData {
   Vec3<Real> normal_force;      // on A, N
   Vec3<Real> tangential_force;  // on A, N
   bool sliding = false;         // the Coulomb cap bound
+  // Power taken from the bodies' relative motion and not stored (damping, friction), W (>= 0),
+  // and the tangential spring's energy |F_t^e|^2 / (2 k_t) after the step, J: the energy probe.
+  Real dissipation = 0;
+  Real spring_energy = 0;
   TALUS_HD Vec3<Real> total() const { return normal_force + tangential_force; }
 };
 
 // Normal damping of the volume model. paper: Eq. 15 (with the dissipating sign) on the current
-// k_n. calibrated: c_n = eta A_n, eta = beta(eps) m^(1/4) K^(3/4) / sqrt(v0), K = E1/R1 + E2/R2,
-// v0 the contact's largest approach speed, beta(eps) from damping_calibration.hpp; A_n cancels
-// in the impact's equation in dV, so one eta gives restitution eps for every shape. v0 is at
-// least the speed that would have made the current overlap (finite for a contact formed at rest).
+// k_n (the default volume law's damping, on its bounded p' A_n^2). calibrated: c_n = eta A_n, eta =
+// beta(eps) m^(1/4) K^(3/4) / sqrt(v0), K = E1/R1 + E2/R2, v0 the contact's largest approach speed,
+// beta(eps) from damping_calibration.hpp; A_n cancels in the impact's equation in dV, so one eta
+// gives restitution eps for every shape. v0 is at least the speed that would have made the current
+// overlap (finite for a contact formed at rest).
 enum class NormalDampingModel : int { paper = 0, calibrated = 1 };
 
 template <class Real>
@@ -73,6 +129,14 @@ TALUS_HD inline Vec3<Real> no_tension_normal_force(const Vec3<Real>& n, Real ela
                                                    Real normal_speed) {
   const Real push = elastic + damping * normal_speed;
   return push > Real(0) ? n * (-push) : Vec3<Real>();
+}
+
+// The power the normal force's non-elastic part takes from the approach, W (>= 0): the dashpot's
+// c_n v_n^2, or, where the no-tension rule dropped the force, the elastic power not returned.
+template <class Real>
+TALUS_HD inline Real normal_dissipation(const Vec3<Real>& normal_force, const Vec3<Real>& n,
+                                        Real elastic, Real normal_speed) {
+  return (-dot(normal_force, n) - elastic) * normal_speed;
 }
 
 // The volume model for one contact: F_n = -(|F^e| + c_n v_n) n, never pulling; the tangential
@@ -124,6 +188,7 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   }
   ContactForceData<Real> out;
   out.normal_force = no_tension_normal_force(n, c.elastic, c_n, v_n);
+  out.dissipation = normal_dissipation(out.normal_force, n, c.elastic, v_n);
   if (!law.with_friction) {
     history.elastic_force = Vec3<Real>();
     return out;
@@ -135,6 +200,7 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   if (projected > Real(0)) f_e *= length / projected;
   const Vec3<Real> v_t = v_r - n * v_n;
   const Real k_t = c.tangential_stiffness;
+  const Real spring_before = k_t > Real(0) ? norm2(f_e) / (Real(2) * k_t) : Real(0);
   f_e -= v_t * (k_t * dt);                                        // Eq. 18, incremental
   const Real c_t = dissipative_damping(law.restitution, k_t, m);  // Eq. 20
   Vec3<Real> f_t = f_e - v_t * c_t;                               // Eqs. 17, 20
@@ -146,6 +212,10 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
     f_e = f_t + v_t * c_t;
   }
   out.tangential_force = f_t;
+  // What the tangential force took from the relative motion over dt, less what the spring kept.
+  out.spring_energy = k_t > Real(0) ? norm2(f_e) / (Real(2) * k_t) : Real(0);
+  out.dissipation +=
+      dt > Real(0) ? -dot(f_t, v_t) - (out.spring_energy - spring_before) / dt : c_t * norm2(v_t);
   return out;
 }
 
@@ -168,6 +238,7 @@ TALUS_HD inline ContactForceData<Real> linear_contact_force(const NormalContactD
   const Real v_n = dot(v_r, n);
   ContactForceData<Real> out;
   out.normal_force = no_tension_normal_force(n, c.elastic, law.damping, v_n);  // Eq. 2
+  out.dissipation = normal_dissipation(out.normal_force, n, c.elastic, v_n);
   if (!law.with_friction) return out;
   const Vec3<Real> v_t = v_r - n * v_n;
   const Real speed = norm(v_t);
@@ -175,6 +246,7 @@ TALUS_HD inline ContactForceData<Real> linear_contact_force(const NormalContactD
   const Real cap = law.friction * c.elastic, viscous = law.tangential_damping * speed;
   out.sliding = cap < viscous;
   out.tangential_force = v_t * (-min_of(cap, viscous) / speed);  // Eq. 3
+  out.dissipation += min_of(cap, viscous) * speed;               // history-free: all of it
   return out;
 }
 

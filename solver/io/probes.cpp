@@ -10,10 +10,22 @@
 
 namespace talus {
 
+const std::vector<std::string>& energy_probe_columns() {
+  static const std::vector<std::string> columns = {
+      "kinetic_translational", "kinetic_rotational", "gravitational", "elastic_normal",
+      "elastic_tangential",    "dissipated",         "wall_work",     "fed",
+      "energy_balance"};
+  return columns;
+}
+
 std::vector<std::string> probe_columns(const ProbeOutput& probes,
                                        const std::vector<WallSpec>& walls) {
   std::vector<std::string> columns;
   for (const Probe probe : probes.quantities) {
+    if (probe == Probe::energy) {
+      columns.insert(columns.end(), energy_probe_columns().begin(), energy_probe_columns().end());
+      continue;
+    }
     if (probe != Probe::wall_forces) {
       columns.push_back(to_string(probe));
       continue;

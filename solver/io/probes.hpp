@@ -1,7 +1,8 @@
 // The probe file: CSV with the header time,step,<columns>, one row per probe step, appended and
 // flushed at once so that an interrupted run keeps every row it wrote. Columns, in the order the
 // scene lists its quantities: kinetic_energy; contact_count; bed_height; wall_forces expands to
-// wall_<name>_fx, _fy, _fz, _tx, _ty, _tz for every wall in scene order.
+// wall_<name>_fx, _fy, _fz, _tx, _ty, _tz for every wall in scene order; energy expands to
+// energy_probe_columns().
 #pragma once
 
 #include <cstdio>
@@ -11,6 +12,11 @@
 #include "solver/scene/scene.hpp"
 
 namespace talus {
+
+// The columns the energy probe expands to (J): the kinetic, gravitational and elastic energies
+// held, the totals dissipated, given by moving walls and brought by feeds, and the balance
+// held + dissipated - given, constant in an exact run (solver/step/energy.hpp).
+const std::vector<std::string>& energy_probe_columns();
 
 // The columns after time and step, for the scene's probe quantities and walls.
 std::vector<std::string> probe_columns(const ProbeOutput& probes,

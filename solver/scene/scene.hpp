@@ -202,7 +202,9 @@ struct WallSpec {
 // printed (unbounded stiffness for flat contacts, kept for comparison); linear: BLAZE-DEM.
 enum class ContactModel { volume, volume_paper, linear };
 // Whether the model computes overlap volumes (the volume laws) rather than depths (linear).
-inline bool is_volume_model(ContactModel model) { return model != ContactModel::linear; }
+inline bool is_volume_model(ContactModel model) {
+  return model != ContactModel::linear;
+}
 
 // BLAZE-DEM Eqs. 2-3: F_N = K_N delta n - eta v, F_T = -min(mu K_N delta, gamma |v_T|) t.
 struct LinearContactParameters {
@@ -264,12 +266,12 @@ enum class Backend { automatic, cpu, cuda };
 enum class Precision { float32, float64 };
 
 struct Scene {
-  std::string file;       // the scene file as given to load_scene
-  std::string directory;  // relative mesh paths resolve against it
-  double time_step = 0;   // s (resolved from the time-step advisor when `step: auto`)
+  std::string file;             // the scene file as given to load_scene
+  std::string directory;        // relative mesh paths resolve against it
+  double time_step = 0;         // s (resolved from the time-step advisor when `step: auto`)
   bool time_step_auto = false;  // the scene wrote `time: {step: auto}`
   SourceRef time_step_source;   // where time.step was written (the advisor's errors name it)
-  double end_time = 0;    // s
+  double end_time = 0;          // s
   std::uint64_t seed = 0;
   Backend backend = Backend::automatic;
   Precision precision = Precision::float64;

@@ -137,7 +137,7 @@ ProbeOutput parse_probes(const SceneNode& node, const Scene& scene) {
   output.file = "probes.csv";
   if (auto file = node.find("file")) output.file = file->text("a file path");
   const std::vector<Probe> all = {Probe::kinetic_energy, Probe::wall_forces, Probe::contact_count,
-                                  Probe::bed_height};
+                                  Probe::bed_height, Probe::energy};
   std::vector<std::string> names;
   for (Probe p : all) names.push_back(to_string(p));
   const SceneNode quantities = node.at("quantities", "a list of probes");

@@ -29,6 +29,7 @@ class AnyStep {
   virtual Vec3d wall_torque(int w) const = 0;
   virtual std::vector<TrajectoryRow> rows() const = 0;
   virtual double kinetic_energy() const = 0;
+  virtual EnergyTerms energy() const = 0;
   virtual double bed_height(const Vec3d& gravity) const = 0;
   virtual const std::array<double, 9>& stage_seconds() const = 0;
   virtual std::size_t bytes() const = 0;
@@ -58,6 +59,7 @@ class StepAdapter : public AnyStep {
   Vec3d wall_torque(int w) const override { return step_.wall_torque(w); }
   std::vector<TrajectoryRow> rows() const override { return step_.trajectory_rows(); }
   double kinetic_energy() const override { return step_.kinetic_energy(); }
+  EnergyTerms energy() const override { return step_.energy(); }
   double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
   const std::array<double, 9>& stage_seconds() const override { return step_.stage_seconds(); }
   std::size_t bytes() const override { return step_.allocated_bytes(); }

@@ -42,7 +42,7 @@ class PairContactStage {
       youngs_.push_back(Real(m.youngs_modulus));
       poisson_.push_back(Real(m.poisson_ratio));
     }
-    const bool volume = *fx.contact == ContactModel::volume;
+    const bool volume = is_volume_model(*fx.contact);
     bool any_sphere = false, any_polyhedron = false;
     for (const ParticleTemplate& t : scene.templates) {
       (t.kind == ParticleShapeKind::sphere ? any_sphere : any_polyhedron) = true;
@@ -67,7 +67,10 @@ class PairContactStage {
         friction_.push_back(Real(scene.pair_friction(a, b)));
         const double eps = scene.pair_restitution(a, b);
         restitution_.push_back(Real(eps));
-        damping_ratio_.push_back(volume ? Real(calibrated_damping_ratio_for(eps)) : Real(0));
+        // beta(eps) of the calibrated damping: only the paper's law uses it.
+        damping_ratio_.push_back(*fx.contact == ContactModel::volume_paper
+                                     ? Real(calibrated_damping_ratio_for(eps))
+                                     : Real(0));
       }
     }
     tables_.bodies = bodies_.data();
@@ -77,7 +80,7 @@ class PairContactStage {
     tables_.pair_restitution = restitution_.data();
     tables_.pair_damping_ratio = damping_ratio_.data();
     tables_.materials = n;
-    tables_.volume_model = volume;
+    tables_.law = law_of(*fx.contact);
     tables_.with_friction = fx.friction;
     tables_.time_step = Real(scene.time_step);
     tables_.linear.stiffness = Real(fx.linear.stiffness);
@@ -124,7 +127,7 @@ class PairContactStage {
     for (const PairContactRecord<Real>& r : records_) {
       if (r.in_contact) contacts_.push_back(r);
     }
-    if (tables_.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
+    if (has_volume_geometry(tables_.law)) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
   // Per-particle sums in pair order (deterministic): each particle's contacts listed in pair
@@ -206,7 +209,7 @@ class PairContactStage {
                                   Workspaces& ws) const {
     const BodyProperties<Real>& a = bodies_[p.template_id[ia]];
     const BodyProperties<Real>& b = bodies_[p.template_id[ib]];
-    if (!tables_.volume_model || a.sphere || b.sphere) {
+    if (!has_volume_geometry(tables_.law) || a.sphere || b.sphere) {
       return simple_pair_geometry(p, tables_, ia, ib);
     }
     const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};

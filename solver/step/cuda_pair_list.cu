@@ -135,7 +135,7 @@ bool DevicePairList<Real>::expired() {
 template <class Real>
 int DevicePairList<Real>::store_touching_histories() {
   const int old = builds_ > 0 ? candidates_ : 0;
-  if (!shared_.tables.volume_model || old == 0) return 0;
+  if (!has_volume_geometry(shared_.tables.law) || old == 0) return 0;
   old_keys_.grow_to(old), old_touching_.grow_to(old);
   store_keys_.grow_to(old), store_histories_.grow_to(old);
   key_slots<<<blocks_for(old), kBlock>>>(shared_.global_ids.data(), pairs(), old,
@@ -165,7 +165,7 @@ int DevicePairList<Real>::store_touching_histories() {
 template <class Real>
 void DevicePairList<Real>::carry_histories(int stored) {
   slot_state_.grow_to(candidates_);
-  if (shared_.tables.volume_model) slot_history_.grow_to(candidates_);
+  if (has_volume_geometry(shared_.tables.law)) slot_history_.grow_to(candidates_);
   if (candidates_ == 0) return;
   carry_histories_kernel<<<blocks_for(candidates_), kBlock>>>(
       shared_.global_ids.data(), pairs(), candidates_, store_keys_.data(), store_histories_.data(),
@@ -209,7 +209,7 @@ void DevicePairList<Real>::export_histories(std::vector<PairKey>& keys,
 template <class Real>
 void DevicePairList<Real>::import_histories(
     const std::vector<PairKey>& keys, const std::vector<ContactHistoryData<Real>>& histories) {
-  imported_ = shared_.tables.volume_model ? static_cast<int>(keys.size()) : 0;
+  imported_ = has_volume_geometry(shared_.tables.law) ? static_cast<int>(keys.size()) : 0;
   if (imported_ == 0) return;
   store_keys_.grow_to(imported_), store_histories_.grow_to(imported_);
   TALUS_CUDA_CHECK(cudaMemcpy(store_keys_.data(), keys.data(), imported_ * sizeof(PairKey),

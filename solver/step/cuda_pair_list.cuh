@@ -47,7 +47,7 @@ class DevicePairList {
   unsigned char* slot_state() { return slot_state_.data(); }
   const unsigned char* slot_state() const { return slot_state_.data(); }
   ContactHistoryData<Real>* histories() {  // volume model only, else null
-    return shared_.tables.volume_model ? slot_history_.data() : nullptr;
+    return has_volume_geometry(shared_.tables.law) ? slot_history_.data() : nullptr;
   }
   SlotForce<Real>* forces() {  // deterministic mode only, else null
     return deterministic() ? slot_forces_.data() : nullptr;

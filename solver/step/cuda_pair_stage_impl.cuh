@@ -25,8 +25,8 @@ namespace {
 // model, spheres), else overlap_capacity_for of the two templates' faces, as the host picks it.
 template <class Real>
 TALUS_HD int pair_capacity(const BodyProperties<Real>& a, const BodyProperties<Real>& b,
-                           bool volume_model) {
-  if (!volume_model || a.sphere || b.sphere) return 0;
+                           ContactLaw law) {
+  if (!has_volume_geometry(law) || a.sphere || b.sphere) return 0;
   return overlap_capacity_for(a.faces + b.faces);
 }
 
@@ -48,7 +48,8 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
                             const PairGeometryData<Real>& g, Real spring_dt,
                             ContactHistoryData<Real>* __restrict__ histories,
                             SlotForce<Real>* __restrict__ forces,
-                            unsigned char* __restrict__ slot_state, int* flag) {
+                            unsigned char* __restrict__ slot_state, int* flag,
+                            double* __restrict__ energy_sums) {
   ContactHistoryData<Real> previous;
   if (histories && g.in_contact) previous = histories[k];
   const PairContactRecord<Real> r = pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
@@ -56,6 +57,11 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
   slot_state[k] = !r.in_contact ? slot_apart : (ia == pair.a ? slot_a_first : slot_b_first);
   if (r.degenerate) atomicMin(flag + degenerate_pair, k);
   if (!r.in_contact) return false;
+  if (energy_sums) {
+    atomicAdd(energy_sums + sum_dissipation, double(r.dissipation));
+    atomicAdd(energy_sums + sum_normal, double(r.normal_energy));
+    atomicAdd(energy_sums + sum_tangential, double(r.tangential_energy));
+  }
   if constexpr (Atomic) {
     atomic_add(p.force, ia, r.force_on_a);
     atomic_add(p.force, ib, -r.force_on_a);
@@ -85,7 +91,8 @@ struct SlotArgs {
   unsigned char* slot_state = nullptr;
   int* flag = nullptr;
   int* touching = nullptr;
-  bool gjk_filter = true;  // DeviceStepShared::gjk_filter
+  bool gjk_filter = true;         // DeviceStepShared::gjk_filter
+  double* energy_sums = nullptr;  // DeviceStepShared::energy_sums
 };
 
 // One thread per slot of the pair list (or of the given `slots`), the whole pair in one thread;
@@ -107,7 +114,7 @@ __global__ void __launch_bounds__(kBlock)
     order_pair(p, t, pair.a, pair.b, ia, ib);
     const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
     const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
-    if (pair_capacity(a, b, t.volume_model) == Capacity) {
+    if (pair_capacity(a, b, t.law) == Capacity) {
       PairGeometryData<Real> g;
       if constexpr (Capacity == 0) {
         g = simple_pair_geometry(p, t, ia, ib);
@@ -118,7 +125,7 @@ __global__ void __launch_bounds__(kBlock)
         g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
       }
       in_contact = finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories,
-                                             s.forces, s.slot_state, s.flag);
+                                             s.forces, s.slot_state, s.flag, s.energy_sums);
     }
   }
   count_touching(in_contact, s.touching);
@@ -157,7 +164,7 @@ __global__ void __launch_bounds__(kBlock, 4)
     const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
     const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
     unsigned char key = kOtherPath;
-    if (pair_capacity(a, b, t.volume_model) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
+    if (pair_capacity(a, b, t.law) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
       const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
       const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
       // As polyhedra_volume_geometry: GJK first, then the overlap's own culling.
@@ -174,7 +181,7 @@ __global__ void __launch_bounds__(kBlock, 4)
       }
       if (kept < 0) {
         finish_slot<Real, false>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories, s.forces,
-                                 s.slot_state, s.flag);
+                                 s.slot_state, s.flag, s.energy_sums);
         key = 0;
       } else {
         key = static_cast<unsigned char>(kept + 1);
@@ -224,9 +231,9 @@ __global__ void __launch_bounds__(kBlock)
     if (overlap.workspace_overrun) {
       deferred[atomicAdd(deferred_count, 1)] = k;
     } else {
-      in_contact =
-          finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, volume_geometry_from(overlap),
-                                    s.spring_dt, s.histories, s.forces, s.slot_state, s.flag);
+      in_contact = finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, volume_geometry_from(overlap),
+                                             s.spring_dt, s.histories, s.forces, s.slot_state,
+                                             s.flag, s.energy_sums);
     }
   }
   count_touching(in_contact, s.touching);
@@ -245,6 +252,7 @@ SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& l
   a.flag = shared.flags.data();
   a.touching = shared.flags.at(touching_pairs);
   a.gjk_filter = shared.gjk_filter;
+  a.energy_sums = shared.energy_sums.size() > 0 ? shared.energy_sums.data() : nullptr;
   return a;
 }
 
@@ -259,7 +267,7 @@ DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePai
   // One pair launch per workspace capacity among the scene's template pairs.
   for (const BodyProperties<Real>& a : host_bodies) {
     for (const BodyProperties<Real>& b : host_bodies) {
-      const int capacity = pair_capacity(a, b, shared.tables.volume_model);
+      const int capacity = pair_capacity(a, b, shared.tables.law);
       if (std::find(capacities_.begin(), capacities_.end(), capacity) == capacities_.end())
         capacities_.push_back(capacity);
     }

@@ -104,6 +104,26 @@ struct CudaStep<Real>::Impl {
   double time = 0;
   long long steps = 0;
   bool forces_ready = false;
+  EnergyLedger ledger;
+  std::array<double, kEnergySums> energy_sums{};  // the last evaluation's
+
+  // The force stages with the energy sums around them (when asked for): the contacts' sums
+  // zeroed before, added up after and downloaded (one 32-byte copy).
+  void run_force_stages_with_energy(Real spring_dt, bool first) {
+    const bool track = shared.energy_sums.size() > 0;
+    if (track)
+      TALUS_CUDA_CHECK(cudaMemset(shared.energy_sums.data(), 0, sizeof(double) * kEnergySums));
+    run_force_stages(spring_dt);
+    if (!track) return;
+    if (walls) walls->add_energy_sums(shared.energy_sums.data());
+    const std::vector<double> sums = download(shared.energy_sums.data(), kEnergySums);
+    std::copy(sums.begin(), sums.end(), energy_sums.begin());
+    if (first) {
+      ledger.start(energy_sums[sum_dissipation], energy_sums[sum_wall_power]);
+    } else {
+      ledger.advance(scene.time_step, energy_sums[sum_dissipation], energy_sums[sum_wall_power]);
+    }
+  }
 
   explicit Impl(const Scene& s) : plan(plan_step(s)), dt(Real(s.time_step)), shared(s), scene(s) {}
   ~Impl() { release_template_region(shared.constant_region); }
@@ -227,6 +247,18 @@ void CudaStep<Real>::Impl::feed() {
     added.insert(added.end(), more.begin(), more.end());
   }
   if (added.empty()) return;
+  // The energy the new particles bring (the energy probe's `fed`), from their states in double.
+  const Vec3d* gravity = scene.effects.gravity ? &*scene.effects.gravity : nullptr;
+  for (const ParticleState& p : added) {
+    const BodyProperties<Real>& body = host_bodies[p.template_index];
+    ledger.fed += 0.5 * double(body.mass) * norm2(p.velocity);
+    if (plan.rotation) {
+      const Vec3d w = rotate_inverse(p.orientation, p.angular_velocity);  // body frame
+      const Vec3d inertia(body.inertia);
+      ledger.fed += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+    }
+    if (gravity) ledger.fed -= double(body.mass) * dot(*gravity, p.position);
+  }
   particles->append(added, host_bodies, true);
   if (list) list->particles_changed();
 }
@@ -264,6 +296,14 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
   }
   m.upload_templates(options);
   m.shared.gjk_filter = options.gjk_filter;
+  // The energy sums cost a few atomics per contact: only for the energy probe, and for the work
+  // of moving walls, which the run's watchdog needs (production_run.cpp).
+  bool energy_probe = false;
+  if (scene.outputs.probes)
+    for (const Probe probe : scene.outputs.probes->quantities)
+      energy_probe = energy_probe || probe == Probe::energy;
+  if (m.plan.contacts && (energy_probe || scene.effects.moving_walls))
+    m.shared.energy_sums.grow_to(kEnergySums);
   m.shared.flags.allocate();
   m.particles = std::make_unique<DeviceParticles<Real>>(m.shared, m.plan);
   m.particles->append(initial_particles(scene), m.host_bodies, false);
@@ -286,7 +326,7 @@ template <class Real>
 void CudaStep<Real>::evaluate_forces() {
   Impl& m = *impl_;
   m.shared.flags.reset();
-  m.run_force_stages(Real(0));
+  m.run_force_stages_with_energy(Real(0), true);
   m.forces_ready = true;
 }
 
@@ -312,7 +352,7 @@ void CudaStep<Real>::step() {
   }
   m.time += m.scene.time_step;
   ++m.steps;
-  m.run_force_stages(m.dt);
+  m.run_force_stages_with_energy(m.dt, false);
   if (m.count() > 0) {
     m.timed(Stage::integrate_end, [&] {
       integrate_end_kernel<<<blocks_for(m.count()), kBlock>>>(m.view(), m.bodies.data(), m.dt);
@@ -332,6 +372,7 @@ StepState<Real> CudaStep<Real>::export_state() const {
   if (m.list) m.list->export_histories(s.pair_keys, s.pair_histories);
   if (m.walls) m.walls->export_histories(s.wall_keys, s.wall_histories);
   for (const Feeder& feeder : m.feeders) s.feed_states.push_back(feeder.save());
+  s.ledger = m.ledger;
   return s;
 }
 
@@ -354,6 +395,7 @@ void CudaStep<Real>::import_state(const StepState<Real>& s) {
   m.time = s.time;
   m.steps = s.steps;
   m.forces_ready = s.forces_ready;
+  m.ledger = s.ledger;
 }
 
 template <class Real>
@@ -442,6 +484,18 @@ std::vector<TrajectoryRow> CudaStep<Real>::trajectory_rows() const {
 template <class Real>
 double CudaStep<Real>::kinetic_energy() const {
   return particle_kinetic_energy(impl_->particles->host_copy().view, impl_->host_bodies);
+}
+
+template <class Real>
+EnergyTerms CudaStep<Real>::energy() const {
+  const Impl& m = *impl_;
+  EnergyTerms terms;
+  particle_energies(m.particles->host_copy().view, m.host_bodies,
+                    m.scene.effects.gravity ? &*m.scene.effects.gravity : nullptr, terms);
+  terms.elastic_normal = m.energy_sums[sum_normal];
+  terms.elastic_tangential = m.energy_sums[sum_tangential];
+  terms.ledger = m.ledger;
+  return terms;
 }
 
 template <class Real>

@@ -33,6 +33,7 @@
 #include "solver/io/trajectory.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/any_step.hpp"
+#include "solver/step/energy.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/step_state.hpp"
 #include "solver/walls/facet_grid.hpp"
@@ -103,6 +104,9 @@ class CudaStep {
   // Downloaded and computed as HostStep's (particle_rows etc.).
   std::vector<TrajectoryRow> trajectory_rows() const;
   double kinetic_energy() const;
+  // The energy balance (energy.hpp): the contacts' energies and the ledger only when the scene
+  // asks for the energy probe (dissipation) or has moving walls (their work); else zero.
+  EnergyTerms energy() const;
   double bed_height(const Vec3d& gravity) const;
 
  private:

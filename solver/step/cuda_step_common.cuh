@@ -125,6 +125,15 @@ struct DeviceHistory {
 // The device state every stage of the CUDA step reads, owned by the step: the particles (device
 // pointers), the pair-law tables (device pointers), the flags, CUB's scratch and the global ids
 // (for error messages and history keys).
+// The entries of DeviceStepShared::energy_sums.
+enum EnergySum : int {
+  sum_dissipation = 0,  // W
+  sum_normal = 1,       // J
+  sum_tangential = 2,   // J
+  sum_wall_power = 3,   // W
+  kEnergySums = 4
+};
+
 template <class Real>
 struct DeviceStepShared {
   explicit DeviceStepShared(const Scene& s) : scene(s) {}
@@ -141,6 +150,10 @@ struct DeviceStepShared {
   int constant_region = -1;
   // GJK before the culling of polyhedron pairs (CudaStepOptions::gjk_filter).
   bool gjk_filter = true;
+  // The energy probe's sums over the contacts of an evaluation (null when the scene asks neither
+  // for the energy probe nor has moving walls): kEnergySums doubles, by atomic additions (the
+  // order of the additions varies, so their last bits do; the motion does not depend on them).
+  DeviceBuffer<double> energy_sums;
 
   long long global_id(int i) const { return download(global_ids.data() + i, 1)[0]; }
 };

@@ -95,6 +95,20 @@ __global__ void copy_histories(const Record* __restrict__ contacts, int count,
   histories[k] = contacts[k].history;
 }
 
+// The energy probe's sums over the ordered wall contacts (one thread per contact; a few per
+// cent of the particle-wall pairs, so plain atomics).
+template <class Real>
+__global__ void wall_energy_kernel(const WallContactRecord<Real>* __restrict__ contacts, int n,
+                                   double* __restrict__ sums) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  const WallContactRecord<Real>& c = contacts[k];
+  atomicAdd(sums + sum_dissipation, double(c.dissipation));
+  atomicAdd(sums + sum_normal, double(c.normal_energy));
+  atomicAdd(sums + sum_tangential, double(c.tangential_energy));
+  atomicAdd(sums + sum_wall_power, double(c.wall_power));
+}
+
 }  // namespace
 
 template <class Real>
@@ -227,7 +241,7 @@ void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
     }
   }
   if (contact_count_ > 0) sort_records(n);
-  if (shared_.tables.volume_model) rebuild_history();
+  if (has_volume_geometry(shared_.tables.law)) rebuild_history();
   sums_ready_ = false;
 }
 
@@ -280,6 +294,14 @@ void DeviceWallStage<Real>::sum() const {
     torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
   }
   sums_ready_ = true;
+}
+
+template <class Real>
+void DeviceWallStage<Real>::add_energy_sums(double* sums) const {
+  if (contact_count_ == 0) return;
+  wall_energy_kernel<<<blocks_for(contact_count_), kBlock>>>(contacts_.data(), contact_count_,
+                                                             sums);
+  TALUS_CUDA_LAUNCH_CHECK();
 }
 
 template <class Real>

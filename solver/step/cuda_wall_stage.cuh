@@ -35,6 +35,8 @@ class DeviceWallStage {
   const int* slots() const { return wall_slot_.data(); }
   // Wall w's force and torque about the origin at the last evaluation (downloaded and summed in
   // double, in order, on the first call after it).
+  // Adds the last evaluation's wall contacts to the energy sums (cuda_step_common.cuh).
+  void add_energy_sums(double* sums) const;
   Vec3d force(int w) const;
   Vec3d torque(int w) const;
   std::size_t bytes() const;

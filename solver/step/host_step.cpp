@@ -172,6 +172,8 @@ void HostStep<Real>::feed() {
     for (std::size_t k = 0; k < added.size(); ++k) {
       const int i = first + static_cast<int>(k);
       set_particle(i, added[k]);
+      ledger_.fed += particle_energy(
+          view_, bodies_, scene_.effects.gravity ? &*scene_.effects.gravity : nullptr, i);
       positions.push_back(added[k].position);
       radii.push_back(feed_radii_[added[k].template_index]);
       // The first half-step uses the stored forces: the new particle's body forces now (it
@@ -284,9 +286,25 @@ void HostStep<Real>::run_force_stages(Real spring_dt) {
 }
 
 template <class Real>
+void HostStep<Real>::contact_rates(double& dissipation, double& wall_power) const {
+  dissipation = wall_power = 0;
+  if (contacts_)
+    for (const PairContactRecord<Real>& c : contacts_->contacts()) dissipation += c.dissipation;
+  if (walls_) {
+    for (const WallContactRecord<Real>& c : walls_->contacts()) {
+      dissipation += c.dissipation;
+      wall_power += c.wall_power;
+    }
+  }
+}
+
+template <class Real>
 void HostStep<Real>::evaluate_forces() {
   run_force_stages(Real(0));
   forces_ready_ = true;
+  double dissipation, wall_power;
+  contact_rates(dissipation, wall_power);
+  ledger_.start(dissipation, wall_power);
 }
 
 template <class Real>
@@ -310,6 +328,9 @@ void HostStep<Real>::step() {
   time_ += scene_.time_step;
   ++steps_;
   run_force_stages(dt_);
+  double dissipation, wall_power;
+  contact_rates(dissipation, wall_power);
+  ledger_.advance(scene_.time_step, dissipation, wall_power);
   timed(Stage::integrate_end, [&] {
     parallel_for(threads_, count_,
                  [&](long long i) { integrate_end(p, bodies, static_cast<int>(i), dt_); });
@@ -330,6 +351,7 @@ StepState<Real> HostStep<Real>::export_state() const {
   if (contacts_) s.pair_keys = contacts_->history_keys(), s.pair_histories = contacts_->histories();
   if (walls_) s.wall_keys = walls_->history_keys(), s.wall_histories = walls_->histories();
   for (const Feeder& feeder : feeders_) s.feed_states.push_back(feeder.save());
+  s.ledger = ledger_;
   return s;
 }
 
@@ -357,6 +379,7 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   time_ = s.time;
   steps_ = s.steps;
   forces_ready_ = s.forces_ready;
+  ledger_ = s.ledger;
 }
 
 template <class Real>
@@ -390,6 +413,41 @@ double particle_kinetic_energy(const ParticleView<Real>& view,
     }
   }
   return energy;
+}
+
+template <class Real>
+double particle_energy(const ParticleView<Real>& view,
+                       const std::vector<BodyProperties<Real>>& bodies, const Vec3d* gravity,
+                       int i) {
+  const BodyProperties<Real>& body = bodies[view.template_id[i]];
+  const Vec3d x(view.position.get(i));
+  double energy = 0.5 * double(body.mass) * norm2(Vec3d(view.velocity.get(i)));
+  if (view.angular_velocity.present()) {
+    const Vec3d w(view.angular_velocity.get(i));  // body frame, with the principal moments
+    const Vec3d inertia(body.inertia);
+    energy += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+  }
+  if (gravity) energy -= double(body.mass) * dot(*gravity, x);
+  return energy;
+}
+
+template <class Real>
+void particle_energies(const ParticleView<Real>& view,
+                       const std::vector<BodyProperties<Real>>& bodies, const Vec3d* gravity,
+                       EnergyTerms& terms) {
+  terms.kinetic_translational = terms.kinetic_rotational = terms.gravitational = 0;
+  for (int i = 0; i < view.count; ++i) {
+    const BodyProperties<Real>& body = bodies[view.template_id[i]];
+    terms.kinetic_translational += 0.5 * double(body.mass) * norm2(Vec3d(view.velocity.get(i)));
+    if (view.angular_velocity.present()) {
+      const Vec3d w(view.angular_velocity.get(i));
+      const Vec3d inertia(body.inertia);
+      terms.kinetic_rotational +=
+          0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+    }
+    if (gravity)
+      terms.gravitational -= double(body.mass) * dot(*gravity, Vec3d(view.position.get(i)));
+  }
 }
 
 template <class Real>
@@ -432,12 +490,38 @@ double HostStep<Real>::bed_height(const Vec3d& gravity) const {
   return particle_bed_height(view_, bodies_, gravity);
 }
 
-#define TALUS_INSTANTIATE_OUTPUTS(Real)                                              \
-  template std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>&);      \
-  template double particle_kinetic_energy(const ParticleView<Real>&,                 \
-                                          const std::vector<BodyProperties<Real>>&); \
-  template double particle_bed_height(const ParticleView<Real>&,                     \
-                                      const std::vector<BodyProperties<Real>>&, const Vec3d&);
+template <class Real>
+EnergyTerms HostStep<Real>::energy() const {
+  EnergyTerms terms;
+  particle_energies(view_, bodies_, scene_.effects.gravity ? &*scene_.effects.gravity : nullptr,
+                    terms);
+  if (contacts_) {
+    for (const PairContactRecord<Real>& c : contacts_->contacts()) {
+      terms.elastic_normal += c.normal_energy;
+      terms.elastic_tangential += c.tangential_energy;
+    }
+  }
+  if (walls_) {
+    for (const WallContactRecord<Real>& c : walls_->contacts()) {
+      terms.elastic_normal += c.normal_energy;
+      terms.elastic_tangential += c.tangential_energy;
+    }
+  }
+  terms.ledger = ledger_;
+  return terms;
+}
+
+#define TALUS_INSTANTIATE_OUTPUTS(Real)                                                         \
+  template std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>&);                 \
+  template double particle_kinetic_energy(const ParticleView<Real>&,                            \
+                                          const std::vector<BodyProperties<Real>>&);            \
+  template double particle_bed_height(const ParticleView<Real>&,                                \
+                                      const std::vector<BodyProperties<Real>>&, const Vec3d&);  \
+  template double particle_energy(const ParticleView<Real>&,                                    \
+                                  const std::vector<BodyProperties<Real>>&, const Vec3d*, int); \
+  template void particle_energies(const ParticleView<Real>&,                                    \
+                                  const std::vector<BodyProperties<Real>>&, const Vec3d*,       \
+                                  EnergyTerms&);
 TALUS_INSTANTIATE_OUTPUTS(double)
 TALUS_INSTANTIATE_OUTPUTS(float)
 #undef TALUS_INSTANTIATE_OUTPUTS

@@ -15,6 +15,7 @@
 #include "solver/scene/scene.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/shape_arrays.hpp"
+#include "solver/step/energy.hpp"
 #include "solver/step/particle_kernels.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/step_state.hpp"
@@ -44,6 +45,17 @@ double particle_kinetic_energy(const ParticleView<Real>& view,
 template <class Real>
 double particle_bed_height(const ParticleView<Real>& view,
                            const std::vector<BodyProperties<Real>>& bodies, const Vec3d& gravity);
+// The particles' kinetic (translational, rotational) and gravitational energies (`gravity` null:
+// none) into `terms`; the rest of `terms` is left as it is.
+template <class Real>
+void particle_energies(const ParticleView<Real>& view,
+                       const std::vector<BodyProperties<Real>>& bodies, const Vec3d* gravity,
+                       EnergyTerms& terms);
+// The kinetic and gravitational energy particle i brings (a feed's insertion), J.
+template <class Real>
+double particle_energy(const ParticleView<Real>& view,
+                       const std::vector<BodyProperties<Real>>& bodies, const Vec3d* gravity,
+                       int i);
 
 template <class Real>
 class HostStep {
@@ -103,6 +115,8 @@ class HostStep {
   std::vector<TrajectoryRow> trajectory_rows() const;
   double kinetic_energy() const;
   double bed_height(const Vec3d& gravity) const;
+  // The energy balance at the last evaluation (energy.hpp).
+  EnergyTerms energy() const;
 
  private:
   Real* allocate(const std::string& name);
@@ -111,6 +125,8 @@ class HostStep {
   void set_particle(int i, const ParticleState& p);  // index i's state and ids from p
   void feed();                                       // the feeds' insertions at time_
   void run_force_stages(Real spring_dt);
+  // The contacts' dissipation power and the moving walls' power at the last evaluation, W.
+  void contact_rates(double& dissipation, double& wall_power) const;
   template <class Body>
   void timed(Stage stage, Body&& body);
 
@@ -135,6 +151,7 @@ class HostStep {
   double time_ = 0;
   long long steps_ = 0;
   bool forces_ready_ = false;
+  EnergyLedger ledger_;
 };
 
 }  // namespace talus

@@ -24,7 +24,7 @@ struct PairLawTables {
   const Real* pair_restitution = nullptr;
   const Real* pair_damping_ratio = nullptr;
   int materials = 0;
-  bool volume_model = true;
+  ContactLaw law = ContactLaw::volume;
   bool with_friction = false;
   NormalDampingModel damping = NormalDampingModel::calibrated;
   Real time_step = 0;          // s
@@ -42,7 +42,8 @@ TALUS_HD inline VolumeLawData<Real> volume_law(const PairLawTables<Real>& t, int
   law.damping_ratio = t.pair_damping_ratio[pair];
   law.time_step = t.time_step;
   law.with_friction = t.with_friction;
-  law.damping = t.damping;
+  // The default law's damping is Eq. 15's on its bounded stiffness (docs/contact.md).
+  law.damping = t.law == ContactLaw::volume ? NormalDampingModel::paper : t.damping;
   return law;
 }
 
@@ -64,6 +65,9 @@ struct PairContactRecord {
   Vec3<Real> point;       // m
   Vec3<Real> force_on_a;  // N; B gets the opposite
   ContactHistoryData<Real> history;
+  Real normal_energy = 0;      // the normal elastic potential U, J
+  Real tangential_energy = 0;  // the tangential spring's energy, J
+  Real dissipation = 0;        // power dissipated by damping and friction, W
 };
 
 template <class Real>
@@ -98,9 +102,10 @@ TALUS_HD inline PairGeometryData<Real> simple_pair_geometry(const ParticleView<R
   const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
   const Vec3<Real> xa = p.position.get(ia), xb = p.position.get(ib);
   if (a.sphere && b.sphere) {
-    return t.volume_model ? sphere_lens_geometry(xa, a.sphere_radius, xb, b.sphere_radius)
-                          : from_simple_contact(
-                                sphere_sphere_contact(xa, a.sphere_radius, xb, b.sphere_radius));
+    return has_volume_geometry(t.law)
+               ? sphere_lens_geometry(xa, a.sphere_radius, xb, b.sphere_radius)
+               : from_simple_contact(
+                     sphere_sphere_contact(xa, a.sphere_radius, xb, b.sphere_radius));
   }
   const Pose<Real> pose_a{xa, p.orientation.get(ia)};
   if (b.sphere) {
@@ -135,16 +140,25 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
   c.point = g.point;
   ContactForceData<Real> f;
   r.key = make_pair_key(p.global_id[ia], p.global_id[ib]);
-  if (t.volume_model) {
+  if (has_volume_geometry(t.law)) {
     const Real ea = t.youngs_modulus[ma], eb = t.youngs_modulus[mb];
     const Real stiffness = ea / a.equivalent_radius + eb / b.equivalent_radius;  // Eq. 13 / A_n
     const Real shear =
         ea / (Real(2) * (Real(1) + t.poisson_ratio[ma]) * a.equivalent_radius) +
         eb / (Real(2) * (Real(1) + t.poisson_ratio[mb]) * b.equivalent_radius);  // Eq. 19 / A_n
-    c.normal_stiffness = stiffness * g.area;                                     // Eq. 13
-    c.tangential_stiffness = shear * g.area;                                     // Eq. 19
-    c.elastic = c.normal_stiffness * std::cbrt(g.volume);                        // Eq. 12
+    const VolumePressure<Real> pv =
+        volume_pressure(t.law, stiffness,
+                        volume_reference_area(a.equivalent_radius, b.equivalent_radius), g.volume);
+    if (t.law == ContactLaw::volume_paper) {
+      c.normal_stiffness = stiffness * g.area;               // Eq. 13
+      c.elastic = c.normal_stiffness * std::cbrt(g.volume);  // Eq. 12
+    } else {
+      c.normal_stiffness = pv.slope * g.area * g.area;  // p' A_n^2, bounded
+      c.elastic = pv.pressure * g.area;
+    }
+    c.tangential_stiffness = shear * g.area;  // Eq. 19
     c.area = g.area;
+    c.potential = pv.energy;
     const VolumeLawData<Real> law = volume_law(t, pair, a.mass * b.mass / (a.mass + b.mass));
     ContactHistoryData<Real> history = previous;
     // The elastic force is stored as on the lower id as A.
@@ -155,11 +169,15 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
     r.history = history;
   } else {
     c.elastic = t.linear.stiffness * g.depth;
+    c.potential = Real(0.5) * c.elastic * g.depth;
     f = linear_contact_force(c, linear_law(t, pair), v_r);
   }
   r.in_contact = true;
   r.point = g.point;
   r.force_on_a = f.total();
+  r.normal_energy = c.potential;
+  r.tangential_energy = f.spring_energy;
+  r.dissipation = f.dissipation;
   return r;
 }
 
@@ -170,7 +188,7 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(
     const PairGeometryData<Real>& g, Real spring_dt, const PairKey* old_keys,
     const ContactHistoryData<Real>* old_histories, int old_count) {
   ContactHistoryData<Real> previous;
-  if (g.in_contact && t.volume_model) {
+  if (g.in_contact && has_volume_geometry(t.law)) {
     const int found =
         find_pair_key(old_keys, old_count, make_pair_key(p.global_id[ia], p.global_id[ib]));
     if (found >= 0) previous = old_histories[found];

@@ -2,8 +2,10 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -16,6 +18,16 @@
 #include "solver/step/host_step.hpp"
 
 namespace talus {
+
+namespace {
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+}  // namespace
 
 namespace {
 
@@ -65,8 +77,56 @@ struct ProductionRunner::Impl {
   long long resumed_from = -1, last_checkpoint_step = -1;
   std::string last_checkpoint;
   bool interrupted = false;
+  // The watchdog's reference: the energy held at the first check, the lowest gravitational
+  // energy seen (what gravity has released at most), and the next step it looks.
+  EnergyTerms first_energy;
+  double lowest_gravitational = 0;
+  long long next_watch = 0;
 
   Impl(const Scene& s, ProductionSettings set) : scene(s), settings(std::move(set)) {}
+
+  // Stops the run (std::runtime_error) when its state is no longer finite, or when the energy it
+  // holds exceeds by more than all it was ever given: what it held at the start, what gravity
+  // released (its lowest gravitational energy so far), what moving walls and feeds put in.
+  // Damping and friction only take energy out, so this is a law integrated with too large a step.
+  void watch_energy() {
+    const EnergyTerms e = step->energy();
+    const bool first = next_watch == 0 || resumed_from == step_index;
+    next_watch = step_index + kEnergyWatchEvery;
+    if (first && e.finite()) {
+      first_energy = e;
+      lowest_gravitational = e.gravitational;
+      return;
+    }
+    const auto where = [&] {
+      return scene.file + ": the run stopped at step " + std::to_string(step_index) +
+             " (t = " + format_number(step->time()) + " s, " + std::to_string(step->particles()) +
+             " particles): ";
+    };
+    if (!e.finite())
+      throw std::runtime_error(where() +
+                               "the particles' state is no longer finite (a position, velocity "
+                               "or energy is inf or NaN); " +
+                               settings.instability_hint);
+    lowest_gravitational = std::min(lowest_gravitational, e.gravitational);
+    const double given = first_energy.kinetic() + first_energy.elastic_normal +
+                         first_energy.elastic_tangential +
+                         (first_energy.gravitational - lowest_gravitational) +
+                         std::abs(e.ledger.wall_work - first_energy.ledger.wall_work) +
+                         (e.ledger.fed - first_energy.ledger.fed);
+    const double gained = e.mechanical() - first_energy.mechanical() -
+                          (e.ledger.wall_work - first_energy.ledger.wall_work) -
+                          (e.ledger.fed - first_energy.ledger.fed);
+    // Far beyond: grown by more than all it was given (an exact run gains nothing; a tiny
+    // absolute floor for a run at rest).
+    if (gained > std::max(given, 1e-300))
+      throw std::runtime_error(
+          where() + "its energy grew by " + format_number(gained) + " J, more than the " +
+          format_number(given) +
+          " J that its start, gravity, moving walls and feeds gave it (kinetic energy now " +
+          format_number(e.kinetic()) + " J): the contacts are creating energy. " +
+          settings.instability_hint);
+  }
 
   std::vector<double> probe_values() const {
     std::vector<double> values;
@@ -81,6 +141,14 @@ struct ProductionRunner::Impl {
         case Probe::bed_height:
           values.push_back(step->bed_height(*scene.effects.gravity));
           break;
+        case Probe::energy: {
+          const EnergyTerms e = step->energy();
+          values.insert(values.end(),
+                        {e.kinetic_translational, e.kinetic_rotational, e.gravitational,
+                         e.elastic_normal, e.elastic_tangential, e.ledger.dissipated,
+                         e.ledger.wall_work, e.ledger.fed, e.balance()});
+          break;
+        }
         case Probe::wall_forces:
           for (std::size_t w = 0; w < scene.walls.size(); ++w) {
             const Vec3d f = step->wall_force(static_cast<int>(w));
@@ -191,8 +259,12 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     if (resume) m.vtk->restore(resume->text("outputs.vtk"));
     m.outputs.push_back(m.vtk->directory());
   }
-  if (resume) return;         // the checkpoint's step has its outputs already
+  if (resume) {  // the checkpoint's step has its outputs already
+    m.watch_energy();
+    return;
+  }
   m.step->evaluate_forces();  // step 0's contacts
+  m.watch_energy();
   m.write_outputs(done());
 }
 
@@ -223,6 +295,7 @@ void ProductionRunner::advance() {
   m.step->step();
   ++m.step_index;
   m.contacts_sum += static_cast<double>(m.step->pair_contacts() + m.step->wall_contacts());
+  if (m.step_index >= m.next_watch || done()) m.watch_energy();
   m.write_outputs(done());
   if (!m.checkpoint_dir.empty() && m.step_index % m.scene.outputs.checkpoint->every == 0 && !done())
     m.write_checkpoint_now();

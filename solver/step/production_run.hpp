@@ -46,7 +46,14 @@ struct ProductionSettings {
   // Asked after each step; true stops the run there (Ctrl-C, SIGTERM), with a checkpoint when
   // the scene asks for checkpoints (report().interrupted).
   std::function<bool()> stop_requested;
+  // Appended to the watchdog's message when a run stops for energy it created or a state that is
+  // no longer finite (talus run: the time-step advisor's numbers).
+  std::string instability_hint =
+      "the likely cause is a time step too large for the contact law's stiffness (time.step)";
 };
+
+// The runner checks the energy balance every this many steps (and at the last one).
+constexpr long long kEnergyWatchEvery = 100;
 
 // Where `talus run --resume DIRECTORY` goes on from: the newest checkpoint of the directory,
 // read and checked, and what it says of the run.

@@ -17,6 +17,7 @@
 #include "solver/contact/force_law.hpp"
 #include "solver/contact/tangential_history.hpp"
 #include "solver/io/checkpoint.hpp"
+#include "solver/step/energy.hpp"
 
 namespace talus {
 
@@ -33,6 +34,7 @@ struct StepState {
   std::vector<ContactHistoryData<Real>> pair_histories, wall_histories;
   // The feeds' states (Feeder::save), one per scene feed; empty for a step without feeds.
   std::vector<std::string> feed_states;
+  EnergyLedger ledger;  // the energy probe's running totals
 };
 
 namespace detail {
@@ -114,6 +116,9 @@ void put_step_state(Checkpoint& c, const StepState<Real>& s) {
   std::string feeds;  // one line per feed (a saved state is one line)
   for (const std::string& state : s.feed_states) feeds += state + "\n";
   c.put_text("feeds.states", feeds);
+  const EnergyLedger& e = s.ledger;
+  c.put("step.energy",
+        std::vector<double>{e.dissipated, e.wall_work, e.fed, e.dissipation_rate, e.wall_power});
 }
 
 // The state back from put_step_state's sections. CheckpointError when one is missing, of another
@@ -129,6 +134,11 @@ StepState<Real> get_step_state(const Checkpoint& c) {
   s.steps = c.get_value<long long>("step.steps");
   s.forces_ready = c.get_value<std::uint8_t>("step.forces_ready") != 0;
   s.count = c.get_value<int>("step.count");
+  if (c.has("step.energy")) {  // absent from checkpoints written before the energy probe
+    const std::vector<double> e = c.get<double>("step.energy");
+    if (e.size() != 5) c.fail("step.energy", "expected 5 numbers");
+    s.ledger = EnergyLedger{e[0], e[1], e[2], e[3], e[4]};
+  }
   const std::string names = c.text("step.arrays");
   const auto check = [&](const std::string& name, std::size_t size) {
     if (size != static_cast<std::size_t>(s.count))

@@ -17,6 +17,10 @@ struct WallContactRecord {
   Vec3<Real> point;
   Vec3<Real> force;  // on the particle, N; the wall gets the opposite
   ContactHistoryData<Real> history;
+  Real normal_energy = 0;      // the normal elastic potential U, J
+  Real tangential_energy = 0;  // the tangential spring's energy, J
+  Real dissipation = 0;        // power dissipated by damping and friction, W
+  Real wall_power = 0;         // power the moving wall gives the particle, F . v_wall(point), W
 };
 
 template <class Real>
@@ -35,10 +39,13 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
     g = sphere_wall_geometry(p.position.get(i), body.sphere_radius, facets, t.linear.stiffness);
   } else {
     const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
-    const Real stiffness = t.volume_model ? youngs / body.equivalent_radius : t.linear.stiffness;
+    const bool volume = has_volume_geometry(t.law);
+    const Real stiffness = volume ? youngs / body.equivalent_radius : t.linear.stiffness;
     const Real shear =
         youngs / (Real(2) * (Real(1) + t.poisson_ratio[material]) * body.equivalent_radius);
-    g = polyhedron_wall_geometry(body.shape, pose, facets, t.volume_model, stiffness, shear);
+    const Real reference_area =
+        volume_reference_area(body.equivalent_radius, body.equivalent_radius);
+    g = polyhedron_wall_geometry(body.shape, pose, facets, t.law, stiffness, shear, reference_area);
   }
   r.degenerate = g.degenerate;
   if (!g.in_contact) return r;
@@ -49,11 +56,13 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   c.normal_stiffness = g.normal_stiffness;
   c.tangential_stiffness = g.tangential_stiffness;
   c.area = g.area;
+  c.potential = g.potential;
   const int pair = material * t.materials + wall_material;
-  const Vec3<Real> v_r = point_velocity(p, i, g.point) - motion.velocity_at(g.point);
+  const Vec3<Real> wall_velocity = motion.velocity_at(g.point);
+  const Vec3<Real> v_r = point_velocity(p, i, g.point) - wall_velocity;
   ContactForceData<Real> f;
   r.key = PairKey{p.global_id[i], wall};
-  if (t.volume_model && !body.sphere) {
+  if (has_volume_geometry(t.law) && !body.sphere) {
     const VolumeLawData<Real> law = volume_law(t, pair, body.mass);  // 1 / m_wall = 0
     const int found = find_pair_key(old_keys, old_count, r.key);
     ContactHistoryData<Real> history;
@@ -66,6 +75,10 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   r.in_contact = true;
   r.point = g.point;
   r.force = f.total();
+  r.normal_energy = c.potential;
+  r.tangential_energy = f.spring_energy;
+  r.dissipation = f.dissipation;
+  r.wall_power = dot(r.force, wall_velocity);
   return r;
 }
 

@@ -38,7 +38,7 @@ class WallContactStage {
   WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
                    int threads = 1, WallSearch search = WallSearch::grid)
       : scene_(scene), meshes_(make_wall_meshes(scene)), threads_(threads > 0 ? threads : 1) {
-    const bool volume = *scene.effects.contact == ContactModel::volume;
+    const bool volume = is_volume_model(*scene.effects.contact);
     double max_radius = 0;  // the grid's cell size follows the largest bounding sphere
     for (const BodyProperties<Real>& b : bodies) {
       if (volume && b.sphere) {
@@ -139,7 +139,7 @@ class WallContactStage {
       }
       if (r.in_contact) contacts_.push_back(r);
     }
-    if (tables.volume_model) sort_histories_by_key(contacts_, keys_, histories_);
+    if (has_volume_geometry(tables.law)) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
   // The forces on the particles (per particle, its walls in order: add_wall_force's additions),

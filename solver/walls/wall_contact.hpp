@@ -6,9 +6,12 @@
 // the area weights w = overlap area / section area, so that a section spread over several
 // coplanar facets (an edge, a vertex) counts once. The wall is rigid and infinitely large: its
 // E/R term of Eqs. 13 and 19 vanishes and m_eff of Eq. 15 is the particle's mass.
-//   volume model: F^e = sum_i w_i K A_i dV_i^(1/3) n_i, k_n = sum_i w_i K A_i (K = E/R of the
-//                 particle, A_i the facet plane's section area, dV_i the volume below it);
-//   linear model: F^e = sum_i w_i K_N delta_i n_i;
+//   volume laws: F^e = sum_i w_i p(dV_i) A_i n_i (K = E/R of the particle, A_i the facet plane's
+//                section area, dV_i the volume below it, p the law's pressure, force_law.hpp):
+//                volume_paper p = K dV^(1/3) (Eq. 12) with k_n = sum_i w_i K A_i (Eq. 13);
+//                volume p = K min(dV / A_ref, dV^(1/3)) with k_n = sum_i w_i p'(dV_i) A_i^2;
+//                the stored energy sum_i w_i U(dV_i);
+//   linear model: F^e = sum_i w_i K_N delta_i n_i, energy sum_i w_i K_N delta_i^2 / 2;
 // n = -F^e / |F^e| (from the particle into the wall), the point = the overlap-area-weighted mean
 // of the clipped sections' centroids. Spheres (linear model) use the nearest-facet rule: the
 // closest point q of the wall's surface to the centre, delta = r - |c - q|, exact across facet
@@ -17,6 +20,7 @@
 
 #include <cmath>
 
+#include "solver/contact/force_law.hpp"
 #include "solver/geometry/simple_contact.hpp"
 #include "solver/geometry/wall_clip.hpp"
 #include "solver/walls/facet_grid.hpp"
@@ -67,19 +71,18 @@ struct WallContactGeometry {
   Vec3<Real> normal;              // unit, from the particle into the wall
   Vec3<Real> point;               // m (world)
   Real elastic = 0;               // |F^e|, N
-  Real normal_stiffness = 0;      // sum w_i K A_i (volume model), N/m
-  Real tangential_stiffness = 0;  // sum w_i G A_i (volume model), N/m
+  Real normal_stiffness = 0;      // k_n (volume laws, above), N/m
+  Real tangential_stiffness = 0;  // sum w_i G A_i (volume laws), N/m
   Real area = 0;                  // sum w_i A_i, m^2
+  Real potential = 0;             // the stored normal elastic energy, J
 };
 
-// A polyhedron against one wall. `stiffness` is K = E/R (volume model) or K_N (linear), `shear`
-// G = E / (2 (1 + nu) R) (volume model only).
+// A polyhedron against one wall. `stiffness` is K = E/R (volume laws) or K_N (linear), `shear`
+// G = E / (2 (1 + nu) R) and `reference_area` A_ref = pi R^2 (volume laws only).
 template <class Real>
-TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexView<Real>& shape,
-                                                                   const Pose<Real>& pose,
-                                                                   const WallFacets<Real>& facets,
-                                                                   bool volume_model,
-                                                                   Real stiffness, Real shear) {
+TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(
+    const ConvexView<Real>& shape, const Pose<Real>& pose, const WallFacets<Real>& facets,
+    ContactLaw law, Real stiffness, Real shear, Real reference_area) {
   WallContactGeometry<Real> g;
   Vec3<Real> elastic, moment;
   Real area_sum = 0;
@@ -102,14 +105,23 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
     // The weight is not clamped to 1: the clipped area never exceeds the section's but for
     // round-off, and the weights must be the reference's definition to agree with it.
     const Real w = wc.overlap_area / wc.section_area;
-    if (volume_model) {
+    if (has_volume_geometry(law)) {
       if (!(wc.volume_below > Real(0))) continue;
-      elastic += wc.normal * (w * stiffness * wc.section_area * std::cbrt(wc.volume_below));
-      g.normal_stiffness += w * stiffness * wc.section_area;  // Eq. 13
+      const VolumePressure<Real> pv =
+          volume_pressure(law, stiffness, reference_area, wc.volume_below);
+      if (law == ContactLaw::volume_paper) {
+        elastic += wc.normal * (w * stiffness * wc.section_area * std::cbrt(wc.volume_below));
+        g.normal_stiffness += w * stiffness * wc.section_area;  // Eq. 13
+      } else {
+        elastic += wc.normal * (w * pv.pressure * wc.section_area);
+        g.normal_stiffness += w * pv.slope * wc.section_area * wc.section_area;
+      }
+      g.potential += w * pv.energy;
       g.tangential_stiffness += w * shear * wc.section_area;  // Eq. 19
     } else {
       if (!(wc.depth > Real(0))) continue;
       elastic += wc.normal * (w * stiffness * wc.depth);
+      g.potential += w * Real(0.5) * stiffness * wc.depth * wc.depth;
     }
     moment += wc.overlap_centroid * wc.overlap_area;
     area_sum += wc.overlap_area;
@@ -153,6 +165,7 @@ TALUS_HD inline WallContactGeometry<Real> sphere_wall_geometry(const Vec3<Real>&
   g.normal = (q - centre) / best;
   g.point = (q + (centre + g.normal * radius)) * Real(0.5);
   g.elastic = stiffness * (radius - best);
+  g.potential = Real(0.5) * g.elastic * (radius - best);
   return g;
 }
 

@@ -82,11 +82,11 @@ TEST(ProductionRun, FreeFallWithDragInFloatWithinPointOnePercentAtDt1e3) {
 
 // The same collision of two tilted cubes (volume model, friction, rotation) in float and in
 // double: float rounds each step's state at ~6e-8 relative and the overlap's volume at
-// ~1e-6 relative (its round-off scale is 64 eps times the size); over the 1500 steps of the
+// ~1e-6 relative (its round-off scale is 64 eps times the size); over the 4000 steps of the
 // contact that stays below 1e-4 of the cube size in position, while a wrong float instantiation
 // (a lost contact, a wrong constant) would be off by the whole impact, ~1e-3 m.
 TEST(ProductionRun, FloatFollowsDoubleThroughACollision) {
-  const std::string yaml = R"(time: {step: 2.0e-6, end: 3.0e-3}
+  const std::string yaml = R"(time: {step: 2.0e-6, end: 8.0e-3}
 materials:
   glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
           restitution: 0.5}
