@@ -22,6 +22,60 @@ double damping_coefficient(double restitution, double stiffness, double mass) {
   return -2 * log_e * std::sqrt(stiffness * mass) / std::sqrt(log_e * log_e + M_PI * M_PI);
 }
 
+double volume_law_reference_area(double radius_a, double radius_b) {
+  const double r = std::min(radius_a, radius_b);
+  return M_PI * r * r;
+}
+
+double volume_law_pressure(double modulus, double reference_area, double volume) {
+  if (!(volume > 0)) return 0;
+  return modulus * std::min(volume / reference_area, std::cbrt(volume));
+}
+
+double volume_law_pressure_slope(double modulus, double reference_area, double volume) {
+  if (!(volume > 0)) return modulus / reference_area;
+  // V / A_ref <= V^(1/3) exactly when V <= V_s = A_ref^(3/2).
+  return volume / reference_area <= std::cbrt(volume)
+             ? modulus / reference_area
+             : modulus / (3 * std::cbrt(volume) * std::cbrt(volume));
+}
+
+double volume_law_energy(double modulus, double reference_area, double volume) {
+  if (!(volume > 0)) return 0;
+  if (volume / reference_area <= std::cbrt(volume)) {
+    return modulus * volume * volume / (2 * reference_area);
+  }
+  // 3/4 K V^(4/3) shifted down by its excess at V_s, 3/4 K A_ref^2 - K A_ref^2 / 2.
+  return 0.75 * modulus * volume * std::cbrt(volume) -
+         0.25 * modulus * reference_area * reference_area;
+}
+
+double paper_law_energy(double modulus, double volume) {
+  return volume > 0 ? 0.75 * modulus * volume * std::cbrt(volume) : 0.0;
+}
+
+VolumeElastic volume_elastic(VolumeLaw law, const VolumeModuli& moduli, double volume,
+                             double area) {
+  VolumeElastic out;
+  if (!(volume > 0) || !(area > 0)) return out;
+  const double k = moduli.normal;
+  if (law == VolumeLaw::kPaper) {
+    out.stiffness = k * area;                       // Eq. 13
+    out.force = out.stiffness * std::cbrt(volume);  // Eq. 12
+    out.energy = paper_law_energy(k, volume);
+  } else {
+    const double a_ref = moduli.reference_area;
+    out.force = volume_law_pressure(k, a_ref, volume) * area;
+    out.stiffness = volume_law_pressure_slope(k, a_ref, volume) * area * area;
+    out.energy = volume_law_energy(k, a_ref, volume);
+  }
+  return out;
+}
+
+double tangential_spring_energy(const Eigen::Vector3d& elastic_force, double tangential_stiffness) {
+  return tangential_stiffness > 0 ? elastic_force.squaredNorm() / (2 * tangential_stiffness) : 0.0;
+}
+
 double clamped_volume_oscillator_restitution(double beta) {
   // q'' = -max(0, q^(1/3) + beta q') by RK4 from q = 0, q' = 1, until the force vanishes while
   // the overlap shrinks (the bodies then fly apart at constant speed) or q returns to 0. Near

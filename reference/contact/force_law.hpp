@@ -1,8 +1,15 @@
-// Contact force laws of the reference solver, in Eigen/double: the volume model of the method
-// paper (§2.5, Eqs. 12-22; walls §2.4) and the linear model of BLAZE-DEM (§3.1, Eqs. 2-4).
+// Contact force laws of the reference solver, in Eigen/double. Three laws (docs/contact.md; the
+// scene's ContactModel):
+//   volume        the default volume law: the method paper's Eqs. 12-13 made linear in the
+//                 overlap volume where that is softer, p(V) = K min(V / A_ref, V^(1/3)), with
+//                 Eq. 15's damping form on its bounded stiffness (volume_elastic, VolumeLaw).
+//   volume_paper  the paper's law (§2.5, Eqs. 12-22; walls §2.4) exactly: F^e = K A_n V^(1/3),
+//                 with the calibrated damping (NormalDamping::kCalibrated) by default.
+//   linear        BLAZE-DEM (§3.1, Eqs. 2-4).
+// Both volume laws share the tangential spring of Eqs. 17-20 (volume_contact_force).
 //
 // Conventions, for one contact between a body A and a body B (B may be a wall):
-//   n        unit normal from A into B (for the volume model n = S / |S|, S the vector area of
+//   n        unit normal from A into B (for the volume laws n = S / |S|, S the vector area of
 //            the overlap on A's surface, dV/dx_A = +S: moving A along n deepens the overlap);
 //   v_r      v_A(c) - v_B(c), the velocity of A's material point at the contact point c relative
 //            to B's; v_r . n > 0 while the bodies approach;
@@ -19,21 +26,70 @@ namespace talus::reference {
 struct NormalContact {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // n, unit, from A into B
   Eigen::Vector3d point = Eigen::Vector3d::Zero();    // c, m (world)
-  double elastic = 0;               // |F_n^e|, N: k_n dV^(1/3) (volume) or K_N delta (linear)
-  double normal_stiffness = 0;      // k_n of Eq. 13, N/m (volume model: K A_n)
-  double tangential_stiffness = 0;  // k_t of Eq. 19, N/m (volume model)
-  double area = 0;                  // A_n, m^2 (volume model: k_n = K A_n)
+  double elastic = 0;               // |F_n^e|, N (volume_elastic's force; linear: K_N delta)
+  double normal_stiffness = 0;      // k_n, N/m (volume_elastic's stiffness)
+  double tangential_stiffness = 0;  // k_t of Eq. 19, N/m (volume laws)
+  double area = 0;                  // A_n, m^2 (volume laws)
 };
 
-// The normal damping of the volume model (Eqs. 14-15).
+// The elastic normal law of the two volume models.
+//   kDefault  p(V) = K min(V / A_ref, V^(1/3)), A_ref = pi R_min^2: |F^e| = p(V) A_n along -n,
+//             k_n = p'(V) A_n^2 (bounded: K A_n^2 / A_ref at most), U(V) = integral of p.
+//             Feng's construction (the paper's §2.5: F_A = -U'(V) S, dV/dx_A = S) with a pressure
+//             whose slope is bounded, so that a face contact (V = A delta) is a linear spring
+//             K A^2 / A_ref that a practical step can resolve and rest on; above the switch
+//             volume V_s = A_ref^(3/2) (beyond any real overlap: V_s = 1.33 times the equal-volume
+//             sphere of the smaller body) it is the paper's law.
+//   kPaper    Eqs. 12-13 as printed: |F^e| = k_n V^(1/3), k_n = K A_n, U = 3/4 K V^(4/3); its
+//             face-contact stiffness dF/d delta ~ delta^(-2/3) is unbounded (docs/contact.md).
+enum class VolumeLaw { kDefault, kPaper };
+
+// The material constants of a volume-law contact (the wall's terms vanish: it is rigid and flat).
+struct VolumeModuli {
+  double normal = 0;          // K = E_A/R_A + E_B/R_B, Pa/m (Eq. 13 without A_n)
+  double shear = 0;           // G = E_A / (2 (1 + nu_A) R_A) + ..., Pa/m (Eq. 19 without A_n)
+  double reference_area = 0;  // A_ref = pi R_min^2, m^2 (kDefault only)
+};
+
+// A_ref of the default law: pi min(R_A, R_B)^2 (at a wall: pass the particle's R twice).
+double volume_law_reference_area(double radius_a, double radius_b);
+
+// The default law's pressure p(V) = K min(V / A_ref, V^(1/3)) (Pa), its slope p'(V) = K / A_ref
+// below V_s = A_ref^(3/2) and K / (3 V^(2/3)) above (Pa/m^3; the left slope at V_s), and its
+// potential U(V) = K V^2 / (2 A_ref) below V_s, 3/4 K V^(4/3) - K A_ref^2 / 4 above (J; continuous
+// at V_s, U' = p). V <= 0 gives 0.
+double volume_law_pressure(double modulus, double reference_area, double volume);
+double volume_law_pressure_slope(double modulus, double reference_area, double volume);
+double volume_law_energy(double modulus, double reference_area, double volume);
+
+// The paper law's potential 3/4 K V^(4/3) (J): Eq. 12's force is its gradient, K V^(1/3) S.
+double paper_law_energy(double modulus, double volume);
+
+// One overlap region under a volume law: a pair's overlap, or one wall facet's (the wall sums
+// them with the area weights of §2.4).
+struct VolumeElastic {
+  double force = 0;      // |F^e|, N: p(V) A_n (kDefault), K A_n V^(1/3) (kPaper, Eqs. 12-13)
+  double stiffness = 0;  // k_n, N/m: p'(V) A_n^2 (kDefault), K A_n (kPaper, Eq. 13)
+  double energy = 0;     // U(V), J
+};
+VolumeElastic volume_elastic(VolumeLaw law, const VolumeModuli& moduli, double volume, double area);
+
+// The energy stored in the tangential spring of Eq. 18, |F_t^e|^2 / (2 k_t) (J; 0 when k_t = 0).
+double tangential_spring_energy(const Eigen::Vector3d& elastic_force, double tangential_stiffness);
+
+// The normal damping of the volume laws (Eqs. 14-15).
 //
-//   kPaper       Eq. 15 as printed (with the dissipating sign, damping_coefficient) on the
-//                current k_n = (E1/R1 + E2/R2) A_n of Eq. 13. Eq. 15 is the damping that gives
-//                restitution epsilon to a LINEAR spring; the volume law is not linear in the
-//                penetration d (F ~ d^(1/3) face to face, ~ d^3 corner first), and k_n grows with
-//                A_n, so the restitution that results is not epsilon: measured in
-//                test_world_collisions.cpp (0.96-0.99 face first for every epsilon).
-//   kCalibrated  (default) a dashpot whose coefficient is proportional to the contact area,
+//   kPaper       Eq. 15 (with the dissipating sign, damping_coefficient) on the contact's current
+//                k_n (NormalContact::normal_stiffness). The default law's damping, always: its
+//                k_n = p'(V) A_n^2 makes a face contact a LINEAR spring, for which Eq. 15 gives
+//                restitution epsilon (a little more with the no-tension rule; measured in
+//                test_default_volume_law.cpp). For volume_paper, Eq. 15 as printed on Eq. 13's
+//                k_n = (E1/R1 + E2/R2) A_n: the paper's law is not linear in the penetration d
+//                (F ~ d^(1/3) face to face, ~ d^3 corner first), and k_n grows with A_n, so the
+//                restitution that results is not epsilon: measured in test_world_collisions.cpp
+//                (0.96-0.99 face first for every epsilon).
+//   kCalibrated  (volume_paper's default; it is calibrated on the paper's potential and means
+//                nothing for the default law) a dashpot proportional to the contact area,
 //                    c_n = eta A_n,   eta = beta(eps) m_eff^(1/4) K^(3/4) / sqrt(v0),
 //                with K = E1/R1 + E2/R2 (Eq. 13 without A_n), v0 the largest normal approach
 //                speed of the contact so far (its first touch, in an impact; kept in the pair's
@@ -85,7 +141,7 @@ double calibrated_damping_ratio(double restitution);
 // inverts), for tests.
 double clamped_volume_oscillator_restitution(double beta);
 
-// Per pair material constants of the volume model.
+// Per pair material constants of a volume law.
 struct VolumeLawParameters {
   double effective_mass = 0;  // m_eff = (1/m_A + 1/m_B)^-1, kg; the particle's mass at a wall
   double restitution = 1;     // epsilon in (0, 1] of Eqs. 15 and 20
@@ -121,7 +177,7 @@ struct ContactForce {
 // Throws std::invalid_argument unless eps is in (0, 1] and k, m >= 0.
 double damping_coefficient(double restitution, double stiffness, double mass);
 
-// Volume model (Eqs. 14-20) for one contact, given its elastic part:
+// Either volume law (Eqs. 14-20) for one contact, given its elastic part (volume_elastic):
 //   F_n = -(|F_n^e| + c_n v_n) n, with v_n = v_r . n, and no tension: a contact never pulls,
 //         so F_n . n is kept <= 0 (when the damping would exceed the elastic force near the end
 //         of an impact, the normal force is zero instead);

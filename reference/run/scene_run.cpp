@@ -87,6 +87,12 @@ std::vector<TriangleMesh> wall_meshes_at(const RefWorld& world) {
   return meshes;
 }
 
+// The energy probe's ledger (dissipated, wall work, fed) is the production solver's; the
+// reference has the energies held (RefWorld: kinetic, contact elastic and tangential) only.
+constexpr const char* kNoEnergyProbe =
+    "reference solver: the energy probe is not written by the reference solver (its energies "
+    "held are RefWorld's kinetic_energy, contact_elastic_energy and contact_tangential_energy)";
+
 std::string joined(const std::string& root, const std::string& path) {
   if (root.empty() || path.empty() || path.front() == '/') return path;
   return root + (root.back() == '/' ? "" : "/") + path;
@@ -114,6 +120,11 @@ std::vector<TrajectoryRow> trajectory_rows(const RefWorld& world,
 }  // namespace
 
 RefWorldSetup world_setup(const Scene& scene, std::vector<int>& template_of_body) {
+  if (scene.outputs.probes) {
+    for (const Probe probe : scene.outputs.probes->quantities) {
+      if (probe == Probe::energy) throw std::runtime_error(kNoEnergyProbe);
+    }
+  }
   RefWorldSetup setup;
   const std::vector<int> slot = polyhedron_slots(scene);
   for (const ParticleTemplate& t : scene.templates) {
@@ -153,6 +164,8 @@ RefWorldSetup world_setup(const Scene& scene, std::vector<int>& template_of_body
   const Effects& fx = scene.effects;
   if (fx.gravity) setup.effects.gravity = to_eigen(*fx.gravity);
   setup.effects.contacts = fx.contact.has_value();
+  // volume (the default law), volume_paper (Eqs. 12-13) or linear, each with its own normal
+  // damping (effects.damping unset; reference/contact/force_law.hpp).
   if (fx.contact) setup.effects.contact = *fx.contact;
   setup.effects.linear = fx.linear;
   setup.effects.friction = fx.friction;
@@ -212,6 +225,8 @@ std::vector<double> probe_values(const Scene& scene, const RefWorld& world) {
           values.insert(values.end(), {f.x(), f.y(), f.z(), t.x(), t.y(), t.z()});
         }
         break;
+      case Probe::energy:
+        throw std::runtime_error(kNoEnergyProbe);  // world_setup refuses it first
     }
   }
   return values;

@@ -22,7 +22,7 @@ namespace talus::reference {
 // that order, its walls (solver/scene/wall_meshes.hpp) with their motion, and its effects.
 // `template_of_body` receives, per body, the scene template index (for the trajectory's
 // `template` column). Throws SceneError-like std::runtime_error naming the scene item when the
-// reference cannot simulate what the scene asks for.
+// reference cannot simulate what the scene asks for (the energy probe among them).
 RefWorldSetup world_setup(const Scene& scene, std::vector<int>& template_of_body);
 
 // Per-probe-row numbers of a world, in the columns of solver/io/probes.hpp (probe_columns).

@@ -50,13 +50,18 @@ RefWorld::RefWorld(RefWorldSetup setup) : setup_(std::move(setup)) {
        !(fx.linear.tangential_damping >= 0))) {
     fail("the linear model needs K_N > 0, eta >= 0 and gamma >= 0");
   }
+  if (fx.contact == ContactModel::volume && fx.damping == NormalDamping::kCalibrated) {
+    fail(
+        "the calibrated normal damping belongs to volume_paper (it is calibrated on the paper's "
+        "potential); the default volume law damps with Eq. 15 on its stiffness");
+  }
   if (fx.drag_alpha && !(*fx.drag_alpha >= 0)) fail("drag alpha must be >= 0");
   for (const RefBodySpec& spec : setup_.bodies) add_body_unchecked(spec);
   bool any_sphere = false, any_polyhedron = false;
   for (const RefBody& b : bodies_) {
     (b.kind == ParticleShapeKind::sphere ? any_sphere : any_polyhedron) = true;
   }
-  if (fx.contacts && fx.contact == ContactModel::volume && any_sphere && any_polyhedron) {
+  if (fx.contacts && is_volume_model(fx.contact) && any_sphere && any_polyhedron) {
     fail(
         "sphere-polyhedron contact in the volume model is not supported by the reference solver "
         "(no exact sphere-polyhedron overlap); use the linear model");
@@ -66,8 +71,7 @@ RefWorld::RefWorld(RefWorldSetup setup) : setup_(std::move(setup)) {
     if (wall.material < 0 || wall.material >= n_materials) {
       fail("wall '" + wall.name + "': no such material");
     }
-    if (fx.contacts && fx.contact == ContactModel::volume && any_sphere &&
-        !wall.triangles.empty()) {
+    if (fx.contacts && is_volume_model(fx.contact) && any_sphere && !wall.triangles.empty()) {
       fail(
           "sphere-wall contact in the volume model is not supported by the reference solver (no "
           "exact cap-triangle overlap yet); use the linear model");
@@ -128,14 +132,13 @@ void RefWorld::add_body_unchecked(const RefBodySpec& spec) {
 void RefWorld::add_body(const RefBodySpec& spec) {
   const bool polyhedron = spec.kind == ParticleShapeKind::polyhedron;
   for (const RefBody& b : bodies_) {
-    if (b.kind != spec.kind && setup_.effects.contacts &&
-        setup_.effects.contact == ContactModel::volume) {
+    if (b.kind != spec.kind && setup_.effects.contacts && is_volume_model(setup_.effects.contact)) {
       fail(
           "sphere-polyhedron contact in the volume model is not supported by the reference "
           "solver (no exact sphere-polyhedron overlap); use the linear model");
     }
   }
-  if (!polyhedron && setup_.effects.contacts && setup_.effects.contact == ContactModel::volume) {
+  if (!polyhedron && setup_.effects.contacts && is_volume_model(setup_.effects.contact)) {
     for (const RefWall& wall : setup_.walls) {
       if (!wall.triangles.empty()) {
         fail("sphere-wall contact in the volume model is not supported by the reference solver");
@@ -199,6 +202,26 @@ LinearLawParameters RefWorld::linear_law(const PairProperties& props) const {
   return law;
 }
 
+VolumeLaw RefWorld::volume_law() const {
+  return setup_.effects.contact == ContactModel::volume_paper ? VolumeLaw::kPaper
+                                                              : VolumeLaw::kDefault;
+}
+
+VolumeLawParameters RefWorld::volume_parameters(const PairProperties& props,
+                                                double effective_mass) const {
+  const RefEffects& fx = setup_.effects;
+  VolumeLawParameters law;
+  // The default law damps with Eq. 15 on its own k_n (force_law.hpp); volume_paper calibrates.
+  law.damping = fx.damping.value_or(volume_law() == VolumeLaw::kPaper ? NormalDamping::kCalibrated
+                                                                      : NormalDamping::kPaper);
+  law.time_step = setup_.time_step;
+  law.effective_mass = effective_mass;
+  law.restitution = props.restitution;
+  law.friction = props.friction;
+  law.with_friction = fx.friction;
+  return law;
+}
+
 void RefWorld::pair_contact(int i, int j, double spring_dt,
                             std::map<std::pair<long long, long long>, ContactHistory>& next) {
   const RefBody& a = bodies_[i];
@@ -216,7 +239,7 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
   pose_b.position = pb.state.position, pose_b.orientation = pb.state.orientation;
 
   PairGeometry g;
-  if (fx.contact == ContactModel::volume) {
+  if (is_volume_model(fx.contact)) {
     g = (sphere_a && sphere_b) ? sphere_lens_geometry(pose_a.position, pa.sphere_radius,
                                                       pose_b.position, pb.sphere_radius)
                                : volume_geometry(setup_.templates[pa.shape], pose_a,
@@ -241,24 +264,22 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
   c.body_a = ia, c.body_b = ib;
   c.point = g.point, c.normal = g.normal;
   ContactForce f;
-  if (fx.contact == ContactModel::volume) {
-    const double stiffness = ma.youngs_modulus / pa.equivalent_radius +
-                             mb.youngs_modulus / pb.equivalent_radius;  // Eq. 13 / A_n
-    const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio) * pa.equivalent_radius) +
-                         mb.youngs_modulus / (2 * (1 + mb.poisson_ratio) * pb.equivalent_radius);
+  if (is_volume_model(fx.contact)) {
+    VolumeModuli moduli;
+    moduli.normal = ma.youngs_modulus / pa.equivalent_radius +
+                    mb.youngs_modulus / pb.equivalent_radius;  // Eq. 13 / A_n
+    moduli.shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio) * pa.equivalent_radius) +
+                   mb.youngs_modulus / (2 * (1 + mb.poisson_ratio) * pb.equivalent_radius);
+    moduli.reference_area = volume_law_reference_area(pa.equivalent_radius, pb.equivalent_radius);
+    const VolumeElastic e = volume_elastic(volume_law(), moduli, g.volume, g.area);
     NormalContact nc;
     nc.normal = g.normal, nc.point = g.point;
-    nc.normal_stiffness = stiffness * g.area;                // Eq. 13
-    nc.tangential_stiffness = shear * g.area;                // Eq. 19
-    nc.elastic = nc.normal_stiffness * std::cbrt(g.volume);  // Eq. 12
+    nc.elastic = e.force;                             // Eq. 12 (paper) or p(V) A_n (default)
+    nc.normal_stiffness = e.stiffness;                // Eq. 13 (paper) or p'(V) A_n^2 (default)
+    nc.tangential_stiffness = moduli.shear * g.area;  // Eq. 19
     nc.area = g.area;
-    VolumeLawParameters law;
-    law.damping = fx.damping;
-    law.time_step = setup_.time_step;
-    law.effective_mass = pa.state.mass * pb.state.mass / (pa.state.mass + pb.state.mass);
-    law.restitution = props.restitution;
-    law.friction = props.friction;
-    law.with_friction = fx.friction;
+    const VolumeLawParameters law =
+        volume_parameters(props, pa.state.mass * pb.state.mass / (pa.state.mass + pb.state.mass));
     const auto key = std::minmax(pa.id, pb.id);
     ContactHistory history;
     if (auto it = pair_histories_.find(key); it != pair_histories_.end()) history = it->second;
@@ -268,8 +289,9 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
     history.elastic_force *= sign;
     next[key] = history;  // the elastic tangential force (with friction) and v0 (kCalibrated)
-    // Feng's potential: F = -K dV^(1/3) S = -grad (3/4) K dV^(4/3), K = E_a/R_a + E_b/R_b.
-    c.elastic_energy = 0.75 * stiffness * std::pow(g.volume, 4.0 / 3.0);
+    // Feng's potential: F_A = -U'(V) S (force_law.hpp).
+    c.elastic_energy = e.energy;
+    c.tangential_energy = tangential_spring_energy(history.elastic_force, nc.tangential_stiffness);
     c.volume = g.volume, c.area = g.area;
   } else {
     NormalContact nc;
@@ -303,10 +325,13 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   pose.position = p.state.position, pose.orientation = p.state.orientation;
   const RefMaterial& mp = setup_.materials[p.material];
   // The wall is infinitely large and rigid: R_wall = infinity, so its term E/R in Eqs. 13 and 19
-  // vanishes whatever its E (the wall adds no compliance and no curvature), and m_eff of Eq. 15
-  // is the particle's mass (1/m_wall = 0).
-  const double stiffness = mp.youngs_modulus / p.equivalent_radius;
-  const double shear = mp.youngs_modulus / (2 * (1 + mp.poisson_ratio) * p.equivalent_radius);
+  // vanishes whatever its E (the wall adds no compliance and no curvature), m_eff of Eq. 15
+  // is the particle's mass (1/m_wall = 0), and A_ref is the particle's own pi R^2.
+  VolumeModuli moduli;
+  moduli.normal = mp.youngs_modulus / p.equivalent_radius;
+  moduli.shear = mp.youngs_modulus / (2 * (1 + mp.poisson_ratio) * p.equivalent_radius);
+  moduli.reference_area = volume_law_reference_area(p.equivalent_radius, p.equivalent_radius);
+  const bool volume_model = is_volume_model(fx.contact);
 
   // Area weighting (§2.4): each facet reached contributes its half-space contact times
   // w = overlap area / section area, so a section spread over coplanar facets counts once.
@@ -320,12 +345,15 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
     const RefWallContact wc = wall_contact(shape, pose, t[0], t[1], t[2]);
     if (!wc.reaches_plane || !(wc.overlap_area > 0) || !(wc.section_area > 0)) continue;
     const double wt = wc.overlap_area / wc.section_area;
-    if (fx.contact == ContactModel::volume) {
+    if (volume_model) {
       if (!(wc.volume_below > 0)) continue;
-      elastic += wt * stiffness * wc.section_area * std::cbrt(wc.volume_below) * wc.normal;
-      k_n += wt * stiffness * wc.section_area;
-      k_t += wt * shear * wc.section_area;
-      energy += wt * 0.75 * stiffness * std::pow(wc.volume_below, 4.0 / 3.0);
+      // Facet i: w_i F^e(V_i, A_i) along n_i, k_n and U summed with the same weights.
+      const VolumeElastic e =
+          volume_elastic(volume_law(), moduli, wc.volume_below, wc.section_area);
+      elastic += wt * e.force * wc.normal;
+      k_n += wt * e.stiffness;
+      k_t += wt * moduli.shear * wc.section_area;  // Eq. 19
+      energy += wt * e.energy;
     } else {
       if (!(wc.depth > 0)) continue;
       elastic += wt * fx.linear.stiffness * wc.depth * wc.normal;
@@ -351,19 +379,15 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   const PairProperties props = pair_properties(p.material, wall.material);
   const Eigen::Vector3d v_r = point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point);
   ContactForce f;
-  if (fx.contact == ContactModel::volume) {
-    VolumeLawParameters law;
-    law.effective_mass = p.state.mass;
-    law.damping = fx.damping;
-    law.time_step = setup_.time_step;
-    law.restitution = props.restitution;
-    law.friction = props.friction;
-    law.with_friction = fx.friction;
+  double tangential_energy = 0;
+  if (volume_model) {
+    const VolumeLawParameters law = volume_parameters(props, p.state.mass);
     const std::pair<long long, int> key(p.id, w);
     ContactHistory history;
     if (auto it = wall_histories_.find(key); it != wall_histories_.end()) history = it->second;
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
     next[key] = history;
+    tangential_energy = tangential_spring_energy(history.elastic_force, k_t);
   } else {
     f = linear_contact_force(nc, linear_law(props), v_r);
   }
@@ -377,6 +401,7 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   c.force_on_a = force, c.tangential_force = f.tangential_force;
   c.volume = volume, c.area = area, c.depth = depth, c.weight = weight;
   c.elastic_energy = energy;
+  c.tangential_energy = tangential_energy;
   c.sliding = f.sliding;
   contacts_.push_back(c);
 }
@@ -502,6 +527,12 @@ Eigen::Vector3d RefWorld::angular_momentum() const {
     l += b.state.position.cross(b.state.momentum()) + b.state.angular_momentum_world();
   }
   return l;
+}
+
+double RefWorld::contact_tangential_energy() const {
+  double e = 0;
+  for (const RefContact& c : contacts_) e += c.tangential_energy;
+  return e;
 }
 
 const ContactHistory* RefWorld::pair_history(long long id_a, long long id_b) const {

@@ -1,6 +1,8 @@
 // The reference world: particles (polyhedra or spheres), walls, effects and the serial step
 // (brute-force broad phase, exact contacts, the force laws of contact/, body forces and the
-// integrators of dynamics/). Built from plain lists, so that a scene loader can fill it.
+// integrators of dynamics/). Built from plain lists, so that a scene loader can fill it. The
+// contact model is the scene's: the default volume law, the paper's (Eqs. 12-22) or BLAZE-DEM's
+// linear law (contact/force_law.hpp says which is which).
 #pragma once
 
 #include <Eigen/Core>
@@ -55,12 +57,17 @@ struct RefBodySpec {
 struct RefEffects {
   std::optional<Eigen::Vector3d> gravity;  // m/s^2
   bool contacts = true;  // false: no contact model, bodies and walls pass through each other
+  // volume: the default volume law; volume_paper: the paper's Eqs. 12-13; linear: BLAZE-DEM
+  // (contact/force_law.hpp).
   ContactModel contact = ContactModel::volume;
   LinearContactParameters linear;  // K_N, eta, gamma (linear model)
   bool friction = false;
   bool rotation = true;
-  std::optional<double> drag_alpha;                    // kg/m
-  NormalDamping damping = NormalDamping::kCalibrated;  // volume model, force_law.hpp
+  std::optional<double> drag_alpha;  // kg/m
+  // The normal damping of the volume laws (force_law.hpp); unset: the law's own, Eq. 15's form
+  // on k_n (kPaper) for volume, kCalibrated for volume_paper. volume refuses kCalibrated (it is
+  // calibrated on the paper's potential).
+  std::optional<NormalDamping> damping;
 };
 
 struct RefWorldSetup {
@@ -93,11 +100,15 @@ struct RefContact {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_on_a = Eigen::Vector3d::Zero();  // N (normal + tangential)
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero();
-  double volume = 0;          // dV (volume model; walls: sum of w_i dV_i), m^3
-  double area = 0;            // A_n (volume model; walls: sum of w_i A_i), m^2
-  double depth = 0;           // delta (linear model; walls: the deepest facet's), m
-  double weight = 1;          // walls: sum of the facets' area weights
-  double elastic_energy = 0;  // J: the potential of the elastic normal force (see potential())
+  double volume = 0;  // dV (volume laws; walls: sum of w_i dV_i), m^3
+  double area = 0;    // A_n (volume laws; walls: sum of w_i A_i), m^2
+  double depth = 0;   // delta (linear model; walls: the deepest facet's), m
+  double weight = 1;  // walls: sum of the facets' area weights
+  // J: the potential of the elastic normal force (volume laws: U(V), walls sum_i w_i U(V_i);
+  // linear: K_N delta^2 / 2), and the tangential spring's |F_t^e|^2 / (2 k_t) after this step
+  // (volume laws with friction; force_law.hpp).
+  double elastic_energy = 0;
+  double tangential_energy = 0;
   bool sliding = false;
 };
 
@@ -135,7 +146,8 @@ class RefWorld {
   std::vector<RefTriangle> wall_triangles(int w) const;
 
   double kinetic_energy() const;             // J, translation + rotation
-  double contact_elastic_energy() const;     // J, sum over the last evaluation's contacts
+  double contact_elastic_energy() const;     // J, elastic_energy over the last contacts
+  double contact_tangential_energy() const;  // J, tangential_energy over the last contacts
   Eigen::Vector3d momentum() const;          // kg m/s
   Eigen::Vector3d angular_momentum() const;  // about the origin, kg m^2/s
   const ContactHistory* pair_history(long long id_a, long long id_b) const;
@@ -158,6 +170,9 @@ class RefWorld {
   PairProperties pair_properties(int material_a, int material_b) const;
   // The linear model's parameters (BLAZE-DEM Eqs. 2-3) for a pair or a wall contact.
   LinearLawParameters linear_law(const PairProperties& props) const;
+  // A volume law's normal law and parameters (damping, step limit, friction) for a contact.
+  VolumeLaw volume_law() const;
+  VolumeLawParameters volume_parameters(const PairProperties& props, double effective_mass) const;
 
   RefWorldSetup setup_;
   std::vector<RefBody> bodies_;

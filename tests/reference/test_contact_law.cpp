@@ -1,5 +1,6 @@
-// Force laws of the reference solver against closed forms (paper Eqs. 12-20, BLAZE-DEM Eqs. 2-3)
-// and the area weighting of wall contacts (paper §2.4).
+// Force laws of the reference solver against closed forms (the paper's law, volume_paper: Eqs.
+// 12-20; BLAZE-DEM Eqs. 2-3) and the area weighting of wall contacts (paper §2.4). The default
+// volume law has its own tests: test_default_volume_law.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,7 +29,7 @@ ShapeTemplate box(double lx, double ly, double lz) {
 
 TEST(ReferenceContactLaw, BoxesFaceToFaceVolumeAreaAndForce) {
   // Two 10 mm cubes overlapping by d = 1 mm along x: dV = d a^2, A_n = a^2, n = +x (A into B),
-  // |F| = (E/R + E/R) A_n dV^(1/3) (Eqs. 12-13), on A along -x.
+  // |F| = (E/R + E/R) A_n dV^(1/3) (the paper's law, Eqs. 12-13), on A along -x.
   const double a = 0.01, d = 0.001, youngs = 1e7;
   RefWorldSetup s;
   s.templates = {box(a, a, a)};
@@ -36,6 +37,7 @@ TEST(ReferenceContactLaw, BoxesFaceToFaceVolumeAreaAndForce) {
   s.bodies = {testing::polyhedron(0, 0, 1, Eigen::Vector3d::Zero()),
               testing::polyhedron(0, 0, 2, Eigen::Vector3d(a - d, 0, 0))};
   s.time_step = 1e-6;
+  s.effects.contact = ContactModel::volume_paper;
   RefWorld world(s);
   world.evaluate_forces(0);
   ASSERT_EQ(world.contacts().size(), 1u);
@@ -242,19 +244,22 @@ TEST(ReferenceContactLaw, SphereOnAWallLinearModelCountsEachFacetOnce) {
   }
 }
 
-// The volume model still refuses spheres with walls, naming the way out.
+// Both volume laws still refuse spheres with walls, naming the way out.
 TEST(ReferenceContactLaw, SphereOnAWallVolumeModelIsRefused) {
-  RefWorldSetup s;
-  s.materials = {testing::material(1e6, 0.5)};
-  RefBodySpec b;
-  b.kind = ParticleShapeKind::sphere;
-  b.sphere_radius = 0.005;
-  b.material = 0;
-  b.position = Eigen::Vector3d(0, 0, 0.01);
-  s.bodies = {b};
-  s.walls = {testing::square_wall(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.05, 0)};
-  s.time_step = 1e-6;
-  EXPECT_THROW(RefWorld world(s), std::invalid_argument);
+  for (const ContactModel model : {ContactModel::volume, ContactModel::volume_paper}) {
+    RefWorldSetup s;
+    s.effects.contact = model;
+    s.materials = {testing::material(1e6, 0.5)};
+    RefBodySpec b;
+    b.kind = ParticleShapeKind::sphere;
+    b.sphere_radius = 0.005;
+    b.material = 0;
+    b.position = Eigen::Vector3d(0, 0, 0.01);
+    s.bodies = {b};
+    s.walls = {testing::square_wall(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.05, 0)};
+    s.time_step = 1e-6;
+    EXPECT_THROW(RefWorld world(s), std::invalid_argument);
+  }
 }
 
 // beta(eps) of the calibrated damping inverts the clamped oscillator (force_law.hpp).

@@ -135,10 +135,11 @@ effects:
   expect_agreement(compare_solvers(scene, 0.005, 1.0), 100);
 }
 
-// Two spheres, volume model (the lens), oblique, friction (the tangential spring with history),
-// rotation, restitution 0.5 (the calibrated damping).
-TEST(ProductionVsReference, TwoSpheresVolumeObliqueWithFrictionAndRotation) {
-  const Scene scene = scene_from(std::string("time: {step: 1.0e-6, end: 2.0e-3}\n") + kGlass + R"(
+// Two spheres, a volume law (the lens), oblique, friction (the tangential spring with history),
+// rotation, restitution 0.5: Eq. 15's damping on the default law's k_n (`volume`), the
+// calibrated damping (`volume_paper`).
+Scene two_spheres_volume(const std::string& model) {
+  return scene_from(std::string("time: {step: 1.0e-6, end: 2.0e-3}\n") + kGlass + R"(
 templates:
   ball: {sphere: 0.005, material: glass}
   small: {sphere: 0.003, material: glass}
@@ -148,17 +149,25 @@ particles:
          angular_velocity: [0, 10, 30]}
       - {template: small, position: [0.0032, -0.001, 0], velocity: [-1.0, 0.2, 0]}
 effects:
-  contact: volume
+  contact: )" + model +
+                    R"(
   friction: true
   rotation: true
 )");
-  expect_agreement(compare_solvers(scene, 0.005, 1.0), 100);
 }
 
-// Two cubes, volume model (the dual-space overlap against the reference's exact CGAL overlap),
-// corner-first oblique impact with friction and rotation: 3 ms.
-TEST(ProductionVsReference, TwoCubesVolumeObliqueWithFrictionAndRotation) {
-  const Scene scene = scene_from(std::string("time: {step: 1.0e-6, end: 3.0e-3}\n") + kGlass + R"(
+TEST(ProductionVsReference, TwoSpheresVolumeObliqueWithFrictionAndRotation) {
+  expect_agreement(compare_solvers(two_spheres_volume("volume"), 0.005, 1.0), 100);
+}
+
+TEST(ProductionVsReference, TwoSpheresVolumePaperObliqueWithFrictionAndRotation) {
+  expect_agreement(compare_solvers(two_spheres_volume("volume_paper"), 0.005, 1.0), 100);
+}
+
+// A cube and an octahedron, a volume law (the dual-space overlap against the reference's exact
+// CGAL overlap), corner-first oblique impact with friction and rotation: 3 ms.
+Scene two_polyhedra_volume(const std::string& model) {
+  return scene_from(std::string("time: {step: 1.0e-6, end: 3.0e-3}\n") + kGlass + R"(
 templates:
   cube: {shape: "cube:0.01", material: glass}
   octa: {shape: "octahedron:0.012", material: glass}
@@ -169,11 +178,19 @@ particles:
       - {template: octa, position: [0.0062, -0.001, 0], velocity: [-1.0, 0.2, 0],
          orientation: {axis: [0, 1, 1], degrees: 20}}
 effects:
-  contact: volume
+  contact: )" + model +
+                    R"(
   friction: true
   rotation: true
 )");
-  expect_agreement(compare_solvers(scene, 0.01, 1.0), 100);
+}
+
+TEST(ProductionVsReference, TwoCubesVolumeObliqueWithFrictionAndRotation) {
+  expect_agreement(compare_solvers(two_polyhedra_volume("volume"), 0.01, 1.0), 100);
+}
+
+TEST(ProductionVsReference, TwoCubesVolumePaperObliqueWithFrictionAndRotation) {
+  expect_agreement(compare_solvers(two_polyhedra_volume("volume_paper"), 0.01, 1.0), 100);
 }
 
 // A sphere against a cube, linear model, friction and rotation (BLAZE-DEM's simple contact: the
@@ -254,10 +271,10 @@ effects:
   expect_agreement(compare_solvers(scene, 0.01, 1.0), 100);
 }
 
-// A tilted cube dropped on a plane wall, volume model, friction and rotation: it lands on an edge,
+// A tilted cube dropped on a plane wall, a volume law, friction and rotation: it lands on an edge,
 // rocks and slides (the area-weighted wall contact with its history keyed by {id, wall}); 15 ms.
-TEST(ProductionVsReference, CubeDroppedOnAPlaneVolume) {
-  const Scene scene = scene_from(std::string("time: {step: 5.0e-6, end: 1.5e-2}\n") + kGlass + R"(
+Scene cube_dropped_on_a_plane(const std::string& model) {
+  return scene_from(std::string("time: {step: 5.0e-6, end: 1.5e-2}\n") + kGlass + R"(
 templates:
   cube: {shape: "cube:0.01", material: glass}
 particles:
@@ -268,11 +285,19 @@ walls:
   - plane: {point: [0, 0, 0], normal: [0, 0, 1], size: 0.1, material: glass}
 effects:
   gravity: [0, 0, -9.81]
-  contact: volume
+  contact: )" + model +
+                    R"(
   friction: true
   rotation: true
 )");
-  expect_agreement(compare_solvers(scene, 0.01, 0.5), 100);
+}
+
+TEST(ProductionVsReference, CubeDroppedOnAPlaneVolume) {
+  expect_agreement(compare_solvers(cube_dropped_on_a_plane("volume"), 0.01, 0.5), 100);
+}
+
+TEST(ProductionVsReference, CubeDroppedOnAPlaneVolumePaper) {
+  expect_agreement(compare_solvers(cube_dropped_on_a_plane("volume_paper"), 0.01, 0.5), 100);
 }
 
 // Two cubes and a sphere in a box whose walls translate, linear model, gravity, friction and

@@ -147,6 +147,34 @@ effects:
   EXPECT_EQ(setup.time_step, 1e-5);
 }
 
+// The three contact models pass to the world as they are, each volume law with its own damping
+// (effects.damping unset); the energy probe, whose ledger only production keeps, is refused.
+TEST(ReferenceSceneRun, ContactModelsAndTheEnergyProbe) {
+  const std::string yaml = std::string("time: {step: 1.0e-5, end: 1.0e-4}\n") + kMaterials + R"(
+templates:
+  grain: {shape: "cube:0.01", material: glass}
+particles:
+  - explicit:
+      - {template: grain, position: [0, 0, 0.1]}
+effects:
+  contact: CONTACT
+outputs:
+  probes: {every: 1, quantities: [kinetic_energy]}
+)";
+  for (const auto& [name, model] : {std::pair{"volume", ContactModel::volume},
+                                    std::pair{"volume_paper", ContactModel::volume_paper}}) {
+    std::string text = yaml;
+    text.replace(text.find("CONTACT"), 7, name);
+    Scene scene = scene_from(text);
+    std::vector<int> template_of_body;
+    const RefWorldSetup setup = world_setup(scene, template_of_body);
+    EXPECT_EQ(setup.effects.contact, model);
+    EXPECT_FALSE(setup.effects.damping.has_value());
+    scene.outputs.probes->quantities.push_back(Probe::energy);
+    EXPECT_THROW(world_setup(scene, template_of_body), std::runtime_error);
+  }
+}
+
 // A feed inserts floor(rate (t - start)) particles by time t, with ids after the initial ones.
 TEST(ReferenceSceneRun, FeedInsertsAtItsRate) {
   const std::string yaml = std::string("time: {step: 1.0e-3, end: 0.05}\n") + kMaterials + R"(
