@@ -28,6 +28,10 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
       parsed.quiet = true;
       continue;
     }
+    if (word == "--allow-unstable-step") {
+      parsed.allow_unstable_step = true;
+      continue;
+    }
     if (word.rfind("--", 0) != 0) {
       if (have_scene) {
         throw UsageError("run expects one scene file, got '" + parsed.scene_path + "' and '" +
@@ -71,7 +75,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& operands) {
     } else {
       throw UsageError("unknown option '" + name +
                        "' for run; expected --solver, --backend, --precision, --output, "
-                       "--threads, --end, --resume, --quiet");
+                       "--threads, --end, --resume, --quiet, --allow-unstable-step");
     }
     if (name == "--solver" || name == "--precision" || name == "--output")
       fixed_by_checkpoint.push_back(name);

@@ -26,6 +26,9 @@ struct RunArguments {
   // OMP_NUM_THREADS).
   int threads = 0;
   bool quiet = false;  // --quiet: no progress lines on stderr
+  // --allow-unstable-step: run a scene whose time step is above the critical step of the
+  // time-step advisor (solver/contact/time_step_advisor.hpp) instead of refusing it.
+  bool allow_unstable_step = false;
   // --end T: stop at T seconds instead of the scene's end time (s, > 0; shorter runs).
   std::optional<double> end_time;
   // --resume DIR: continue the run whose checkpoints are in DIR (no scene path; the checkpoint
@@ -35,7 +38,7 @@ struct RunArguments {
 
 // The operands after `run`: options in any order (`--name value` or `--name=value`) and at most
 // one scene path (none: the built-in scene), or --resume DIR and no scene path (with --backend,
-// --threads, --quiet only; not --end). Throws UsageError.
+// --threads, --quiet, --allow-unstable-step only; not --end). Throws UsageError.
 RunArguments parse_run_arguments(const std::vector<std::string>& operands);
 
 const char* to_string(SolverKind solver);

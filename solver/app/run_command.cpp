@@ -6,7 +6,9 @@
 // (default: OpenMP's, all cores or OMP_NUM_THREADS); the summary and the notice of `auto` name
 // the count when the host runs the scene. `--resume DIR` continues a production run from the
 // newest checkpoint in DIR (solver/io/checkpoint.hpp); SIGINT and SIGTERM stop a production run
-// at a step boundary, with a checkpoint when the scene asks for them.
+// at a step boundary, with a checkpoint when the scene asks for them. Before either solver runs,
+// the time-step advisor (solver/contact/time_step_advisor.hpp) prints dt / dt_crit and refuses a
+// step above dt_crit unless --allow-unstable-step.
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include "solver/app/commands.hpp"
 #include "solver/app/json_writer.hpp"
 #include "solver/app/run_arguments.hpp"
+#include "solver/contact/time_step_advisor.hpp"
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/output_files.hpp"
@@ -86,10 +89,60 @@ class StopSignals {
   StopSignals& operator=(const StopSignals&) = delete;
 };
 
+// The time-step advisor's verdict on the scene's step, before any solver runs: one line on
+// stderr (dt, dt / dt_crit, what limits dt_crit, the Rayleigh time) unless --quiet; a step above
+// dt_crit is a SceneError at time.step naming the largest stable step, or with
+// --allow-unstable-step a warning line and the run.
+TimeStepAdvice check_time_step(const RunArguments& args, const Scene& scene) {
+  const TimeStepAdvice advice = advise_time_step(scene);
+  const double dt = scene.time_step;
+  char rayleigh[64] = "";
+  if (std::isfinite(advice.rayleigh_time))
+    std::snprintf(rayleigh, sizeof rayleigh, "; Rayleigh time %.1e s", advice.rayleigh_time);
+  const char* automatic = scene.time_step_auto ? " (step: auto)" : "";
+  if (!args.quiet) {
+    if (advice.limited()) {
+      std::fprintf(stderr,
+                   "talus run: time step %.3g s%s = %.2g of the critical step %.1e s (%s%s)\n", dt,
+                   automatic, dt / advice.critical_step, advice.critical_step,
+                   advice.describe().c_str(), rayleigh);
+    } else {
+      std::fprintf(stderr, "talus run: time step %.3g s%s; no critical step: %s%s\n", dt, automatic,
+                   advice.describe().c_str(), rayleigh);
+    }
+  }
+  if (!(dt > advice.critical_step)) return advice;
+  // The largest stable step, rounded down so that the value we suggest is stable.
+  const double stable = round_down_two_digits(advice.critical_step);
+  char text[512];
+  if (args.allow_unstable_step) {
+    std::snprintf(text, sizeof text,
+                  "talus run: warning: time step %.6g s is above the largest stable step %.1e s "
+                  "for %s (contact: %s); running anyway (--allow-unstable-step)\n",
+                  dt, stable, advice.limit.c_str(), advice.model.c_str());
+    std::fputs(text, stderr);
+    return advice;
+  }
+  std::snprintf(text, sizeof text,
+                "%.6g s is above the largest stable step %.1e s for %s (contact: %s); write "
+                "time.step <= %.1e or step: auto, or pass --allow-unstable-step to run anyway",
+                dt, stable, advice.limit.c_str(), advice.model.c_str(), stable);
+  const SourceRef& at = scene.time_step_source;
+  throw SceneError(at.file.empty() ? scene.file : at.file, at.line, at.column, "time.step", text);
+}
+
+// The advisor's numbers in a run's summary: dt_crit (null when nothing limits it) and dt / dt_crit.
+void time_step_members(const Scene& scene, const TimeStepAdvice& advice, JsonWriter& json) {
+  json.member("time_step", scene.time_step);
+  json.member("critical_time_step", advice.critical_step);
+  json.member("time_step_ratio", scene.time_step / advice.critical_step);
+}
+
 // The production solver on the chosen backend (make_step: empty for the host), from the scene's
 // start or from `resume`; the summary adds wall time per stage, contacts per step and peak
 // memory (and what `extra` adds). A stop signal ends it with RunInterrupted.
-std::string run_production_json(const RunArguments& args, const Scene& scene, StepFactory make_step,
+std::string run_production_json(const RunArguments& args, const Scene& scene,
+                                const TimeStepAdvice& advice, StepFactory make_step,
                                 const ResumePoint* resume, const ExtraMembers& extra = {}) {
   ProductionSettings settings;
   settings.make_step = std::move(make_step);
@@ -98,6 +151,15 @@ std::string run_production_json(const RunArguments& args, const Scene& scene, St
   if (resume) settings.resume = resume->checkpoint;
   settings.stop_requested = [] { return stop_signal != 0; };
   if (!args.quiet) settings.progress = print_production_progress;
+  if (advice.limited()) {
+    char hint[384];
+    std::snprintf(hint, sizeof hint,
+                  "The likely cause is a time step too large for the contact law: time.step = "
+                  "%.3g s is %.2g of the critical step %.1e s (%s); try time.step: auto (%.1e s).",
+                  scene.time_step, scene.time_step / advice.critical_step, advice.critical_step,
+                  advice.describe().c_str(), advice.recommended_step);
+    settings.instability_hint = hint;
+  }
   ProductionReport report;
   try {
     const StopSignals signals;
@@ -134,6 +196,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene, St
   if (resume) json.member("resumed_from_step", static_cast<double>(report.resumed_from_step));
   json.member("steps", static_cast<double>(report.steps));
   json.member("simulated_time", report.simulated_time);
+  time_step_members(scene, advice, json);
   json.member("wall_seconds", report.wall_seconds);
   json.member("particles", static_cast<int>(report.particles));
   json.member("mean_contacts_per_step", report.mean_contacts);
@@ -233,7 +296,8 @@ std::string resume_json(const RunArguments& args) {
     std::fprintf(stderr, "talus run: resuming %s from step %lld (%s)\n", point.scene_file.c_str(),
                  point.step, point.checkpoint_path.c_str());
   }
-  return run_production_json(args, scene, production_backend(args, scene), &point);
+  const TimeStepAdvice advice = check_time_step(args, scene);
+  return run_production_json(args, scene, advice, production_backend(args, scene), &point);
 }
 
 #if TALUS_HAVE_REFERENCE
@@ -273,6 +337,7 @@ std::string run_json(const RunArguments& given) {
   }
   if (builtin && args.solver == SolverKind::reference)
     throw RunError("the built-in scene runs on the production solver; drop --solver reference");
+  const TimeStepAdvice advice = check_time_step(args, scene);
 
   if (args.solver == SolverKind::production) {
     ExtraMembers extra;
@@ -280,7 +345,8 @@ std::string run_json(const RunArguments& given) {
       extra = [&args](const ProductionReport& report, JsonWriter& json) {
         finish_builtin_run(args, report, json);
       };
-    return run_production_json(args, scene, production_backend(args, scene), nullptr, extra);
+    return run_production_json(args, scene, advice, production_backend(args, scene), nullptr,
+                               extra);
   }
   if (args.threads > 0) {
     throw RunError(
@@ -309,6 +375,7 @@ std::string run_json(const RunArguments& given) {
   json.member("scene", args.scene_path);
   json.member("steps", static_cast<double>(report.steps));
   json.member("simulated_time", report.simulated_time);
+  time_step_members(scene, advice, json);
   json.member("wall_seconds", report.wall_seconds);
   json.member("particles", static_cast<int>(report.particles));
   json.member("mean_contacts_per_step", report.mean_contacts);

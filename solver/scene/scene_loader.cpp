@@ -1,10 +1,13 @@
 // The top level of a scene file: reading it, its scalar settings, and the sections in order.
 #include "solver/scene/scene_loader.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "solver/contact/time_step_advisor.hpp"
 #include "solver/scene/scene_sections.hpp"
 
 namespace talus {
@@ -15,13 +18,39 @@ const std::vector<std::string> kTopLevelKeys = {
     "deterministic", "materials", "material_pairs", "templates", "particles",
     "walls",         "effects",   "outputs"};
 
+const std::string kTimeStep = "a positive number in s, or auto";
+
+// `step: auto` is resolved once the whole scene is read (resolve_auto_step).
 void parse_time(const SceneNode& node, Scene& scene) {
-  node.keys({"step", "end"}, "time: a map with keys step, end (in s)");
-  const SceneNode step = node.at("step", "a positive number in s (the time step)");
-  scene.time_step = step.positive("s");
+  node.keys({"step", "end"}, "time: a map with keys step, end (in s, or step: auto)");
+  const SceneNode step = node.at("step", kTimeStep + " (the time step)");
+  scene.time_step_source = step.ref();
+  scene.time_step_auto = step.text(kTimeStep) == "auto";
+  if (!scene.time_step_auto)
+    scene.time_step = step.number(kTimeStep, [](double v) { return v > 0; });
   scene.end_time = node.at("end", "a positive number in s (the end time)").positive("s");
-  if (scene.time_step > scene.end_time)
+  if (!scene.time_step_auto && scene.time_step > scene.end_time)
     step.fail_expected("a time step in s no longer than the end time");
+}
+
+// `time: {step: auto}`: a safe fraction of the critical step of the time-step advisor
+// (contact/time_step_advisor.hpp), so that both solvers run the same number.
+void resolve_auto_step(Scene& scene) {
+  const SourceRef& at = scene.time_step_source;
+  const TimeStepAdvice advice = advise_time_step(scene);
+  if (!std::isfinite(advice.recommended_step))
+    throw SceneError(at.file, at.line, at.column, at.key,
+                     "auto needs a critical time step, and nothing limits the step here: " +
+                         advice.limit + "; write the time step in s");
+  scene.time_step = advice.recommended_step;
+  if (scene.time_step > scene.end_time) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "auto gives %.3g s (%.2g of the critical step %.3g s), longer than time.end "
+                  "%.3g s; write a longer end or the time step in s",
+                  scene.time_step, kAutoStepFraction, advice.critical_step, scene.end_time);
+    throw SceneError(at.file, at.line, at.column, at.key, text);
+  }
 }
 
 }  // namespace
@@ -72,6 +101,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
   parse_particles(root.at("particles", "a list of particle entries"), scene);
   scene.effects.feed = !scene.feeds.empty();
   if (auto outputs = root.find("outputs")) parse_outputs(*outputs, scene);
+  if (scene.time_step_auto) resolve_auto_step(scene);
   return scene;
 }
 
