@@ -132,6 +132,49 @@ TALUS_HD inline int planes_from_mask(const ConvexView<Real>& a, const ConvexView
                      });
 }
 
+// Moves x_o to the analytic centre of the m planes n_i . x <= h_i, whose slacks at x_o are
+// ws.plane_offset (all positive): the minimum of -sum log(slack), by damped Newton steps that keep
+// every slack positive, the slacks updated to the new x_o. Returns false when it cannot (a
+// singular Hessian: the planes do not bound the point).
+template <class Real, class Workspace>
+TALUS_HD inline bool analytic_centre_shift(Workspace& ws, int m, Vec3<Real>& x_o) {
+  const Vec3<Real>* n = ws.hull.plane_normal;
+  Real* slack = ws.plane_offset;
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    Vec3<Real> g;
+    Real h[6] = {0, 0, 0, 0, 0, 0};  // xx, xy, xz, yy, yz, zz
+    for (int i = 0; i < m; ++i) {
+      const Real inv = Real(1) / slack[i];
+      g += n[i] * inv;
+      const Vec3<Real> u = n[i] * inv;
+      h[0] += u.x * u.x, h[1] += u.x * u.y, h[2] += u.x * u.z;
+      h[3] += u.y * u.y, h[4] += u.y * u.z, h[5] += u.z * u.z;
+    }
+    // Delta = -H^-1 g by Cramer's rule.
+    const Real c0 = h[3] * h[5] - h[4] * h[4], c1 = h[2] * h[4] - h[1] * h[5];
+    const Real c2 = h[1] * h[4] - h[2] * h[3];
+    const Real det = h[0] * c0 + h[1] * c1 + h[2] * c2;
+    if (!(det > Real(0))) return false;
+    const Real c4 = h[0] * h[5] - h[2] * h[2], c5 = h[1] * h[2] - h[0] * h[4];
+    const Real c8 = h[0] * h[3] - h[1] * h[1];
+    const Vec3<Real> delta =
+        Vec3<Real>(c0 * g.x + c1 * g.y + c2 * g.z, c1 * g.x + c4 * g.y + c5 * g.z,
+                   c2 * g.x + c5 * g.y + c8 * g.z) *
+        (Real(-1) / det);
+    const Real decrement = -dot(g, delta);  // the Newton decrement squared
+    Real t = 1;
+    for (int halving = 0; halving < 60; ++halving, t *= Real(0.5)) {
+      bool inside = true;
+      for (int i = 0; i < m && inside; ++i) inside = slack[i] - t * dot(n[i], delta) > Real(0);
+      if (inside) break;
+    }
+    for (int i = 0; i < m; ++i) slack[i] -= t * dot(n[i], delta);
+    x_o += delta * t;
+    if (!(decrement > Real(64) * Eps<Real>::value)) return true;
+  }
+  return true;
+}
+
 // Steps 3-5 on the m planes in ws (hull.plane_normal, plane_offset, plane_owner; twins cleared).
 template <class Real, class Workspace>
 TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
@@ -170,7 +213,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     result.status = lp.depth >= -round_off ? OverlapStatus::touching : OverlapStatus::separate;
     return result;
   }
-  const Vec3<Real> x_o = lp.center;
+  Vec3<Real> x_o = lp.center;
   if (options.cull_planes) {
     // The culled planes are redundant only when the intersection has an interior; when it has
     // none the kept planes may still enclose a region, which must not pass as overlap.
@@ -218,10 +261,24 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   }
   hull.n_points = n_points;
   m = n_points;
-  if (!build_dual_hull<Real>(hull)) {
-    result.workspace_overrun = hull.overrun;
-    result.status = OverlapStatus::degenerate;
-    return result;
+  // A thin overlap (a face resting on a face: a slab ~1e-8 deep under faces of millimetres) has
+  // many Chebyshev centres, and the LP returns one at the slab's rim, within the depth of its side
+  // faces too: then those dual points are as far out as the slab's large faces, two nearly
+  // coplanar side faces of A and B (two stacked cubes a little misaligned) are nearly coincident
+  // far out, and the hull fails or, through round-off, leaves the origin outside. Once, x_o then
+  // moves to the analytic centre of the planes (analytic_centre_shift), deep inside in every
+  // direction the polytope allows, and the hull is built again.
+  for (int attempt = 0;; ++attempt) {
+    bool built = build_dual_hull<Real>(hull);
+    for (int f = 0; built && f < hull.n_slots; ++f)
+      built = hull.face_stamp[f] < 0 || hull.face_offset[f] > Real(0);
+    if (built) break;
+    if (attempt > 0 || hull.overrun || !analytic_centre_shift<Real>(ws, m, x_o)) {
+      result.workspace_overrun = hull.overrun;
+      result.status = OverlapStatus::degenerate;
+      return result;
+    }
+    for (int i = 0; i < m; ++i) hull.point_norm[i] = Real(1) / ws.plane_offset[i];
   }
 
   // Step 5. Unpolarise (Eqs. 6-8): dual face (n, w) -> primal vertex x_o + n / w. Each dual

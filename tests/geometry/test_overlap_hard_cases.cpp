@@ -57,6 +57,24 @@ TEST(OverlapHardCases, FaceOnFaceCubeSlidingOnCube) {
   EXPECT_NEAR(r.vector_area.z, (kSide - s) * kSide, 1e-10 * kSide * kSide);
 }
 
+// Two 10 mm cubes (circumscribed) resting face on face, a little misaligned, 3e-8 m deep: the
+// state of a settled stack (tests/step/test_hard_cases.cpp) where the LP's Chebyshev centre sits
+// at the thin slab's rim and the dual hull left the origin outside (the overlap was reported
+// degenerate and stopped the run). The analytic-centre retry gives the oracle's overlap. The
+// slab's depth is 3e-6 of the size, so the round-off of the planes' offsets (1e-16 of the size)
+// is ~3e-11 of the depth: 1e-8 relative leaves room for the cancellation in the cones.
+TEST(OverlapHardCases, ThinSlabOfStackedCubesWithTheCentreAtTheRim) {
+  const TestShape c(spec("cube", 0.01));
+  const Posed a{Vec3d(-5.9127484898533271e-08, -6.242773007091092e-08, 0.0028866335662466672),
+                Quatd(0.7071144223874849, -0.70709913982896611, -7.2321982100207524e-06,
+                      -7.2419111540230652e-06)};
+  const Posed b{Vec3d(-1.7732197103352409e-07, -1.869643892676637e-07, 0.0086601068265122396),
+                Quatd(0.70711442553614767, -0.70709913668017088, -7.2394950741648449e-06,
+                      -7.2409122637539861e-06)};
+  expect_matches_oracle(c, a, c, b, 1e-8);
+  EXPECT_EQ(overlap(c, a, c, b).status, OverlapStatus::overlapping);
+}
+
 // Two cubes turned 45 degrees about crossing axes so that an edge of each crosses an edge of the
 // other: the overlap is a thin tetrahedron-like wedge.
 TEST(OverlapHardCases, EdgeEdgeCrossing) {
