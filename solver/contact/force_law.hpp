@@ -76,12 +76,16 @@ struct NormalContactData {
 
 // What a contact carries across steps (keyed by the global ids, tangential_history.hpp): the
 // elastic part of the Cundall-Strack force, F_t^e = -k_t Delta-s (Eq. 18), N, kept in its
-// incremental form (see volume_contact_force), and the largest normal approach speed since the
-// contact began, m/s (< 0 before the first evaluation), which fixes the calibrated damping.
+// incremental form (see volume_contact_force), the largest normal approach speed since the
+// contact began, m/s (< 0 before the first evaluation), which fixes the calibrated damping, and
+// the tangential stiffness it was last evaluated with.
 template <class Real>
 struct ContactHistoryData {
   Vec3<Real> elastic_force;
   Real approach_speed = -1;
+  // k_t at the last evaluation, N/m (0 before the first): the default law keeps the spring's
+  // energy from growing when k_t falls (volume_contact_force).
+  Real spring_stiffness = 0;
 };
 
 template <class Real>
@@ -93,6 +97,8 @@ struct ContactForceData {
   // and the tangential spring's energy |F_t^e|^2 / (2 k_t) after the step, J: the energy probe.
   Real dissipation = 0;
   Real spring_energy = 0;
+  Real normal_damping = 0;      // c_n of this evaluation, N s/m
+  Real tangential_damping = 0;  // c_t of this evaluation (0 without friction), N s/m
   TALUS_HD Vec3<Real> total() const { return normal_force + tangential_force; }
 };
 
@@ -113,6 +119,7 @@ struct VolumeLawData {
   Real time_step = 0;       // s; c_n <= m_eff / dt (0: no limit)
   bool with_friction = false;
   NormalDampingModel damping = NormalDampingModel::calibrated;
+  bool bounded_spring_energy = false;  // the default law: see volume_contact_force
 };
 
 // Eqs. 15 and 20 with the sign that dissipates: c = -2 ln(eps) sqrt(k m) / sqrt(ln^2 eps + pi^2).
@@ -189,6 +196,7 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   ContactForceData<Real> out;
   out.normal_force = no_tension_normal_force(n, c.elastic, c_n, v_n);
   out.dissipation = normal_dissipation(out.normal_force, n, c.elastic, v_n);
+  out.normal_damping = c_n;
   if (!law.with_friction) {
     history.elastic_force = Vec3<Real>();
     return out;
@@ -200,10 +208,20 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   if (projected > Real(0)) f_e *= length / projected;
   const Vec3<Real> v_t = v_r - n * v_n;
   const Real k_t = c.tangential_stiffness;
-  const Real spring_before = k_t > Real(0) ? norm2(f_e) / (Real(2) * k_t) : Real(0);
+  // The energy the spring held after the last step, with the stiffness it had then.
+  const Real k_before = history.spring_stiffness;
+  const Real spring_before = k_before > Real(0) ? norm2(f_e) / (Real(2) * k_before) : Real(0);
+  // k_t = G A_n follows the contact's area. At a fixed force a falling k_t would raise the
+  // stored |F|^2 / (2 k_t), energy from nothing that the spring then gives back as motion (an
+  // ending contact's k_t -> 0). The default law scales the force by sqrt(k_t / k_before) when k_t
+  // falls (the energy kept); a rising k_t keeps the force (the energy falls, dissipated).
+  if (law.bounded_spring_energy && k_before > k_t && k_before > Real(0))
+    f_e *= std::sqrt(k_t / k_before);
+  history.spring_stiffness = k_t;
   f_e -= v_t * (k_t * dt);                                        // Eq. 18, incremental
   const Real c_t = dissipative_damping(law.restitution, k_t, m);  // Eq. 20
-  Vec3<Real> f_t = f_e - v_t * c_t;                               // Eqs. 17, 20
+  out.tangential_damping = c_t;
+  Vec3<Real> f_t = f_e - v_t * c_t;  // Eqs. 17, 20
   const Real cap = law.friction * norm(out.normal_force);
   const Real f_t_norm = norm(f_t);
   if (f_t_norm > cap) {
@@ -217,6 +235,39 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   out.dissipation +=
       dt > Real(0) ? -dot(f_t, v_t) - (out.spring_energy - spring_before) / dt : c_t * norm2(v_t);
   return out;
+}
+
+// The default volume law's resistance to relative rotation, the couple that one contact point
+// leaves out of a pressure and a shear spread over the contact patch A_n. The normal dashpot c_n
+// spread over the patch (density c_n / A_n) resists rocking, w_perp about axes in the contact
+// plane, with the moment -c_n (I / A_n) w_perp, I the patch's second moment about such an axis:
+// A_n^2 / 12 for a square (A_n^2 / (4 pi) for a disc). The tangential dashpot c_t (Eq. 20) spread
+// alike resists twisting, w_n about the normal, with -c_t (J / A_n) w_n, J = A_n^2 / 6 the polar
+// moment. Without them a face resting on a face rocks and spins undamped about the contact point,
+// where neither dashpot sees motion: a stack of cubes never settles and a tetrahedron spins on
+// its face for ever (tests/step/test_hard_cases.cpp). Each is capped by what the patch can give:
+// rocking by |F_n| sqrt(A_n) / 2 (a pressure that cannot pull), twisting by mu |F_n| times the
+// mean radius 2/3 sqrt(A_n / pi) of a disc (Coulomb). Returns the couple on A (B gets its
+// opposite) and adds the power it takes, -couple . w_rel >= 0, to `dissipation`. w_rel: w_A - w_B,
+// world frame.
+template <class Real>
+TALUS_HD inline Vec3<Real> patch_couple(const ContactForceData<Real>& f, const Vec3<Real>& n,
+                                        Real area, Real friction, const Vec3<Real>& w_rel,
+                                        Real& dissipation) {
+  if (!(area > Real(0))) return Vec3<Real>();
+  const Real pushing = norm(f.normal_force);
+  const Real w_n = dot(w_rel, n);
+  const Vec3<Real> w_perp = w_rel - n * w_n;
+  Vec3<Real> rocking = w_perp * (-f.normal_damping * area / Real(12));
+  const Real rocking_cap = Real(0.5) * pushing * std::sqrt(area), rocking_size = norm(rocking);
+  if (rocking_size > rocking_cap) rocking *= rocking_cap / rocking_size;
+  Real twisting = -f.tangential_damping * area / Real(6) * w_n;
+  const Real twisting_cap =
+      friction * pushing * Real(2) / Real(3) * std::sqrt(area / Real(3.14159265358979323846));
+  twisting = max_of(-twisting_cap, min_of(twisting, twisting_cap));
+  const Vec3<Real> couple = rocking + n * twisting;
+  dissipation -= dot(couple, w_rel);
+  return couple;
 }
 
 template <class Real>

@@ -45,8 +45,12 @@ struct WallContact {
   Real section_area = 0;        // m^2: the whole section of the particle by the plane
   // Plane quantities, filled whenever the particle reaches the plane, even where its section
   // misses this triangle: weight them with area_fraction() (§2.4 area-weighted force).
-  Real depth = 0;          // m, >= 0: max over vertices of -dot(normal, x - a)
-  Real volume_below = 0;   // m^3: the part of the particle with dot(normal, x - a) <= 0
+  Real depth = 0;         // m, >= 0: max over vertices of -dot(normal, x - a)
+  Real volume_below = 0;  // m^3: the part of the particle with dot(normal, x - a) <= 0
+  // World, in the plane: the centroid of volume_below less the area centroid of the section (both
+  // projected onto the plane). A tilted face resting on the plane has its volume below deeper on
+  // one side: this shift is what makes the volume laws' wall contact point restore the tilt.
+  Vec3<Real> volume_offset;
   int section_points = 0;  // points of the (unclipped) section polygon
   bool overrun = false;    // the section had more points than the capacity: status degenerate
 
@@ -198,6 +202,7 @@ TALUS_HD inline WallContact<Real> clip_against_triangle(const ConvexView<Real>& 
   // closed surface of the part below needs no explicit cap, and the sum is exact up to round-off.
   const Vec3<Real> apex = n_body * (-d_center);  // o in the body frame
   Real six_volume = 0;
+  Vec3<Real> moment24;  // 24 times the first moment about the apex
   for (int t = 0; t < shape.n_triangles; ++t) {
     Vec3<Real> corner[3];
     Real dist[3];
@@ -216,8 +221,11 @@ TALUS_HD inline WallContact<Real> clip_against_triangle(const ConvexView<Real>& 
         clipped[count++] = corner[k] + (corner[next] - corner[k]) * s;
       }
     }
-    for (int k = 1; k + 1 < count; ++k)
-      six_volume += triple(clipped[0], clipped[k], clipped[k + 1]);
+    for (int k = 1; k + 1 < count; ++k) {
+      const Real cone = triple(clipped[0], clipped[k], clipped[k + 1]);
+      six_volume += cone;
+      moment24 += (clipped[0] + clipped[k] + clipped[k + 1]) * cone;  // centroid (0 + ...) / 4
+    }
   }
   result.volume_below = max_of(six_volume / Real(6), Real(0));
 
@@ -282,9 +290,14 @@ TALUS_HD inline WallContact<Real> clip_against_triangle(const ConvexView<Real>& 
     px[j + 1] = xk;
     py[j + 1] = yk;
   }
-  Real unused_x, unused_y;
+  Real section_x, section_y;
   result.section_area =
-      max_of(wall_detail::polygon_area_centroid(px, py, count, unused_x, unused_y), Real(0));
+      max_of(wall_detail::polygon_area_centroid(px, py, count, section_x, section_y), Real(0));
+  if (six_volume > Real(0) && result.section_area > Real(0)) {
+    const Vec3<Real> below = moment24 / (Real(4) * six_volume);  // about o, body frame
+    result.volume_offset =
+        u * (dot(u_body, below) - section_x) + v * (dot(v_body, below) - section_y);
+  }
 
   // The triangle in the same 2-D frame (origin o), counter-clockwise since (u, v, n) is
   // right-handed and n = (b - a) x (c - a).

@@ -149,7 +149,7 @@ class PairContactStage {
       const int i = static_cast<int>(index);
       if (entry_begin_[i] == entry_begin_[i + 1]) return;
       // add_pair_force's additions for particle i, in its order: f + F_a or f - F_a, and
-      // t + (x_c - x) x (+-F_a).
+      // t + ((x_c - x) x (+-F_a) +- couple).
       Vec3<Real> f = p.force.get(i), t;
       const bool torque = p.torque.present();
       if (torque) t = p.torque.get(i);
@@ -158,10 +158,10 @@ class PairContactStage {
         const PairContactRecord<Real>& c = contacts_[entry_contact_[s]];
         if (c.a == i) {
           f = f + c.force_on_a;
-          if (torque) t = t + cross(c.point - x, c.force_on_a);
+          if (torque) t = t + (cross(c.point - x, c.force_on_a) + c.couple);
         } else {
           f = f - c.force_on_a;
-          if (torque) t = t + cross(c.point - x, -c.force_on_a);
+          if (torque) t = t + (cross(c.point - x, -c.force_on_a) - c.couple);
         }
       }
       p.force.set(i, f);

@@ -66,11 +66,11 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
     atomic_add(p.force, ia, r.force_on_a);
     atomic_add(p.force, ib, -r.force_on_a);
     if (p.torque.present()) {
-      atomic_add(p.torque, ia, cross(r.point - p.position.get(ia), r.force_on_a));
-      atomic_add(p.torque, ib, cross(r.point - p.position.get(ib), -r.force_on_a));
+      atomic_add(p.torque, ia, cross(r.point - p.position.get(ia), r.force_on_a) + r.couple);
+      atomic_add(p.torque, ib, cross(r.point - p.position.get(ib), -r.force_on_a) - r.couple);
     }
   } else {
-    forces[k] = SlotForce<Real>{r.force_on_a, r.point};
+    forces[k] = SlotForce<Real>{r.force_on_a, r.point, r.couple};
   }
   return true;
 }

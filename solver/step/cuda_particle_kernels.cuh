@@ -74,10 +74,10 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
       const int a = state == slot_a_first ? pairs[k].a : pairs[k].b;
       if (a == i) {
         f = f + c.force_on_a;
-        if (torque) t = t + cross(c.point - x, c.force_on_a);
+        if (torque) t = t + (cross(c.point - x, c.force_on_a) + c.couple);
       } else {
         f = f - c.force_on_a;
-        if (torque) t = t + cross(c.point - x, -c.force_on_a);
+        if (torque) t = t + (cross(c.point - x, -c.force_on_a) - c.couple);
       }
     }
   }
@@ -86,7 +86,7 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
     if (slot < 0) continue;
     const WallContactRecord<Real>& c = wall_contacts[slot];
     f = f + c.force;
-    if (torque) t = t + cross(c.point - x, c.force);
+    if (torque) t = t + (cross(c.point - x, c.force) + c.couple);
   }
   p.force.set(i, f);
   if (torque) p.torque.set(i, t);

@@ -73,12 +73,13 @@ class DeviceFlags {
 };
 
 // What a touching candidate slot k holds for the accumulation (deterministic mode): the force on
-// its ordered A and the contact point; slot_state[k] says whether it touches and which of
-// pairs[k].a, pairs[k].b is A.
+// its ordered A, the contact point and the patch's couple; slot_state[k] says whether it touches
+// and which of pairs[k].a, pairs[k].b is A.
 template <class Real>
 struct SlotForce {
   Vec3<Real> force_on_a;  // N; B gets the opposite
   Vec3<Real> point;       // m
+  Vec3<Real> couple;      // N m, on A besides (point - x_a) x force_on_a (B: -couple)
 };
 enum SlotState : unsigned char { slot_apart = 0, slot_a_first = 1, slot_b_first = 2 };
 

@@ -291,7 +291,7 @@ void DeviceWallStage<Real>::sum() const {
   // As WallContactStage::accumulate: in order, in double.
   for (const WallContactRecord<Real>& c : download(contacts_.data(), contact_count_)) {
     force_[c.wall] -= Vec3d(c.force);
-    torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
+    torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force)) + Vec3d(c.couple);
   }
   sums_ready_ = true;
 }

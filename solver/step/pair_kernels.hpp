@@ -44,6 +44,7 @@ TALUS_HD inline VolumeLawData<Real> volume_law(const PairLawTables<Real>& t, int
   law.with_friction = t.with_friction;
   // The default law's damping is Eq. 15's on its bounded stiffness (docs/contact.md).
   law.damping = t.law == ContactLaw::volume ? NormalDampingModel::paper : t.damping;
+  law.bounded_spring_energy = t.law == ContactLaw::volume;
   return law;
 }
 
@@ -64,11 +65,19 @@ struct PairContactRecord {
   PairKey key;
   Vec3<Real> point;       // m
   Vec3<Real> force_on_a;  // N; B gets the opposite
+  Vec3<Real> couple;      // N m, a torque on A besides (point - x_a) x force_on_a; B gets -couple
   ContactHistoryData<Real> history;
   Real normal_energy = 0;      // the normal elastic potential U, J
   Real tangential_energy = 0;  // the tangential spring's energy, J
   Real dissipation = 0;        // power dissipated by damping and friction, W
 };
+
+// Particle i's angular velocity in the world frame (zero without rotation).
+template <class Real>
+TALUS_HD inline Vec3<Real> world_angular_velocity(const ParticleView<Real>& p, int i) {
+  if (!p.angular_velocity.present()) return Vec3<Real>();
+  return rotate(p.orientation.get(i), p.angular_velocity.get(i));
+}
 
 template <class Real>
 TALUS_HD inline Vec3<Real> point_velocity(const ParticleView<Real>& p, int i,
@@ -175,6 +184,11 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
   r.in_contact = true;
   r.point = g.point;
   r.force_on_a = f.total();
+  if (t.law == ContactLaw::volume && p.angular_velocity.present()) {
+    r.couple =
+        patch_couple(f, c.normal, c.area, t.pair_friction[pair],
+                     world_angular_velocity(p, ia) - world_angular_velocity(p, ib), f.dissipation);
+  }
   r.normal_energy = c.potential;
   r.tangential_energy = f.spring_energy;
   r.dissipation = f.dissipation;
@@ -204,8 +218,10 @@ TALUS_HD inline void add_pair_force(const ParticleView<Real>& p, const PairConta
   p.force.set(c.a, p.force.get(c.a) + c.force_on_a);
   p.force.set(c.b, p.force.get(c.b) - c.force_on_a);
   if (p.torque.present()) {
-    p.torque.set(c.a, p.torque.get(c.a) + cross(c.point - p.position.get(c.a), c.force_on_a));
-    p.torque.set(c.b, p.torque.get(c.b) + cross(c.point - p.position.get(c.b), -c.force_on_a));
+    p.torque.set(
+        c.a, p.torque.get(c.a) + (cross(c.point - p.position.get(c.a), c.force_on_a) + c.couple));
+    p.torque.set(
+        c.b, p.torque.get(c.b) + (cross(c.point - p.position.get(c.b), -c.force_on_a) - c.couple));
   }
 }
 

@@ -40,7 +40,8 @@ struct StepState {
 namespace detail {
 
 // A history store as plain numbers: keys as (low, high) pairs, histories as (elastic tangential
-// force x, y, z, approach speed), so that no struct padding reaches the file.
+// force x, y, z, approach speed, spring stiffness), so that no struct padding reaches the file.
+// A checkpoint written before the spring stiffness was kept has 4 numbers a history (read as 0).
 template <class Real>
 void put_histories(Checkpoint& c, const std::string& name, const std::vector<PairKey>& keys,
                    const std::vector<ContactHistoryData<Real>>& histories) {
@@ -48,7 +49,8 @@ void put_histories(Checkpoint& c, const std::string& name, const std::vector<Pai
   std::vector<Real> h;
   for (const PairKey& key : keys) k.insert(k.end(), {key.low, key.high});
   for (const ContactHistoryData<Real>& d : histories)
-    h.insert(h.end(), {d.elastic_force.x, d.elastic_force.y, d.elastic_force.z, d.approach_speed});
+    h.insert(h.end(), {d.elastic_force.x, d.elastic_force.y, d.elastic_force.z, d.approach_speed,
+                       d.spring_stiffness});
   c.put(name + ".keys", k);
   c.put(name + ".histories", h);
 }
@@ -58,15 +60,17 @@ void get_histories(const Checkpoint& c, const std::string& name, std::vector<Pai
                    std::vector<ContactHistoryData<Real>>& histories) {
   const std::vector<long long> k = c.get<long long>(name + ".keys");
   const std::vector<Real> h = c.get<Real>(name + ".histories");
-  if (k.size() % 2 != 0 || h.size() != 2 * k.size())
-    c.fail(name + ".histories", "expected one history of 4 numbers per key");
+  const std::size_t per = k.empty() || h.size() == 5 * (k.size() / 2) ? 5 : 4;
+  if (k.size() % 2 != 0 || h.size() != per * (k.size() / 2))
+    c.fail(name + ".histories", "expected one history of 5 numbers per key");
   keys.clear();
   histories.clear();
   for (std::size_t e = 0; e < k.size() / 2; ++e) {
     keys.push_back({k[2 * e], k[2 * e + 1]});
     ContactHistoryData<Real> d;
-    d.elastic_force = Vec3<Real>(h[4 * e], h[4 * e + 1], h[4 * e + 2]);
-    d.approach_speed = h[4 * e + 3];
+    d.elastic_force = Vec3<Real>(h[per * e], h[per * e + 1], h[per * e + 2]);
+    d.approach_speed = h[per * e + 3];
+    if (per == 5) d.spring_stiffness = h[per * e + 4];
     histories.push_back(d);
   }
 }

@@ -15,7 +15,8 @@ struct WallContactRecord {
   int particle = -1, wall = -1;
   PairKey key;  // {global id, wall index}
   Vec3<Real> point;
-  Vec3<Real> force;  // on the particle, N; the wall gets the opposite
+  Vec3<Real> force;   // on the particle, N; the wall gets the opposite
+  Vec3<Real> couple;  // N m, a torque on the particle besides (point - x) x force
   ContactHistoryData<Real> history;
   Real normal_energy = 0;      // the normal elastic potential U, J
   Real tangential_energy = 0;  // the tangential spring's energy, J
@@ -75,10 +76,16 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   r.in_contact = true;
   r.point = g.point;
   r.force = f.total();
+  if (t.law == ContactLaw::volume && !body.sphere && p.angular_velocity.present()) {
+    r.couple =
+        patch_couple(f, c.normal, c.area, t.pair_friction[pair],
+                     world_angular_velocity(p, i) - motion.angular_velocity(), f.dissipation);
+  }
   r.normal_energy = c.potential;
   r.tangential_energy = f.spring_energy;
   r.dissipation = f.dissipation;
-  r.wall_power = dot(r.force, wall_velocity);
+  // The wall's power: its force and couple on the particle at the wall's velocities.
+  r.wall_power = dot(r.force, wall_velocity) + dot(r.couple, motion.angular_velocity());
   return r;
 }
 
@@ -86,8 +93,8 @@ template <class Real>
 TALUS_HD inline void add_wall_force(const ParticleView<Real>& p, const WallContactRecord<Real>& c) {
   p.force.set(c.particle, p.force.get(c.particle) + c.force);
   if (p.torque.present()) {
-    p.torque.set(c.particle,
-                 p.torque.get(c.particle) + cross(c.point - p.position.get(c.particle), c.force));
+    p.torque.set(c.particle, p.torque.get(c.particle) +
+                                 (cross(c.point - p.position.get(c.particle), c.force) + c.couple));
   }
 }
 

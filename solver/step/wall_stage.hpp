@@ -158,7 +158,7 @@ class WallContactStage {
     std::fill(wall_torque_.begin(), wall_torque_.end(), Vec3d());
     for (const WallContactRecord<Real>& c : contacts_) {
       wall_force_[c.wall] -= Vec3d(c.force);
-      wall_torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force));
+      wall_torque_[c.wall] -= cross(Vec3d(c.point), Vec3d(c.force)) + Vec3d(c.couple);
     }
   }
 

@@ -13,9 +13,10 @@
 //                the stored energy sum_i w_i U(dV_i);
 //   linear model: F^e = sum_i w_i K_N delta_i n_i, energy sum_i w_i K_N delta_i^2 / 2;
 // n = -F^e / |F^e| (from the particle into the wall), the point = the overlap-area-weighted mean
-// of the clipped sections' centroids. Spheres (linear model) use the nearest-facet rule: the
-// closest point q of the wall's surface to the centre, delta = r - |c - q|, exact across facet
-// edges and vertices.
+// of the clipped sections' centroids (volume laws: each moved to where the volume below its plane
+// has its centroid, so that a tilted face is pushed back level, as between particles). Spheres
+// (linear model) use the nearest-facet rule: the closest point q of the wall's surface to the
+// centre, delta = r - |c - q|, exact across facet edges and vertices.
 #pragma once
 
 #include <cmath>
@@ -36,6 +37,9 @@ struct WallMotionData {
   Vec3<Real> point;        // on the axis (rotation)
   Real angular_speed = 0;  // rad/s
   Vec3<Real> velocity;     // m/s (translation)
+  TALUS_HD Vec3<Real> angular_velocity() const {
+    return kind == 1 ? axis * angular_speed : Vec3<Real>();
+  }
   TALUS_HD Vec3<Real> velocity_at(const Vec3<Real>& x) const {
     if (kind == 1) return cross(axis, x - point) * angular_speed;
     if (kind == 2) return velocity;
@@ -123,7 +127,11 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(
       elastic += wc.normal * (w * stiffness * wc.depth);
       g.potential += w * Real(0.5) * stiffness * wc.depth * wc.depth;
     }
-    moment += wc.overlap_centroid * wc.overlap_area;
+    // The volume laws' point is the overlap volume's centroid, as between particles: the clipped
+    // section's centroid moved by the volume's offset from the section's (wall_clip.hpp).
+    const Vec3<Real> point =
+        has_volume_geometry(law) ? wc.overlap_centroid + wc.volume_offset : wc.overlap_centroid;
+    moment += point * wc.overlap_area;
     area_sum += wc.overlap_area;
     g.area += w * wc.section_area;
   }
