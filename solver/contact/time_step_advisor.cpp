@@ -72,14 +72,13 @@ struct Mode {
   double stiffness = 0, inverse_mass = 0, omega = 0, damping_ratio = 0, critical_step = kInfinity;
 };
 
-Mode oscillator(double stiffness, double damping, double inverse_mass) {
+Mode oscillator(double stiffness, double zeta, double inverse_mass) {
   Mode mode;
   mode.stiffness = stiffness;
   mode.inverse_mass = inverse_mass;
   if (stiffness <= 0) return mode;
   mode.omega = std::sqrt(stiffness * inverse_mass);
-  mode.damping_ratio = damping * inverse_mass / (2 * mode.omega);
-  const double zeta = mode.damping_ratio;
+  mode.damping_ratio = zeta;
   mode.critical_step = 2 / mode.omega * (std::sqrt(1 + 4 * zeta * zeta) - 2 * zeta);
   return mode;
 }
@@ -249,30 +248,36 @@ TimeStepAdvice advise_time_step(const Scene& scene) {
     // facet's normal, pressure on a sphere is radial), so its normal mode has no rotation term;
     // its tangential force acts at the surface (R_b = r). Without the rotation effect bodies
     // only translate.
+    // The stiffest normal contact is a whole face on a face (k_n above), whose point is the
+    // face's centre: on the line of the centroid for the regular shapes, so that mode has no
+    // rotation term; a patch off the centre is smaller, and k_n ~ A^2 falls faster than the
+    // lever arm adds (a sphere's normal force passes through its centre anyway). The tangential
+    // force acts in the contact plane: the worst lever arm, R_b.
     auto inverse_mass = [&](bool normal) {
       double w = 0;
       for (int t : {a, b}) {
         if (t < 0) continue;
         const TemplateProperties& p = props[t];
         w += 1 / p.mass;
-        const bool sphere = scene.templates[t].kind == ParticleShapeKind::sphere;
-        if (effects.rotation && !(normal && sphere))
+        if (effects.rotation && !normal)
           w += p.bounding_radius * p.bounding_radius / p.smallest_moment;
       }
       return w;
     };
     const double m_eff = 1 / inverse_translational;
-    // Damping coefficients: Eqs. 15 and 20, c = 2 zeta(eps) sqrt(k m_eff), for both volume laws
-    // (volume_paper's calibrated c_n rebounds with the same eps; Eq. 15's ratio is its linear
-    // equivalent); the linear law's eta. In the mode with rotation the dashpot meets a smaller
-    // mass than m_eff, so its damping ratio there is larger.
+    // Damping ratios: the dashpots' own on m_eff, Eqs. 15 and 20's zeta(eps) for both volume
+    // laws (volume_paper's calibrated c_n rebounds with the same eps), eta / (2 sqrt(k m_eff))
+    // for the linear law. A mode with rotation meets its dashpot with a smaller mass, so a larger
+    // ratio, but the worst lever arm taken for it is a bound, not a contact's: the two bounds
+    // together would refuse the tetrahedra's 1e-5 s (7e-6 s), which they run at rest
+    // (tests/step/test_hard_cases.cpp).
     const double zeta = restitution_damping_ratio(restitution);
-    const double c_n = model == ContactModel::linear
-                           ? effects.linear.damping
-                           : 2 * zeta * std::sqrt(kind.normal_stiffness * m_eff);
-    const double c_t = 2 * zeta * std::sqrt(kind.tangential_stiffness * m_eff);
-    const Mode normal = oscillator(kind.normal_stiffness, c_n, inverse_mass(true));
-    const Mode tangential = oscillator(kind.tangential_stiffness, c_t, inverse_mass(false));
+    const double zeta_n =
+        model == ContactModel::linear
+            ? effects.linear.damping / (2 * std::sqrt(kind.normal_stiffness * m_eff))
+            : zeta;
+    const Mode normal = oscillator(kind.normal_stiffness, zeta_n, inverse_mass(true));
+    const Mode tangential = oscillator(kind.tangential_stiffness, zeta, inverse_mass(false));
     const Mode& limiting = tangential.critical_step < normal.critical_step ? tangential : normal;
     kind.stiffness = limiting.stiffness;
     kind.inverse_mass = limiting.inverse_mass;

@@ -70,24 +70,30 @@ struct HandKind {
 };
 
 // The default law by hand for two cubes (pair) or a cube at a rigid wall, with rotation:
-// K = E/R (+ E/R), A_ref = pi R^2, k_n = K A^2 / A_ref, k_t = G A, G = E/(2(1+nu)R) (+ the same),
-// w = sum of 1/m + R_b^2/I, omega = sqrt(max(k_n, k_t) w), c = 2 zeta_eps sqrt(k m_eff),
-// zeta = c w / (2 omega), dt = 2/omega (sqrt(1 + 4 zeta^2) - 2 zeta).
+// K = E/R (+ E/R), A_ref = pi R^2, k_n = K A^2 / A_ref, k_t = G A, G = E/(2(1+nu)R) (+ the same);
+// per mode w = sum of 1/m + lever^2/I, the normal lever 0 (a whole face, at its centre), the
+// tangential R_b; omega = sqrt(k w), zeta = zeta_eps, dt = 2/omega (sqrt(1 + 4 zeta^2) - 2 zeta);
+// the kind's mode is the one with the smaller dt.
 HandKind hand_default_law(const HandCube& c, bool pair) {
   const double bodies = pair ? 2 : 1;
-  HandKind h;
   const double K = bodies * c.E / c.radius;
   const double G = bodies * c.E / (2 * (1 + c.nu) * c.radius);
-  h.k_n = K * c.face * c.face / (M_PI * c.radius * c.radius);
-  h.k_t = G * c.face;
-  h.k = std::max(h.k_n, h.k_t);
-  h.w = bodies * (1 / c.mass + c.bounding * c.bounding / c.moment);
-  h.omega = std::sqrt(h.k * h.w);
-  const double m_eff = c.mass / bodies;
-  const double damping = 2 * c.zeta_eps() * std::sqrt(h.k * m_eff);
-  h.zeta = damping * h.w / (2 * h.omega);
-  h.dt = 2 / h.omega * (std::sqrt(1 + 4 * h.zeta * h.zeta) - 2 * h.zeta);
-  return h;
+  const double k_n = K * c.face * c.face / (M_PI * c.radius * c.radius);
+  const double k_t = G * c.face;
+  const auto mode = [&](double k, double lever2) {
+    HandKind h;
+    h.k_n = k_n;
+    h.k_t = k_t;
+    h.k = k;
+    h.w = bodies * (1 / c.mass + lever2 / c.moment);
+    h.omega = std::sqrt(h.k * h.w);
+    h.zeta = c.zeta_eps();
+    h.dt = 2 / h.omega * (std::sqrt(1 + 4 * h.zeta * h.zeta) - 2 * h.zeta);
+    return h;
+  };
+  const HandKind normal = mode(k_n, 0);
+  const HandKind tangential = mode(k_t, c.bounding * c.bounding);
+  return tangential.dt < normal.dt ? tangential : normal;
 }
 
 void expect_kind(const ContactKindAdvice& kind, const HandKind& h) {
@@ -110,8 +116,9 @@ TEST(TimeStepAdvisor, CubeOnPlaneWallMatchesTheHandComputation) {
   ASSERT_EQ(advice.kinds.size(), 1u);
   EXPECT_EQ(advice.kinds[0].name, "cube-wall");
   expect_kind(advice.kinds[0], hand);
-  // For a cube k_n / k_t = 2 (1 + nu) s^2 / (pi R^2) = 2.15: the normal spring limits.
-  EXPECT_EQ(advice.kinds[0].stiffness, advice.kinds[0].normal_stiffness);
+  // For a cube k_n / k_t = 2 (1 + nu) s^2 / (pi R^2) = 2.15, but the tangential mode has the
+  // lever arm R_b (w = 5.5 / m against 1 / m): it limits.
+  EXPECT_EQ(advice.kinds[0].stiffness, advice.kinds[0].tangential_stiffness);
   expect_relative(advice.critical_step, hand.dt, "scene dt_crit");
   expect_relative(advice.recommended_step, 0.2 * hand.dt, "auto step");
   EXPECT_EQ(advice.limit, "cube-wall contacts");
@@ -122,7 +129,7 @@ TEST(TimeStepAdvisor, CubeOnPlaneWallMatchesTheHandComputation) {
       advice.rayleigh_time,
       M_PI * cube.radius * std::sqrt(cube.density / shear) / (0.1631 * cube.nu + 0.8766),
       "Rayleigh time");
-  // The numbers themselves, printed for the record (dt_crit 2.7e-5 s).
+  // The numbers themselves, printed for the record.
   std::printf(
       "cube on a wall: k_n %.4g N/m, k_t %.4g N/m, omega %.4g rad/s, zeta %.4g, dt_crit "
       "%.4g s\n",
@@ -231,7 +238,8 @@ TEST(TimeStepAdvisor, PaperLawWithoutGravityTakesTheImpactOrNothing) {
 // 1200, restitution 0.5, with friction and rotation, in pairs and at a wall: above 1e-5 s, so the
 // common dt = 1e-5 s is accepted.
 TEST(TimeStepAdvisor, DefaultLawAcceptsTenMicrosecondsForTenMillimetreParticles) {
-  for (const char* shape : {"cube:0.01", "dodecahedron:0.01", "icosahedron:0.01"}) {
+  for (const char* shape : {"tetrahedron:0.01", "cube:0.01", "octahedron:0.01", "dodecahedron:0.01",
+                            "icosahedron:0.01"}) {
     const TimeStepAdvice advice =
         advise_time_step(parse(scene_text(shape, kSoft, kTwo, kVolumeEffects, true)));
     EXPECT_GT(advice.critical_step, 1e-5) << shape << ": " << advice.limit;
@@ -240,7 +248,8 @@ TEST(TimeStepAdvisor, DefaultLawAcceptsTenMicrosecondsForTenMillimetreParticles)
   }
 }
 
-// The linear law: k = K_N, no tangential spring, zeta = eta w / (2 omega); spheres' normal force
+// The linear law: k = K_N, no tangential spring, zeta = eta / (2 sqrt(k m_eff)); spheres' normal
+// force
 // passes through their centres, so rotation adds nothing to their normal mode.
 TEST(TimeStepAdvisor, LinearLawOnSpheres) {
   const std::string text = R"(time: {step: 1.0e-5, end: 0.02}
@@ -262,6 +271,7 @@ effects:
   ASSERT_EQ(advice.kinds.size(), 1u);
   const ContactKindAdvice& kind = advice.kinds[0];
   const double mass = 2500 * 4.0 / 3.0 * M_PI * std::pow(0.005, 3);
+  // zeta = eta / (2 sqrt(k m_eff)), m_eff = m / 2 = 1 / w.
   const double w = 2 / mass, omega = std::sqrt(1.0e4 * w), zeta = 0.2 * w / (2 * omega);
   EXPECT_EQ(kind.normal_stiffness, 1.0e4);
   EXPECT_EQ(kind.tangential_stiffness, 0.0);
