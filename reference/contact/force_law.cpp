@@ -161,6 +161,7 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
   if (!std::isfinite(c_n)) c_n = 0;  // v0 = 0 without a step limit: no approach to damp
   ContactForce out;
   out.normal_force = normal_force(n, contact.elastic, c_n, v_n);
+  out.normal_damping = c_n;
   if (!law.with_friction) {
     history.elastic_force.setZero();
     return out;
@@ -174,9 +175,16 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
   if (projected > 0) f_e *= length / projected;
   const Eigen::Vector3d v_t = relative_velocity - v_n * n;
   const double k_t = contact.tangential_stiffness;
+  // The default law: where k_t fell, the force that keeps the spring's energy (see the header).
+  const double k_before = history.spring_stiffness;
+  if (law.bounded_spring_energy && k_before > 0 && k_t < k_before) {
+    f_e *= std::sqrt(k_t / k_before);
+  }
+  history.spring_stiffness = k_t;
   f_e -= (k_t * dt) * v_t;
   const double c_t = damping_coefficient(law.restitution, k_t, law.effective_mass);  // Eq. 20
-  Eigen::Vector3d f_t = f_e - c_t * v_t;                                             // Eqs. 17, 20
+  out.tangential_damping = c_t;
+  Eigen::Vector3d f_t = f_e - c_t * v_t;  // Eqs. 17, 20
   const double cap = law.friction * out.normal_force.norm();
   const double f_t_norm = f_t.norm();
   if (f_t_norm > cap) {
@@ -185,6 +193,29 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
     f_e = f_t + c_t * v_t;  // the elastic part of the capped force
   }
   out.tangential_force = f_t;
+  return out;
+}
+
+PatchCouple patch_couple(const ContactForce& force, const Eigen::Vector3d& normal, double area,
+                         double friction, const Eigen::Vector3d& relative_angular_velocity) {
+  PatchCouple out;
+  if (!(area > 0)) return out;
+  const Eigen::Vector3d& w = relative_angular_velocity;
+  const double normal_load = force.normal_force.norm();  // |F_n|, after the no-tension rule
+  const double spin = normal.dot(w);                     // w_n
+  const Eigen::Vector3d tilt = w - spin * normal;        // w_perp
+  // Rocking: -c_n I / A_n w_perp, I = A_n^2 / 12 (square patch), within the patch's edge.
+  out.rocking = -(force.normal_damping * area / 12) * tilt;
+  const double rocking_limit = normal_load * std::sqrt(area) / 2;
+  const double rocking_size = out.rocking.norm();
+  if (rocking_size > rocking_limit) out.rocking *= rocking_limit / rocking_size;
+  // Twisting: -c_t J / A_n w_n, J = A_n^2 / 6, within Coulomb's mu |F_n| at the mean radius
+  // (2/3) sqrt(A_n / pi).
+  const double twist_limit = friction * normal_load * (2.0 / 3.0) * std::sqrt(area / M_PI);
+  const double twist =
+      std::clamp(-force.tangential_damping * area / 6 * spin, -twist_limit, twist_limit);
+  out.twisting = twist * normal;
+  out.dissipation = -out.total().dot(w);
   return out;
 }
 

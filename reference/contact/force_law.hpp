@@ -6,7 +6,8 @@
 //   volume_paper  the paper's law (§2.5, Eqs. 12-22; walls §2.4) exactly: F^e = K A_n V^(1/3),
 //                 with the calibrated damping (NormalDamping::kCalibrated) by default.
 //   linear        BLAZE-DEM (§3.1, Eqs. 2-4).
-// Both volume laws share the tangential spring of Eqs. 17-20 (volume_contact_force).
+// Both volume laws share the tangential spring of Eqs. 17-20 (volume_contact_force). The default
+// law adds, with rotation, the patch couple of its dashpots over the contact area (patch_couple).
 //
 // Conventions, for one contact between a body A and a body B (B may be a wall):
 //   n        unit normal from A into B (for the volume laws n = S / |S|, S the vector area of
@@ -14,7 +15,7 @@
 //   v_r      v_A(c) - v_B(c), the velocity of A's material point at the contact point c relative
 //            to B's; v_r . n > 0 while the bodies approach;
 //   force    the force on A; B gets its opposite, and each body the torque (c - x) x F about its
-//            own centroid (Eqs. 21-22).
+//            own centroid (Eqs. 21-22), plus, for the default law, the patch couple (A: +, B: -).
 #pragma once
 
 #include <Eigen/Core>
@@ -148,6 +149,9 @@ struct VolumeLawParameters {
   double friction = 0;        // mu of Eq. 17
   bool with_friction = false;
   NormalDamping damping = NormalDamping::kCalibrated;
+  // The default law (kDefault) keeps the tangential spring's energy from growing when k_t falls:
+  // volume_contact_force scales F_t^e by sqrt(k_t / k_t,before) then. volume_paper: false.
+  bool bounded_spring_energy = false;
   // The time step, s (0: no limit). The normal damping coefficient is limited to m_eff / dt:
   // above it an explicit step would reverse v_n instead of damping it. In a resolved impact
   // (hundreds of steps in contact) kCalibrated never reaches it; it binds for a contact that
@@ -156,17 +160,23 @@ struct VolumeLawParameters {
 };
 
 // What a contact carries across steps: the elastic tangential force F_t^e = -k_t Delta-s of
-// Eq. 18 (N, advanced incrementally: volume_contact_force), and the largest normal approach speed
-// v0 seen since it began (m/s; kCalibrated; < 0 before the first force evaluation).
+// Eq. 18 (N, advanced incrementally: volume_contact_force), the largest normal approach speed
+// v0 seen since it began (m/s; kCalibrated; < 0 before the first force evaluation), and the k_t
+// of the last evaluation with friction (N/m; 0 before it; bounded_spring_energy).
 struct ContactHistory {
   Eigen::Vector3d elastic_force = Eigen::Vector3d::Zero();
   double approach_speed = -1;
+  double spring_stiffness = 0;
 };
 
 struct ContactForce {
   Eigen::Vector3d normal_force = Eigen::Vector3d::Zero();      // on A, N
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero();  // on A, N
   bool sliding = false;                                        // the Coulomb cap bound this step
+  // The dashpots this evaluation used (volume laws): c_n after the m_eff / dt limit, and c_t of
+  // Eq. 20 (0 without friction), N s/m. The default law's patch couple reads them.
+  double normal_damping = 0;
+  double tangential_damping = 0;
   Eigen::Vector3d total() const { return normal_force + tangential_force; }
 };
 
@@ -189,9 +199,48 @@ double damping_coefficient(double restitution, double stiffness, double mass);
 // taken literally would change the force at a fixed Delta-s whenever the area changes, which
 // creates elastic energy (a rocking polyhedron gains energy without bound). dt = 0 leaves
 // F_t^e's length unchanged (the force evaluation before the first step).
+// With law.bounded_spring_energy (the default law), before the increment F_t^e is scaled by
+// sqrt(k_t / k_t,before) where k_t fell since the last evaluation (k_t,before in the history):
+// the spring's energy |F_t^e|^2 / (2 k_t) is then the one it held, where at a fixed force it
+// would grow as 1 / k_t, energy from nothing that the spring gives back as motion as a contact
+// ends (k_t = G A_n -> 0). A rising k_t keeps the force (its energy falls: dissipated).
+// volume_paper keeps the force as before.
 ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawParameters& law,
                                   const Eigen::Vector3d& relative_velocity, double dt,
                                   ContactHistory& history);
+
+// The default volume law's patch couple: the moment that a single contact point leaves out when
+// the law's two dashpots act over the contact patch A_n instead of at its centre. A torque on A
+// besides (c - x_A) x F, B (or the wall) getting its opposite; only for `volume`, with rotation.
+//   w_rel = w_A - w_B (world; a rotating wall's w_B = its axis times its angular speed),
+//   n the contact normal, w_n = w_rel . n, w_perp = w_rel - w_n n.
+//   Rocking: the normal dashpot spread evenly over the patch, c_n / A_n per unit area, meets a
+//   rotation w_perp about an axis through the centre in the patch's plane with the local normal
+//   speed (w_perp x r) . n, a moment -c_n (I / A_n) w_perp, I the second moment of the patch about
+//   that axis. For a square of area A_n, I = A_n^2 / 12 (a disc: A_n^2 / (4 pi), 5% less):
+//       M_rock = -c_n (A_n / 12) w_perp,
+//   scaled down to |F_n| sqrt(A_n) / 2 at most: a pressure that cannot pull moves its resultant
+//   at most to the patch's edge, half a side sqrt(A_n) / 2 from the centre.
+//   Twisting: the tangential dashpot c_t (Eq. 20) spread alike meets the in-plane speed
+//   w_n |r| of a twist, a moment -c_t (J / A_n) w_n about n, J = A_n^2 / 6 the polar moment of
+//   the square:
+//       M_twist = -c_t (A_n / 6) w_n,
+//   clamped to +-mu |F_n| (2/3) sqrt(A_n / pi): Coulomb's mu |F_n| at the mean radius of a disc
+//   of area A_n.
+// Why: at one contact point neither dashpot sees a rotation about that point. A face resting on
+// a face then rocks and spins undamped (a stack of cubes never settles, a tetrahedron spins on
+// its face for ever: the production solver's tests/step/test_hard_cases.cpp); the patch's
+// dashpots damp it as a distributed contact would. The couple dissipates -M . w_rel >= 0.
+// `force` is the law's result for the contact (its normal force and its dashpots), `area` A_n
+// (walls: sum_i w_i A_i, the area of k_t), `friction` the pair's mu.
+struct PatchCouple {
+  Eigen::Vector3d rocking = Eigen::Vector3d::Zero();   // N m, in the contact plane
+  Eigen::Vector3d twisting = Eigen::Vector3d::Zero();  // N m, along n
+  Eigen::Vector3d total() const { return rocking + twisting; }
+  double dissipation = 0;  // -total() . w_rel, W (>= 0)
+};
+PatchCouple patch_couple(const ContactForce& force, const Eigen::Vector3d& normal, double area,
+                         double friction, const Eigen::Vector3d& relative_angular_velocity);
 
 // Linear model (BLAZE-DEM Eqs. 2-3), history-free:
 //   F_N = -(K_N delta + eta v_n) n on A, with the same no-tension rule;

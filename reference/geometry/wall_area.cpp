@@ -9,12 +9,14 @@
 #include <cmath>
 #include <list>
 #include <stdexcept>
+#include <vector>
 
 namespace talus::reference {
 
 namespace {
 
 using FT = ExactKernel::FT;
+using Vector3 = ExactKernel::Vector_3;
 using Point2 = ExactKernel::Point_2;
 using Polygon2 = CGAL::Polygon_2<ExactKernel>;
 using PolygonWithHoles2 = CGAL::Polygon_with_holes_2<ExactKernel>;
@@ -51,6 +53,35 @@ FT polygon_area_centroid(const Polygon2& polygon, Point2& centroid) {
   return twice_area / 2;
 }
 
+// The centroid of the solid bounded by a closed, outward-oriented mesh, exact: the sum over its
+// facets (fanned into triangles) of the signed cones from the first vertex o, each of volume
+// u . (v x w) / 6 and centroid o + (u + v + w) / 4. False when the volume is not positive.
+bool solid_centroid(const ExactMesh& mesh, ExactPoint& centroid) {
+  if (mesh.number_of_vertices() == 0) return false;
+  const ExactPoint& o = mesh.point(*mesh.vertices().begin());
+  FT six_volume(0);
+  Vector3 moment24(0, 0, 0);  // 24 times the first moment about o
+  for (auto f : mesh.faces()) {
+    std::vector<Vector3> corners;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      corners.push_back(mesh.point(v) - o);
+    }
+    for (size_t k = 1; k + 1 < corners.size(); ++k) {
+      const Vector3 &u = corners[0], &v = corners[k], &w = corners[k + 1];
+      const FT cone = CGAL::scalar_product(u, CGAL::cross_product(v, w));
+      six_volume += cone;
+      moment24 = moment24 + cone * (u + v + w);
+    }
+  }
+  if (!(six_volume > 0)) return false;
+  centroid = o + moment24 / (4 * six_volume);
+  return true;
+}
+
+Eigen::Vector3d to_eigen_vector(const Vector3& v) {
+  return {to_double_tight(v.x()), to_double_tight(v.y()), to_double_tight(v.z())};
+}
+
 }  // namespace
 
 RefWallContact wall_contact(const ShapeTemplate& shape, const RefPose& pose,
@@ -82,10 +113,14 @@ RefWallContact wall_contact(const ShapeTemplate& shape, const RefPose& pose,
   for (const auto& e : convex.edges) {
     clip_segment(convex.vertices[e[0]], convex.vertices[e[1]], below, below_points);
   }
+  ExactPoint below_centroid;
+  bool has_below_centroid = false;
   if (is_full_dimensional(below_points)) {
     ExactMesh hull;
     CGAL::convex_hull_3(below_points.begin(), below_points.end(), hull);
     result.volume_below = measure_mesh(hull).volume;
+    has_below_centroid = solid_centroid(hull, below_centroid);
+    if (has_below_centroid) result.volume_below_centroid = to_eigen(below_centroid);
   }
   for (const ExactPoint& p : below_points) {
     if (plane.has_on(p)) section.push_back(p);
@@ -104,9 +139,20 @@ RefWallContact wall_contact(const ShapeTemplate& shape, const RefPose& pose,
   result.section_points = static_cast<int>(hull2.size());
   if (hull2.size() < 3) return result;                         // a point or a segment: no area
   const Polygon2 section_polygon(hull2.begin(), hull2.end());  // counter-clockwise
-  Point2 unused;
+  Point2 section_centroid_2;
   result.section_area =
-      to_double_tight(polygon_area_centroid(section_polygon, unused)) * area_scale;
+      to_double_tight(polygon_area_centroid(section_polygon, section_centroid_2)) * area_scale;
+  // The projection is an affine bijection of the plane: it maps centroids to centroids.
+  const ExactPoint section_centroid = lift(plane, section_centroid_2, k);
+  result.section_centroid = to_eigen(section_centroid);
+  if (has_below_centroid) {
+    // The in-plane part of (below centroid - section centroid): less its component along the
+    // plane's normal N = (a, b, c).
+    const Vector3 d = below_centroid - section_centroid;
+    const Vector3 normal = plane.orthogonal_vector();
+    result.volume_offset =
+        to_eigen_vector(d - normal * (CGAL::scalar_product(d, normal) / normal.squared_length()));
+  }
 
   Polygon2 triangle;
   triangle.push_back(project(pa, k));

@@ -28,4 +28,9 @@ Eigen::Vector3d RefWallMotion::velocity_at(const Eigen::Vector3d& x) const {
   return Eigen::Vector3d::Zero();
 }
 
+Eigen::Vector3d RefWallMotion::angular_velocity() const {
+  return kind == Kind::kRotation ? Eigen::Vector3d(angular_speed * axis.normalized())
+                                 : Eigen::Vector3d::Zero();
+}
+
 }  // namespace talus::reference

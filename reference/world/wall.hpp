@@ -22,6 +22,8 @@ struct RefWallMotion {
   // point that is at x at time t.
   Eigen::Vector3d position(const Eigen::Vector3d& x0, double t) const;
   Eigen::Vector3d velocity_at(const Eigen::Vector3d& x) const;
+  // The wall's angular velocity, rad/s: angular_speed times the unit axis for a rotation, else 0.
+  Eigen::Vector3d angular_velocity() const;
 };
 
 // One triangle (a, b, c): particles live on the side (b - a) x (c - a) points to.

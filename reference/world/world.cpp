@@ -219,6 +219,8 @@ VolumeLawParameters RefWorld::volume_parameters(const PairProperties& props,
   law.restitution = props.restitution;
   law.friction = props.friction;
   law.with_friction = fx.friction;
+  // The default law's tangential spring never gains energy from a falling k_t (force_law.hpp).
+  law.bounded_spring_energy = volume_law() == VolumeLaw::kDefault;
   return law;
 }
 
@@ -304,6 +306,15 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
   const Eigen::Vector3d force = f.total();
   apply(ia, g.point, force);
   apply(ib, g.point, -force);
+  if (fx.contact == ContactModel::volume && fx.rotation) {
+    // The default law's patch couple (force_law.hpp): A gets it, B its opposite.
+    const PatchCouple couple =
+        patch_couple(f, g.normal, g.area, props.friction,
+                     pa.state.angular_velocity_world() - pb.state.angular_velocity_world());
+    bodies_[ia].state.torque += couple.total();
+    bodies_[ib].state.torque -= couple.total();
+    c.couple = couple.total();
+  }
   c.force_on_a = force;
   c.tangential_force = f.tangential_force;
   c.sliding = f.sliding;
@@ -359,7 +370,18 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
       elastic += wt * fx.linear.stiffness * wc.depth * wc.normal;
       energy += wt * 0.5 * fx.linear.stiffness * wc.depth * wc.depth;
     }
-    moment += wc.overlap_area * wc.overlap_centroid;
+    // The volume laws' point of this facet: the clipped section's centroid moved by the offset
+    // of the volume below the facet's plane from the whole section's centroid (wall_area.hpp),
+    // so that a facet holding the whole section puts the force at the volume's centroid, as the
+    // overlap polytope's centroid does between particles: a tilted face is pushed back level
+    // (its deep side carries more). The section's centroid alone lies under the middle of the
+    // tilted face, on the shallow side of the particle's centre: a cube on a floor would be an
+    // inverted pendulum and a stack of cubes would never settle. The linear law keeps the
+    // section's centroid (its force is the depth's, not the volume's).
+    const Eigen::Vector3d facet_point =
+        volume_model ? Eigen::Vector3d(wc.overlap_centroid + wc.volume_offset)
+                     : wc.overlap_centroid;
+    moment += wc.overlap_area * facet_point;
     area_sum += wc.overlap_area;
     weight += wt;
     volume += wt * wc.volume_below;
@@ -371,7 +393,7 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
 
   NormalContact nc;
   nc.normal = -elastic / magnitude;  // from the particle into the wall
-  nc.point = moment / area_sum;      // the weighted overlap centroid
+  nc.point = moment / area_sum;      // the facets' points, weighted by their clipped areas
   nc.elastic = magnitude;
   nc.normal_stiffness = k_n;
   nc.tangential_stiffness = k_t;
@@ -395,8 +417,19 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   apply(i, nc.point, force);
   wall_force_[w] -= force;
   wall_torque_[w] -= (nc.point - wall.motion.point).cross(force);
+  Eigen::Vector3d couple = Eigen::Vector3d::Zero();
+  if (fx.contact == ContactModel::volume && fx.rotation) {
+    // The default law's patch couple (force_law.hpp) against the wall's own rotation: the
+    // particle gets it, the wall its opposite.
+    couple = patch_couple(f, nc.normal, area, props.friction,
+                          p.state.angular_velocity_world() - wall.motion.angular_velocity())
+                 .total();
+    bodies_[i].state.torque += couple;
+    wall_torque_[w] -= couple;
+  }
   RefContact c;
   c.body_a = i, c.wall = w;
+  c.couple = couple;
   c.point = nc.point, c.normal = nc.normal;
   c.force_on_a = force, c.tangential_force = f.tangential_force;
   c.volume = volume, c.area = area, c.depth = depth, c.weight = weight;

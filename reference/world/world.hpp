@@ -100,6 +100,9 @@ struct RefContact {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_on_a = Eigen::Vector3d::Zero();  // N (normal + tangential)
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero();
+  // N m: the default volume law's patch couple on A besides (point - x_A) x force_on_a (B or the
+  // wall gets its opposite); zero for the other laws and without rotation (force_law.hpp).
+  Eigen::Vector3d couple = Eigen::Vector3d::Zero();
   double volume = 0;  // dV (volume laws; walls: sum of w_i dV_i), m^3
   double area = 0;    // A_n (volume laws; walls: sum of w_i A_i), m^2
   double depth = 0;   // delta (linear model; walls: the deepest facet's), m
@@ -139,7 +142,8 @@ class RefWorld {
   const std::vector<RefContact>& contacts() const { return contacts_; }
   const std::vector<RefWall>& walls() const { return setup_.walls; }
   // Total contact force and torque on wall w at the last force evaluation: minus what the wall's
-  // contacts gave the particles; the torque about the wall motion's `point`.
+  // contacts gave the particles (the patch couples included); the torque about the wall motion's
+  // `point`.
   const Eigen::Vector3d& wall_force(int w) const { return wall_force_.at(w); }
   const Eigen::Vector3d& wall_torque(int w) const { return wall_torque_.at(w); }
   // Wall w's triangles at the current time.

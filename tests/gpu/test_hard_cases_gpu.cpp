@@ -1,9 +1,14 @@
-// The dynamic hard cases (tests/support/hard_cases.hpp) on the GPU: the same scenes at dt = 1e-5 s
-// on the CUDA step, each coming to rest as on the host (tests/step/test_hard_cases.cpp). Skipped
-// with the reason where no GPU is usable.
+// The dynamic hard cases (tests/support/hard_cases.hpp) on the GPU: scenes of the host's at
+// dt = 1e-5 s on the CUDA step, each coming to rest as on the host
+// (tests/step/test_hard_cases.cpp). A step of a few particles costs the CUDA step about as much as
+// one of thousands (a few launches and synchronisations per stage), so the GPU runs the cases that
+// take a second, one of each kind of contact (pair, wall, friction holding on an incline); the
+// column (21 s) and the 80-facet cylinders stay on the host. Skipped with the reason where no GPU
+// is usable.
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
 #include "solver/step/cuda_step.hpp"
@@ -33,7 +38,16 @@ TEST_P(HardCasesGpu, ComesToRestAtTenMicroseconds) {
   EXPECT_NEAR(r.floor_force, 1.0, 1e-6) << c.name;
 }
 
-INSTANTIATE_TEST_SUITE_P(, HardCasesGpu, ::testing::ValuesIn(talus_test::hard_cases()),
+std::vector<HardCase> gpu_cases() {
+  std::vector<HardCase> kept;
+  for (const HardCase& c : talus_test::hard_cases())
+    if (c.name == "CubeFaceDownOnACube" || c.name == "TetrahedronDroppedVertexFirst" ||
+        c.name == "CubeOnAnInclineBelowTheFrictionAngle")
+      kept.push_back(c);
+  return kept;
+}
+
+INSTANTIATE_TEST_SUITE_P(, HardCasesGpu, ::testing::ValuesIn(gpu_cases()),
                          [](const ::testing::TestParamInfo<HardCase>& info) {
                            return info.param.name;
                          });

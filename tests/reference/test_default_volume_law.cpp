@@ -1,7 +1,8 @@
 // The default volume law of the reference solver (contact/force_law.hpp, docs/contact.md "The
 // default volume law"): p(V) = K min(V / A_ref, V^(1/3)), |F^e| = p(V) A_n, k_n = p'(V) A_n^2,
-// Eq. 15's damping form on that k_n, the tangential spring of Eqs. 17-20 unchanged. Closed forms,
-// the force as the gradient of U, head-on restitution and a cube at rest on a wall.
+// Eq. 15's damping form on that k_n, the tangential spring of Eqs. 17-20 (its energy kept as k_t
+// falls). Closed forms, the force as the gradient of U, head-on restitution, a cube at rest on a
+// wall, the spring's energy. The patch couple and the wall point: test_wall_point_and_patch_couple.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -274,6 +275,51 @@ TEST(ReferenceDefaultVolumeLaw, FaceOnFaceHeadOnRestitution) {
       EXPECT_NEAR(energy_change, 0, 1e-4);
     }
   }
+}
+
+// The default law's tangential spring keeps its energy when k_t = G A_n falls (an ending
+// contact): F_t^e is scaled by sqrt(k_t / k_before) before the increment, so |F_t^e|^2 / (2 k_t)
+// is what the spring held; a rising k_t keeps the force, and volume_paper always does.
+TEST(ReferenceDefaultVolumeLaw, TangentialSpringEnergyDoesNotGrowAsTheAreaFalls) {
+  NormalContact nc;
+  nc.normal = Eigen::Vector3d::UnitZ();
+  nc.elastic = 10;
+  nc.normal_stiffness = 1e5;
+  nc.area = 1e-4;
+  VolumeLawParameters law;
+  law.damping = NormalDamping::kPaper;
+  law.effective_mass = 0.01;
+  law.restitution = 0.5;
+  law.friction = 0.5;
+  law.with_friction = true;
+  const Eigen::Vector3d f0(0.3, -0.4, 0);  // in the tangent plane, well below mu |F_n| = 5
+  const double k0 = 4e4;
+  for (const bool bounded : {true, false}) {
+    law.bounded_spring_energy = bounded;
+    for (const double k_t : {k0 / 4, 2 * k0}) {
+      nc.tangential_stiffness = k_t;
+      ContactHistory h;
+      h.elastic_force = f0;
+      h.spring_stiffness = k0;
+      // At rest (v_r = 0) the force is the stored elastic one.
+      const ContactForce f = volume_contact_force(nc, law, Eigen::Vector3d::Zero(), 1e-6, h);
+      const double scale = bounded && k_t < k0 ? std::sqrt(k_t / k0) : 1.0;
+      EXPECT_LT((h.elastic_force - scale * f0).norm(), 1e-16) << bounded << " " << k_t;
+      EXPECT_LT((f.tangential_force - scale * f0).norm(), 1e-16);
+      EXPECT_EQ(h.spring_stiffness, k_t);
+      if (bounded && k_t < k0) {  // the energy the spring held
+        EXPECT_NEAR(tangential_spring_energy(h.elastic_force, k_t), f0.squaredNorm() / (2 * k0),
+                    1e-15);
+      }
+    }
+  }
+  // The first evaluation (no stiffness yet) keeps the force.
+  law.bounded_spring_energy = true;
+  nc.tangential_stiffness = k0 / 4;
+  ContactHistory first;
+  first.elastic_force = f0;
+  volume_contact_force(nc, law, Eigen::Vector3d::Zero(), 1e-6, first);
+  EXPECT_LT((first.elastic_force - f0).norm(), 1e-16);
 }
 
 // A 10 mm cube (2.5 g, E = 1e7 Pa, eps = 0.5, mu = 0.5) dropped face down from 1 um onto a plane

@@ -31,6 +31,12 @@ TEST(WallArea, BoxResting_SectionDepthVolumeCentroid) {
   EXPECT_NEAR(w.volume_below, lx * ly * h, kClosedRel * lx * ly * lz);
   EXPECT_LT((w.overlap_centroid - Eigen::Vector3d(0.3, -0.2, 0)).norm(), kClosedRel * lz);
   EXPECT_EQ(w.normal, Eigen::Vector3d(0, 0, 1));
+  // Level: the volume below has its centroid right under the section's (its corners' rounded
+  // coordinates still make an axis-aligned box), so the offset is exactly zero.
+  EXPECT_LT((w.section_centroid - Eigen::Vector3d(0.3, -0.2, 0)).norm(), kClosedRel * lz);
+  EXPECT_LT((w.volume_below_centroid - Eigen::Vector3d(0.3, -0.2, -0.5 * h)).norm(),
+            kClosedRel * lz);
+  EXPECT_EQ(w.volume_offset, Eigen::Vector3d::Zero());
 }
 
 TEST(WallArea, FlippedTriangle_BelowIsTheOtherSide) {
@@ -99,8 +105,8 @@ TEST(WallArea, AgreesWithProduction_RandomPoses) {
   const std::vector<std::string> specs = talus::testing::builtin_specs();
   std::mt19937_64 rng(77031);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  int compared = 0, with_overlap_area = 0, above = 0;
-  double worst_area = 0, worst_volume = 0, worst_centroid = 0, worst_depth = 0;
+  int compared = 0, with_overlap_area = 0, above = 0, with_offset = 0;
+  double worst_area = 0, worst_volume = 0, worst_centroid = 0, worst_depth = 0, worst_offset = 0;
   // 9 shapes x 64 draws = 576 poses; a few ms each with the exact kernel (a few seconds).
   for (const std::string& spec : specs) {
     const talus::testing::TestShape shape(spec);
@@ -155,14 +161,27 @@ TEST(WallArea, AgreesWithProduction_RandomPoses) {
         worst_centroid = std::max(worst_centroid, dc);
         EXPECT_LT(dc, 1e-9) << spec << " draw " << draw;
       }
+      // The volume laws' offset of the volume below from the section (a ratio of moments to the
+      // volume): compared where neither the volume nor the section is a sliver.
+      if (ref.volume_below > 1e-3 * shape.shape.volume &&
+          ref.section_area > 1e-3 * radius * radius) {
+        ++with_offset;
+        const double doff = (to_eigen(prod.volume_offset) - ref.volume_offset).norm() / radius;
+        worst_offset = std::max(worst_offset, doff);
+        EXPECT_LT(doff, 1e-9) << spec << " draw " << draw;
+        EXPECT_LT(std::abs(ref.volume_offset.dot(ref.normal)), 1e-15 * radius);  // in the plane
+      }
     }
   }
   std::printf(
-      "compared %d poses (%d with clipped area, %d more not reaching the plane); worst "
-      "relative errors: area %.2e, volume below %.2e, depth %.2e, centroid %.2e\n",
-      compared, with_overlap_area, above, worst_area, worst_volume, worst_depth, worst_centroid);
+      "compared %d poses (%d with clipped area, %d more not reaching the plane, %d offsets); "
+      "worst relative errors: area %.2e, volume below %.2e, depth %.2e, centroid %.2e, volume "
+      "offset %.2e\n",
+      compared, with_overlap_area, above, with_offset, worst_area, worst_volume, worst_depth,
+      worst_centroid, worst_offset);
   EXPECT_GE(compared, 500);
   EXPECT_GE(with_overlap_area, 250);  // the sample must exercise the clipping, not only misses
+  EXPECT_GE(with_offset, 250);
 }
 
 }  // namespace
