@@ -47,7 +47,7 @@ TEST_P(HardCases, ComesToRestAtTenMicroseconds) {
 }
 
 // At the advised step (0.2 of the critical step: 1.6 to 6.4 times more steps than 1e-5 s): the
-// column's 21 s would take minutes there, so it runs at 1e-5 s only.
+// column's 26 s would take minutes there, so it runs at 1e-5 s only.
 TEST_P(HardCases, ComesToRestAtTheAdvisedStep) {
   const HardCase& c = GetParam();
   if (c.settle > 2) GTEST_SKIP() << c.name << " runs at dt = 1e-5 s only (CI time)";
