@@ -24,6 +24,7 @@
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/pair_kernels.hpp"
+#include "solver/step/pair_report.hpp"
 #include "solver/step/sorted_histories.hpp"
 #include "solver/step/step_plan.hpp"
 
@@ -117,10 +118,7 @@ class PairContactStage {
     for (const PairContactRecord<Real>& r : records_) {
       if (r.degenerate) {
         throw std::runtime_error(
-            scene_.file + ": particles " + std::to_string(p.global_id[r.a]) + " and " +
-            std::to_string(p.global_id[r.b]) +
-            ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
-            "workspace cannot hold)");
+            degenerate_pair_message(scene_, pose_report(p, r.a), pose_report(p, r.b)));
       }
     }
     contacts_.clear();

@@ -398,11 +398,8 @@ void DevicePairStage<Real>::compute(Real spring_dt) {
   const int bad = shared_.flags.read(degenerate_pair);
   if (bad != INT_MAX) {
     const ContactPair pair = download(list_.pairs() + bad, 1)[0];
-    throw std::runtime_error(
-        shared_.scene.file + ": particles " + std::to_string(shared_.global_id(pair.a)) + " and " +
-        std::to_string(shared_.global_id(pair.b)) +
-        ": the contact geometry is degenerate (a sphere inside another, or an overlap the "
-        "workspace cannot hold)");
+    throw std::runtime_error(degenerate_pair_message(shared_.scene, shared_.pose_report(pair.a),
+                                                     shared_.pose_report(pair.b)));
   }
   contact_count_ready_ = false;  // flag[touching_pairs], read when asked
 }

@@ -13,6 +13,7 @@
 #include "solver/core/device_buffer.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/contact_stage.hpp"
+#include "solver/step/pair_report.hpp"
 #include "solver/step/particle_state.hpp"
 
 namespace talus {
@@ -157,6 +158,19 @@ struct DeviceStepShared {
   DeviceBuffer<double> energy_sums;
 
   long long global_id(int i) const { return download(global_ids.data() + i, 1)[0]; }
+
+  // Particle i's id, template and pose, downloaded (pair_report.hpp; an error path only).
+  ParticlePoseReport pose_report(int i) const {
+    ParticlePoseReport r;
+    r.id = global_id(i);
+    if (view.template_id) r.template_id = download(view.template_id + i, 1)[0];
+    const Real* position[3] = {view.position.x, view.position.y, view.position.z};
+    for (int c = 0; c < 3; ++c) r.position[c] = double(download(position[c] + i, 1)[0]);
+    const Real* orientation[4] = {view.orientation.w, view.orientation.x, view.orientation.y,
+                                  view.orientation.z};
+    for (int c = 0; c < 4; ++c) r.orientation[c] = double(download(orientation[c] + i, 1)[0]);
+    return r;
+  }
 };
 
 }  // namespace talus
