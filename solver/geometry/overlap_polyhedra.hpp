@@ -132,6 +132,97 @@ TALUS_HD inline int planes_from_mask(const ConvexView<Real>& a, const ConvexView
                      });
 }
 
+// Solves H x = rhs for a symmetric positive definite 3x3 H given as its upper triangle
+// h = {xx, xy, xz, yy, yz, zz}: Gaussian elimination with symmetric pivoting, the largest
+// remaining diagonal first, which is backward stable for such matrices however ill-conditioned
+// (each eliminated entry's error is round-off of the largest entry, not of the determinant's
+// cancelling products). False when a pivot is not positive (H not positive definite).
+template <class Real>
+TALUS_HD inline bool solve_spd3(const Real h[6], const Vec3<Real>& rhs, Vec3<Real>& x) {
+  Real a[3][3] = {{h[0], h[1], h[2]}, {h[1], h[3], h[4]}, {h[2], h[4], h[5]}};
+  Real b[3] = {rhs.x, rhs.y, rhs.z};
+  int p[3] = {0, 1, 2};
+  for (int k = 0; k < 3; ++k) {
+    int best = k;
+    for (int i = k + 1; i < 3; ++i)
+      if (a[p[i]][p[i]] > a[p[best]][p[best]]) best = i;
+    const int swap = p[k];
+    p[k] = p[best];
+    p[best] = swap;
+    const int r = p[k];
+    if (!(a[r][r] > Real(0))) return false;
+    for (int i = k + 1; i < 3; ++i) {
+      const int s = p[i];
+      const Real l = a[s][r] / a[r][r];
+      for (int j = k + 1; j < 3; ++j) a[s][p[j]] -= l * a[r][p[j]];
+      b[s] -= l * b[r];
+    }
+  }
+  Real y[3];
+  for (int k = 2; k >= 0; --k) {
+    const int r = p[k];
+    Real sum = b[r];
+    for (int j = k + 1; j < 3; ++j) sum -= a[r][p[j]] * y[p[j]];
+    y[r] = sum / a[r][r];
+  }
+  x = Vec3<Real>(y[0], y[1], y[2]);
+  return true;
+}
+
+// The gradient and Hessian of the barrier -sum log(slack_i) over the m planes n_i . x <= h_i,
+// whose slacks are ws.plane_offset: g = sum n_i / s_i, H = sum n_i n_i^T / s_i^2 (upper triangle
+// {xx, xy, xz, yy, yz, zz}).
+template <class Real, class Workspace>
+TALUS_HD inline void barrier_derivatives(const Workspace& ws, int m, Vec3<Real>& g, Real h[6]) {
+  g = Vec3<Real>();
+  for (int k = 0; k < 6; ++k) h[k] = 0;
+  for (int i = 0; i < m; ++i) {
+    const Vec3<Real> u = ws.hull.plane_normal[i] * (Real(1) / ws.plane_offset[i]);
+    g += u;
+    h[0] += u.x * u.x, h[1] += u.x * u.y, h[2] += u.x * u.z;
+    h[3] += u.y * u.y, h[4] += u.y * u.z, h[5] += u.z * u.z;
+  }
+}
+
+// The Cholesky factor H = L L^T of a symmetric 3x3 H (upper triangle, as above), L lower
+// triangular as {L00, L10, L11, L20, L21, L22}; false when H is not (numerically) positive
+// definite. Backward stable without pivoting for such H, however ill-conditioned.
+template <class Real>
+TALUS_HD inline bool cholesky3(const Real h[6], Real l[6]) {
+  if (!(h[0] > Real(0))) return false;
+  l[0] = std::sqrt(h[0]);
+  l[1] = h[1] / l[0];
+  l[3] = h[2] / l[0];
+  const Real d1 = h[3] - l[1] * l[1];
+  if (!(d1 > Real(0))) return false;
+  l[2] = std::sqrt(d1);
+  l[4] = (h[4] - l[3] * l[1]) / l[2];
+  const Real d2 = h[5] - l[3] * l[3] - l[4] * l[4];
+  if (!(d2 > Real(0))) return false;
+  l[5] = std::sqrt(d2);
+  return true;
+}
+
+// The rounding map x' = L^T x of overlap_finish's retry: L^-1 n (a plane's normal in x'), L^-T c
+// (a point of x' back in x) and L s / det L (a vector area of x' back in x, Nanson's formula for
+// the map's inverse).
+template <class Real>
+TALUS_HD inline Vec3<Real> lower_solve(const Real l[6], const Vec3<Real>& n) {
+  const Real x = n.x / l[0];
+  const Real y = (n.y - l[1] * x) / l[2];
+  return Vec3<Real>(x, y, (n.z - l[3] * x - l[4] * y) / l[5]);
+}
+template <class Real>
+TALUS_HD inline Vec3<Real> upper_solve(const Real l[6], const Vec3<Real>& c) {
+  const Real z = c.z / l[5];
+  const Real y = (c.y - l[4] * z) / l[2];
+  return Vec3<Real>((c.x - l[1] * y - l[3] * z) / l[0], y, z);
+}
+template <class Real>
+TALUS_HD inline Vec3<Real> lower_times(const Real l[6], const Vec3<Real>& s) {
+  return Vec3<Real>(l[0] * s.x, l[1] * s.x + l[2] * s.y, l[3] * s.x + l[4] * s.y + l[5] * s.z);
+}
+
 // Moves x_o to the analytic centre of the m planes n_i . x <= h_i, whose slacks at x_o are
 // ws.plane_offset (all positive): the minimum of -sum log(slack), by damped Newton steps that keep
 // every slack positive, the slacks updated to the new x_o. Returns false when it cannot (a
@@ -142,25 +233,14 @@ TALUS_HD inline bool analytic_centre_shift(Workspace& ws, int m, Vec3<Real>& x_o
   Real* slack = ws.plane_offset;
   for (int iteration = 0; iteration < 60; ++iteration) {
     Vec3<Real> g;
-    Real h[6] = {0, 0, 0, 0, 0, 0};  // xx, xy, xz, yy, yz, zz
-    for (int i = 0; i < m; ++i) {
-      const Real inv = Real(1) / slack[i];
-      g += n[i] * inv;
-      const Vec3<Real> u = n[i] * inv;
-      h[0] += u.x * u.x, h[1] += u.x * u.y, h[2] += u.x * u.z;
-      h[3] += u.y * u.y, h[4] += u.y * u.z, h[5] += u.z * u.z;
-    }
-    // Delta = -H^-1 g by Cramer's rule.
-    const Real c0 = h[3] * h[5] - h[4] * h[4], c1 = h[2] * h[4] - h[1] * h[5];
-    const Real c2 = h[1] * h[4] - h[2] * h[3];
-    const Real det = h[0] * c0 + h[1] * c1 + h[2] * c2;
-    if (!(det > Real(0))) return false;
-    const Real c4 = h[0] * h[5] - h[2] * h[2], c5 = h[1] * h[2] - h[0] * h[4];
-    const Real c8 = h[0] * h[3] - h[1] * h[1];
-    const Vec3<Real> delta =
-        Vec3<Real>(c0 * g.x + c1 * g.y + c2 * g.z, c1 * g.x + c4 * g.y + c5 * g.z,
-                   c2 * g.x + c5 * g.y + c8 * g.z) *
-        (Real(-1) / det);
+    Real h[6];
+    barrier_derivatives(ws, m, g, h);
+    // Delta = -H^-1 g. Near a thin slab H is as ill-conditioned as (width / depth)^2, ~1e12 for
+    // a slab of 3e-9 m under faces of 3 mm: Cramer's rule then loses the determinant's sign
+    // (the side planes' terms cancel under the slab's), elimination with the largest pivot first
+    // does not (solve_spd3).
+    Vec3<Real> delta;
+    if (!solve_spd3(h, g * Real(-1), delta)) return false;
     const Real decrement = -dot(g, delta);  // the Newton decrement squared
     Real t = 1;
     for (int halving = 0; halving < 60; ++halving, t *= Real(0.5)) {
@@ -267,7 +347,19 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   // coplanar side faces of A and B (two stacked cubes a little misaligned) are nearly coincident
   // far out, and the hull fails or, through round-off, leaves the origin outside. Once, x_o then
   // moves to the analytic centre of the planes (analytic_centre_shift), deep inside in every
-  // direction the polytope allows, and the hull is built again.
+  // direction the polytope allows, and the hull is built again in rounded coordinates.
+  //
+  // Rounded: even from the analytic centre, the dual of a slab of depth d under faces of width w
+  // has its two large faces' points at ~1/d and the side faces' at ~1/w; when the slab is a
+  // wedge (two faces a microradian apart, their planes crossing inside the overlap) the hull's
+  // faces between the far pair and the ring of near points are decided in the round-off of
+  // ~1/d. So the retry also maps x' = L^T x, where L L^T = H is the barrier's Hessian at the
+  // analytic centre: the ellipsoid x^T H x <= 1 (Dikin's) lies inside the polytope and m times
+  // it contains the polytope, so in x' the polytope lies between the unit ball and the ball of
+  // radius m and every dual point's norm is between 1/m and 1 (n_i^T H^-1 n_i <= s_i^2, as
+  // H >= n_i n_i^T / s_i^2). The volume, centroid and vector area are mapped back at the end.
+  bool rounded = false;
+  Real rounding[6];  // L, lower triangular (cholesky3)
   for (int attempt = 0;; ++attempt) {
     bool built = build_dual_hull<Real>(hull);
     for (int f = 0; built && f < hull.n_slots; ++f)
@@ -277,6 +369,16 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
       result.workspace_overrun = hull.overrun;
       result.status = OverlapStatus::degenerate;
       return result;
+    }
+    Vec3<Real> g;
+    Real h[6];
+    barrier_derivatives(ws, m, g, h);
+    rounded = cholesky3(h, rounding);
+    for (int i = 0; rounded && i < m; ++i) {
+      const Vec3<Real> n = lower_solve(rounding, plane_normal[i]);  // n . x = (L^-1 n) . x'
+      const Real length = norm(n);
+      plane_normal[i] = n / length;
+      ws.plane_offset[i] /= length;
     }
     for (int i = 0; i < m; ++i) hull.point_norm[i] = Real(1) / ws.plane_offset[i];
   }
@@ -328,9 +430,16 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   int on_hull = 0;
   for (int i = 0; i < m; ++i) on_hull += fan_apex[i] >= 0;
   result.hull_points = on_hull;
+  Vec3<Real> centroid = volume > Real(0) ? moment / volume : Vec3<Real>();
+  if (rounded) {  // back from x' = L^T x: V = V' / det L, c = L^-T c', S = L S' / det L
+    const Real det = rounding[0] * rounding[2] * rounding[5];
+    volume /= det;
+    centroid = upper_solve(rounding, centroid);
+    vector_area = lower_times(rounding, vector_area) / det;
+  }
   result.volume = volume;
   result.vector_area = vector_area;
-  result.centroid = pose_a.position + x_o + (volume > Real(0) ? moment / volume : Vec3<Real>());
+  result.centroid = pose_a.position + x_o + centroid;
   result.status = volume > Real(0) ? OverlapStatus::overlapping : OverlapStatus::touching;
   return result;
 }

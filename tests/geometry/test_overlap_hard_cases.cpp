@@ -2,8 +2,10 @@
 // must give finite numbers, a sensible status and no workspace overrun, and the right volume.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "tests/geometry/overlap_test_util.hpp"
 
@@ -73,6 +75,41 @@ TEST(OverlapHardCases, ThinSlabOfStackedCubesWithTheCentreAtTheRim) {
                       -7.2409122637539861e-06)};
   expect_matches_oracle(c, a, c, b, 1e-8);
   EXPECT_EQ(overlap(c, a, c, b).status, OverlapStatus::overlapping);
+}
+
+// Two of the poured bed's cylinders (experiments/beds: the paper's 20-sided prism at 10 mm) as
+// the GPU step met them at t = 0.16 s, where the overlap was reported degenerate, and the same
+// pair moved by a few ulps (the GPU's fused multiply-adds round differently from the host's):
+// end face on end face, a wedge 2.7e-9 m deep under faces 7 mm wide whose planes are 8e-7 rad
+// apart, with the Chebyshev centre at the rim. Before the rounded retry 17 % of such poses failed
+// (3,333 of 20,000). The oracle's volume within 1e-7: the planes' offsets carry round-off of
+// ~1e-18 m, 4e-10 of the depth, and the cones from the centre cancel by another factor ~10
+// (2.6e-9 measured).
+TEST(OverlapHardCases, PouredCylindersWedgeAtTheGpuFailure) {
+  const TestShape c("cylinder:0.00834,0.00552,20");
+  const Posed a{Vec3d(0.0042624655412178058, 0.0046891993036728462, 0.11315625926417291),
+                Quatd(-0.061074531028207008, -0.36125367221283361, 0.93020029923548297,
+                      -0.022205613584075658)};
+  const Posed b{Vec3d(0.0047950557676911965, 0.0062712608040956849, 0.11853454497013875),
+                Quatd(0.064985663825013695, 0.6541004543443335, -0.75361089412863547,
+                      0.00028173462257318719)};
+  expect_matches_oracle(c, a, c, b, 1e-7);
+  std::mt19937_64 random(15);
+  std::uniform_real_distribution<double> unit(-0.5, 0.5);
+  double worst = 0;
+  for (int t = 0; t < 64; ++t) {
+    Posed moved = b;
+    const double eps = 1e-15 * (1 << (t % 8));  // relative: a few ulps to ~500
+    moved.position += Vec3d(unit(random), unit(random), unit(random)) * (eps * 0.01);
+    moved.orientation =
+        Quatd(b.orientation.w + eps * unit(random), b.orientation.x + eps * unit(random),
+              b.orientation.y + eps * unit(random), b.orientation.z + eps * unit(random));
+    const auto got = overlap(c, a, c, moved);
+    const auto ref = oracle(c, a, c, moved);
+    ASSERT_EQ(got.status, OverlapStatus::overlapping) << "pose " << t;
+    worst = std::max(worst, std::abs(got.volume / double(ref.volume) - 1));
+  }
+  EXPECT_LT(worst, 1e-7);
 }
 
 // Two cubes turned 45 degrees about crossing axes so that an edge of each crosses an edge of the
