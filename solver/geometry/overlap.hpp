@@ -42,6 +42,12 @@ struct OverlapResult {
   // projected area A_n = |S|. The normal force on A is along -S.
   Vec3<Real> vector_area;
   Vec3<Real> centroid;  // world frame; meaningful when status == overlapping
+  // The moment about the centroid of the same part of the boundary, integral of (r - c) x n dA,
+  // m^3: a pressure p on that part gives A the force -p S and, besides (c - x_A) x (-p S), the
+  // couple -p M. That is dU/dtheta_A of a potential U(V) exactly (the rigid rotation's change of V
+  // is the integral of (w x (r - x_A)) . n over the part), so an overlap-volume law applying it
+  // conserves energy where the centroid alone as the point does not (docs/contact.md).
+  Vec3<Real> surface_moment;
   Real depth_hint = 0;  // inradius of the intersection (Chebyshev-centre LP value), m
   int hull_points = 0;  // dual points that entered the hull (planes that bound the intersection)
   bool workspace_overrun = false;  // asserted false by the tests

@@ -403,7 +403,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   // dual faces f and g lies on the faces of both dual vertices of their shared edge; the directed
   // edge (v0, v1) of f contributes its fan triangle to face v0 only, the twin edge of g to v1.
   Real volume = 0;
-  Vec3<Real> moment, vector_area;
+  Vec3<Real> moment, vector_area, surface_moment;  // the last about x_o (rounded: in x)
   for (int f = 0; f < hull.n_slots; ++f) {
     if (hull.face_stamp[f] < 0) continue;
     const Vec3<Real>& p_f = hull.face_normal[f];  // the primal vertex from here on
@@ -424,7 +424,17 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
       moment += (c + p_f + p_g) * (cone / Real(4));
       const Real share =
           ws.plane_twin[v] ? Real(0.5) : (ws.plane_owner[v] == 0 ? Real(1) : Real(0));
-      vector_area += plane_normal[v] * (area * share);
+      const Vec3<Real> shared_area = plane_normal[v] * (area * share);
+      vector_area += shared_area;
+      // The fan triangle's moment r x n dA, r its centroid; in rounded coordinates both mapped
+      // back to x first (the moment is not linear in the map).
+      const Vec3<Real> centre = (c + p_f + p_g) * (Real(1) / Real(3));
+      if (rounded) {
+        surface_moment += cross(upper_solve(rounding, centre), lower_times(rounding, shared_area)) /
+                          (rounding[0] * rounding[2] * rounding[5]);
+      } else {
+        surface_moment += cross(centre, shared_area);
+      }
     }
   }
   int on_hull = 0;
@@ -440,6 +450,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   result.volume = volume;
   result.vector_area = vector_area;
   result.centroid = pose_a.position + x_o + centroid;
+  result.surface_moment = surface_moment - cross(centroid, vector_area);  // about the centroid
   result.status = volume > Real(0) ? OverlapStatus::overlapping : OverlapStatus::touching;
   return result;
 }

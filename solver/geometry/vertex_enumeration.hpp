@@ -97,6 +97,7 @@ template <class Real>
 struct EnumerationSums {
   Real volume3 = 0, area_sum = 0;             // 3 V and the sum of the faces' areas
   Vec3<Real> moment12, vector_area, closure;  // 12 x the first moment, S, sum of n_f A_f
+  Vec3<Real> surface_moment3;                 // 3 x the moment of A's faces, r x n dA, about o
 };
 
 // The share of a vertex v (relative to o) at one end of the edge on the line of planes f and g
@@ -128,6 +129,10 @@ TALUS_HD inline void add_line_end(const Vec3<Real>& n_f, Real h_f, bool f_on_a,
   // u + w = 2 x0 + (t_u + t_w) d / s^2, and each end adds t (q_f + x0 + v).
   const Vec3<Real> x0 = (n_f * k_g + n_g * k_f) * Real(2);
   sums.moment12 += (x0 + v) * (cone_f + cone_g) + n_f * (cone_f * h_f) + n_g * (cone_g * h_g);
+  // The same triangles' area moments, a_f (q_f + x0 + v) / 3 per end, crossed with n_f for the
+  // surface moment (q_f = h_f n_f drops out).
+  if (f_on_a) sums.surface_moment3 += cross(x0 + v, area_f);
+  if (g_on_a) sums.surface_moment3 += cross(x0 + v, area_g);
 }
 
 // The vertices kept by step 1, in the order found, each as the indices of its three planes
@@ -310,7 +315,10 @@ TALUS_HD inline bool enumerate_fixed(const EnumerationBodies<Real>& bodies,
   result.status = OverlapStatus::overlapping;
   result.volume = volume;
   result.vector_area = sums.vector_area;
-  result.centroid = bodies.position_a + o + sums.moment12 * (Real(1) / (Real(12) * volume));
+  const Vec3<Real> centroid = sums.moment12 * (Real(1) / (Real(12) * volume));  // about o
+  result.centroid = bodies.position_a + o + centroid;
+  result.surface_moment =
+      sums.surface_moment3 * (Real(1) / Real(3)) - cross(centroid, sums.vector_area);
   result.depth_hint = least_height;  // a ball about o of this radius lies inside: <= inradius
   result.hull_points = faces;
   result.workspace_overrun = false;
