@@ -348,6 +348,8 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   // w = overlap area / section area, so a section spread over coplanar facets counts once.
   Eigen::Vector3d elastic = Eigen::Vector3d::Zero();  // on the particle
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  // Each facet's elastic force acts at its own point: sum of x_i x F_i, about the origin.
+  Eigen::Vector3d force_moment = Eigen::Vector3d::Zero();
   double k_n = 0, k_t = 0, area_sum = 0, weight = 0, volume = 0, area = 0, depth = 0;
   double energy = 0;
   for (const RefTriangle& t : triangles) {
@@ -356,6 +358,7 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
     const RefWallContact wc = wall_contact(shape, pose, t[0], t[1], t[2]);
     if (!wc.reaches_plane || !(wc.overlap_area > 0) || !(wc.section_area > 0)) continue;
     const double wt = wc.overlap_area / wc.section_area;
+    const Eigen::Vector3d elastic_before = elastic;
     if (volume_model) {
       if (!(wc.volume_below > 0)) continue;
       // Facet i: w_i F^e(V_i, A_i) along n_i, k_n and U summed with the same weights.
@@ -382,6 +385,7 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
         volume_model ? Eigen::Vector3d(wc.overlap_centroid + wc.volume_offset)
                      : wc.overlap_centroid;
     moment += wc.overlap_area * facet_point;
+    force_moment += facet_point.cross(elastic - elastic_before);
     area_sum += wc.overlap_area;
     weight += wt;
     volume += wt * wc.volume_below;
@@ -418,15 +422,21 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   wall_force_[w] -= force;
   wall_torque_[w] -= (nc.point - wall.motion.point).cross(force);
   Eigen::Vector3d couple = Eigen::Vector3d::Zero();
+  if (fx.rotation) {
+    // The facets' forces at their own points rather than their sum at nc.point: the couple
+    // sum (x_i - point) x F_i, zero for coplanar facets; at a wall's edge or corner one force at
+    // one point would turn the particle by work from nothing.
+    couple = force_moment - nc.point.cross(elastic);
+  }
   if (fx.contact == ContactModel::volume && fx.rotation) {
     // The default law's patch couple (force_law.hpp) against the wall's own rotation: the
     // particle gets it, the wall its opposite.
-    couple = patch_couple(f, nc.normal, area, props.friction,
-                          p.state.angular_velocity_world() - wall.motion.angular_velocity())
-                 .total();
-    bodies_[i].state.torque += couple;
-    wall_torque_[w] -= couple;
+    couple += patch_couple(f, nc.normal, area, props.friction,
+                           p.state.angular_velocity_world() - wall.motion.angular_velocity())
+                  .total();
   }
+  bodies_[i].state.torque += couple;
+  wall_torque_[w] -= couple;
   RefContact c;
   c.body_a = i, c.wall = w;
   c.couple = couple;

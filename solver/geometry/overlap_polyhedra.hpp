@@ -359,7 +359,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
   // radius m and every dual point's norm is between 1/m and 1 (n_i^T H^-1 n_i <= s_i^2, as
   // H >= n_i n_i^T / s_i^2). The volume, centroid and vector area are mapped back at the end.
   bool rounded = false;
-  Real rounding[6];  // L, lower triangular (cholesky3)
+  Real rounding[6] = {1, 0, 1, 0, 0, 1};  // L, lower triangular (cholesky3); I until set
   for (int attempt = 0;; ++attempt) {
     bool built = build_dual_hull<Real>(hull);
     for (int f = 0; built && f < hull.n_slots; ++f)

@@ -81,6 +81,7 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
         patch_couple(f, c.normal, c.area, t.pair_friction[pair],
                      world_angular_velocity(p, i) - motion.angular_velocity(), f.dissipation);
   }
+  if (p.angular_velocity.present()) r.couple += g.couple;  // the facets' own points
   r.normal_energy = c.potential;
   r.tangential_energy = f.spring_energy;
   r.dissipation = f.dissipation;

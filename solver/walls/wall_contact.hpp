@@ -79,6 +79,11 @@ struct WallContactGeometry {
   Real tangential_stiffness = 0;  // sum w_i G A_i (volume laws), N/m
   Real area = 0;                  // sum w_i A_i, m^2
   Real potential = 0;             // the stored normal elastic energy, J
+  // The elastic forces' couple about `point`: sum over the facets of (c_i - point) x F_i, N m.
+  // One force at one point turns the particle as the facets' forces at their own points do only
+  // when the facets are coplanar; at an edge or a corner of a wall it does not, and the
+  // difference is work from nothing (a gas in a box gained 1.3 % over 0.2 s at any step).
+  Vec3<Real> couple;
 };
 
 // A polyhedron against one wall. `stiffness` is K = E/R (volume laws) or K_N (linear), `shear`
@@ -88,7 +93,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(
     const ConvexView<Real>& shape, const Pose<Real>& pose, const WallFacets<Real>& facets,
     ContactLaw law, Real stiffness, Real shear, Real reference_area) {
   WallContactGeometry<Real> g;
-  Vec3<Real> elastic, moment;
+  Vec3<Real> elastic, moment, force_moment;  // force_moment: sum c_i x F_i about the origin
   Real area_sum = 0;
   FacetCursor<Real> near = facets.near(pose.position, shape.bounding_radius);
   for (int t = near.next(); t >= 0; t = near.next()) {
@@ -109,6 +114,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(
     // The weight is not clamped to 1: the clipped area never exceeds the section's but for
     // round-off, and the weights must be the reference's definition to agree with it.
     const Real w = wc.overlap_area / wc.section_area;
+    const Vec3<Real> elastic_before = elastic;
     if (has_volume_geometry(law)) {
       if (!(wc.volume_below > Real(0))) continue;
       const VolumePressure<Real> pv =
@@ -132,6 +138,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(
     const Vec3<Real> point =
         has_volume_geometry(law) ? wc.overlap_centroid + wc.volume_offset : wc.overlap_centroid;
     moment += point * wc.overlap_area;
+    force_moment += cross(point, elastic - elastic_before);
     area_sum += wc.overlap_area;
     g.area += w * wc.section_area;
   }
@@ -141,6 +148,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(
   g.normal = elastic / (-magnitude);
   g.point = moment / area_sum;
   g.elastic = magnitude;
+  g.couple = force_moment - cross(g.point, elastic);
   return g;
 }
 

@@ -1,0 +1,96 @@
+// Closed elastic systems on the host step: with restitution 1 and no friction nothing dissipates,
+// so the energy balance (energy.hpp) must stay constant but for the integrator's error, which for
+// velocity Verlet shrinks as dt^2: a gas of 27 cubes in a closed box, without rotation. With
+// rotation it does not yet hold (docs/contact.md, "Known limits": the volume laws' torque at the
+// overlap's centroid is not the gradient of U(V)), so there is no such test yet.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "solver/step/host_step.hpp"
+#include "tests/step/step_test_util.hpp"
+
+namespace talus {
+namespace {
+
+constexpr double kBox = 0.05;  // m, the closed box's side, centred on the origin
+
+std::string head(double dt, double end, bool rotation) {
+  std::ostringstream s;
+  s << "time: {step: " << dt << ", end: " << end << "}\n"
+    << "materials:\n"
+    << "  stone: {density: 1200, youngs_modulus: 5.0e6, poisson_ratio: 0.3, friction: 0.0,\n"
+    << "          restitution: 1.0}\n"
+    << "templates:\n"
+    << "  grain: {shape: \"cube:0.01\", material: stone}\n"
+    << "effects: {contact: volume, rotation: " << (rotation ? "true" : "false") << "}\n"
+    << "walls:\n"
+    << "  - box: {min: [" << -kBox / 2 << ", " << -kBox / 2 << ", " << -kBox / 2 << "], max: ["
+    << kBox / 2 << ", " << kBox / 2 << ", " << kBox / 2 << "], material: stone}\n"
+    << "particles:\n"
+    << "  - explicit:\n";
+  return s.str();
+}
+
+std::string particle(const double x[3], const double v[3], const double w[3], double turn) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "      - {template: grain, position: [" << x[0] << ", " << x[1] << ", " << x[2]
+    << "], velocity: [" << v[0] << ", " << v[1] << ", " << v[2] << "], angular_velocity: [" << w[0]
+    << ", " << w[1] << ", " << w[2] << "], orientation: {axis: [0.3, -0.5, 1], degrees: " << turn
+    << "}}\n";
+  return s.str();
+}
+
+// 27 cubes on a 3 x 3 x 3 lattice filling the box, speeds up to 0.5 m/s and spins up to 50 rad/s
+// in random directions (seeded), turned by random angles.
+std::string gas(double dt, double end, bool rotation) {
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::string text = head(dt, end, rotation);
+  const double spacing = kBox / 3;
+  for (int i = 0; i < 27; ++i) {
+    const double x[3] = {-kBox / 2 + spacing * (i % 3 + 0.5),
+                         -kBox / 2 + spacing * (i / 3 % 3 + 0.5),
+                         -kBox / 2 + spacing * (i / 9 + 0.5)};
+    const double v[3] = {0.5 * unit(random), 0.5 * unit(random), 0.5 * unit(random)};
+    const double w[3] = {50 * unit(random), 50 * unit(random), 50 * unit(random)};
+    text += particle(x, v, w, 180 * (1 + unit(random)));
+  }
+  return text;
+}
+
+// The largest |balance - balance at start| over the run, relative to the start's energy.
+double balance_error(const std::string& yaml) {
+  const Scene scene = talus_test::scene_from(yaml);
+  HostStep<double> step(scene);
+  const double start = step.energy().balance();
+  double worst = 0;
+  const long long steps = std::llround(scene.end_time / scene.time_step);
+  for (long long k = 0; k < steps; ++k) {
+    step.step();
+    worst = std::max(worst, std::abs(step.energy().balance() - start));
+  }
+  return worst / start;
+}
+
+// Velocity Verlet's energy error of a smooth force field is O(dt^2): halving dt divides it by 4.
+// Contacts make the field only piecewise smooth (a contact starts between two steps), which adds
+// O(dt^3) per event: a ratio between 3 and 6 says dt^2 (a first-order error gives 2, a
+// non-conservative force ~1, as the overlap centroid's torque does with rotation: 14 % at
+// either step, docs/contact.md). The bound on the size: the error at 1e-5 s measured 1.5e-5;
+// 1e-4 leaves room while a work from nothing of a percent fails it.
+TEST(GranularGas, ElasticGasWithoutRotationConservesEnergyToDtSquared) {
+  const double coarse = balance_error(gas(1e-5, 0.1, false));
+  const double fine = balance_error(gas(5e-6, 0.1, false));
+  EXPECT_LT(coarse, 1e-4);
+  EXPECT_GT(coarse / fine, 3.0) << coarse << " then " << fine;
+  EXPECT_LT(coarse / fine, 6.0) << coarse << " then " << fine;
+}
+
+}  // namespace
+}  // namespace talus
