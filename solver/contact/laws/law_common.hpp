@@ -1,6 +1,7 @@
 // What the contact-law types (volume_law.hpp, volume_paper_law.hpp, linear_law.hpp) share: the
-// normal elastic part they return, the volume laws' parameters read from the law tables, and
-// what the time-step advisor tells a law about the stiffest contact of one kind. Each law is a
+// normal elastic part they return, the volume laws' parameters read from the law tables and their
+// common members (VolumeLawBase), and what the time-step advisor tells a law about the stiffest
+// contact of one kind. Each law is a
 // stateless type whose static members the pair and wall kernels (step/pair_kernels.hpp,
 // step/wall_kernels.hpp) are templated on; contact/contact_laws.hpp maps the scene's contact
 // model to it. A law type has:
@@ -69,6 +70,37 @@ struct StiffestContact {
 struct AdvisedStiffness {
   double normal_stiffness = 0;  // N/m
   double load = 0;              // N
+};
+
+// What the volume laws (volume_law.hpp, volume_paper_law.hpp) share, as a base of Law: the
+// overlap volume's geometry with a tangential history, a pair's elastic part as a wall facet's of
+// weight 1 (1 x = x: the same bits), force_law.hpp's volume_contact_force, and Eqs. 15 and 20's
+// zeta(eps) as the advisor's normal damping ratio. Law gives the rest.
+template <class Law>
+struct VolumeLawBase {
+  static constexpr bool kVolumeGeometry = true;
+  static constexpr bool kTangentialHistory = true;
+
+  // One contact of overlap volume V and area A_n.
+  template <class Real>
+  TALUS_HD static NormalElastic<Real> contact_elastic(Real modulus, Real reference_area,
+                                                      Real volume, Real area) {
+    return Law::facet_elastic(Real(1), modulus, reference_area, volume, area);
+  }
+
+  template <class Real>
+  TALUS_HD static ContactForceData<Real> force(const NormalContactData<Real>& c,
+                                               const VolumeLawData<Real>& law,
+                                               const Vec3<Real>& v_r, Real dt,
+                                               ContactHistoryData<Real>& history) {
+    return volume_contact_force(c, law, v_r, dt, history);
+  }
+
+  // Eqs. 15 and 20's zeta(eps) (volume_paper's calibrated c_n rebounds with the same eps).
+  static double normal_damping_ratio(const StiffestContact& /*c*/, double /*normal_stiffness*/,
+                                     double restitution_ratio) {
+    return restitution_ratio;
+  }
 };
 
 }  // namespace talus

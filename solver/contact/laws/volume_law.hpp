@@ -13,10 +13,8 @@
 
 namespace talus {
 
-struct VolumeLaw {
+struct VolumeLaw : VolumeLawBase<VolumeLaw> {
   static constexpr const char* kName = "volume";
-  static constexpr bool kVolumeGeometry = true;
-  static constexpr bool kTangentialHistory = true;
   static constexpr bool kPatchCouple = true;
   static constexpr bool kCalibratedDamping = false;
   static constexpr bool kStiffnessAtLoad = false;
@@ -51,13 +49,6 @@ struct VolumeLaw {
     return e;
   }
 
-  // One contact of overlap volume V and area A_n: a facet of weight 1 (1 x = x, the same bits).
-  template <class Real>
-  TALUS_HD static NormalElastic<Real> contact_elastic(Real modulus, Real reference_area,
-                                                      Real volume, Real area) {
-    return facet_elastic(Real(1), modulus, reference_area, volume, area);
-  }
-
   // The default law's damping is Eq. 15's on its bounded stiffness (docs/contact.md), and its
   // tangential spring keeps its energy as k_t falls.
   template <class Tables, class Real>
@@ -68,14 +59,6 @@ struct VolumeLaw {
     return law;
   }
 
-  template <class Real>
-  TALUS_HD static ContactForceData<Real> force(const NormalContactData<Real>& c,
-                                               const VolumeLawData<Real>& law,
-                                               const Vec3<Real>& v_r, Real dt,
-                                               ContactHistoryData<Real>& history) {
-    return volume_contact_force(c, law, v_r, dt, history);
-  }
-
   // The advisor's k_n (time_step_advisor.cpp).
   static AdvisedStiffness largest_normal_stiffness(const StiffestContact& c) {
     // p(V) = K min(V/A_ref, V^(1/3)): below the switch k_n = K A_n^2 / A_ref, its largest
@@ -83,12 +66,6 @@ struct VolumeLaw {
     AdvisedStiffness s;
     s.normal_stiffness = c.modulus * c.area * c.area / (M_PI * c.radius_min * c.radius_min);
     return s;
-  }
-
-  // Eqs. 15 and 20's zeta(eps).
-  static double normal_damping_ratio(const StiffestContact& /*c*/, double /*normal_stiffness*/,
-                                     double restitution_ratio) {
-    return restitution_ratio;
   }
 };
 

@@ -11,10 +11,8 @@
 
 namespace talus {
 
-struct VolumePaperLaw {
+struct VolumePaperLaw : VolumeLawBase<VolumePaperLaw> {
   static constexpr const char* kName = "volume_paper";
-  static constexpr bool kVolumeGeometry = true;
-  static constexpr bool kTangentialHistory = true;
   static constexpr bool kPatchCouple = false;
   static constexpr bool kCalibratedDamping = true;
   static constexpr bool kStiffnessAtLoad = true;
@@ -50,13 +48,6 @@ struct VolumePaperLaw {
     return e;
   }
 
-  // One contact of overlap volume V and area A_n: a facet of weight 1 (1 x = x, the same bits).
-  template <class Real>
-  TALUS_HD static NormalElastic<Real> contact_elastic(Real modulus, Real reference_area,
-                                                      Real volume, Real area) {
-    return facet_elastic(Real(1), modulus, reference_area, volume, area);
-  }
-
   // The calibrated damping (or the tables' model) and no bound on the tangential spring's energy.
   template <class Tables, class Real>
   TALUS_HD static VolumeLawData<Real> parameters(const Tables& t, int pair, Real effective_mass) {
@@ -64,14 +55,6 @@ struct VolumePaperLaw {
     law.damping = t.damping;
     law.bounded_spring_energy = false;
     return law;
-  }
-
-  template <class Real>
-  TALUS_HD static ContactForceData<Real> force(const NormalContactData<Real>& c,
-                                               const VolumeLawData<Real>& law,
-                                               const Vec3<Real>& v_r, Real dt,
-                                               ContactHistoryData<Real>& history) {
-    return volume_contact_force(c, law, v_r, dt, history);
   }
 
   // The advisor's k_n (time_step_advisor.cpp).
@@ -95,12 +78,6 @@ struct VolumePaperLaw {
     s.normal_stiffness =
         c.modulus * c.modulus * c.modulus * std::pow(c.area, 4) / (3 * load * load);
     return s;
-  }
-
-  // Eqs. 15 and 20's zeta(eps): the calibrated c_n rebounds with the same eps.
-  static double normal_damping_ratio(const StiffestContact& /*c*/, double /*normal_stiffness*/,
-                                     double restitution_ratio) {
-    return restitution_ratio;
   }
 };
 
