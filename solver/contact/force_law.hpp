@@ -1,7 +1,9 @@
 // Contact force laws of the production solver, as stateless TALUS_HD functions on one contact:
 // the volume laws of the method paper (§2.5, Eqs. 12-20: `volume`, the default, made linear in
 // the overlap volume where that is softer, and `volume_paper`, Eqs. 12-13 as printed;
-// docs/contact.md derives both) and the linear model of BLAZE-DEM (§3.1, Eqs. 2-3).
+// docs/contact.md derives both) and the linear model of BLAZE-DEM (§3.1, Eqs. 2-3). The laws
+// themselves are types (contact/laws/: each one's pressure, parameters and choice of these
+// functions; contact/contact_laws.hpp maps the scene's model to one).
 // Conventions, for a contact between A and B (B may be a wall):
 //   n    unit normal from A into B (volume model: n = S / |S|, S the overlap's vector area on A);
 //   v_r  v_A(c) - v_B(c) at the contact point c; v_r . n > 0 while the bodies approach;
@@ -15,14 +17,6 @@
 
 namespace talus {
 
-// The scene's contact law (scene ContactModel), as the kernels see it.
-enum class ContactLaw : int { volume = 0, volume_paper = 1, linear = 2 };
-
-// Whether the law's geometry is the overlap volume (else the linear law's depth).
-TALUS_HD inline bool has_volume_geometry(ContactLaw law) {
-  return law != ContactLaw::linear;
-}
-
 // A volume law's pressure p(V) = dU/dV, its slope p'(V) and its potential U(V): Feng's
 // construction (the paper's Eqs. 12-13 are of this form) makes the elastic force on A -p(V) S, the
 // gradient of U, whatever the shapes, so an elastic collision conserves energy.
@@ -32,29 +26,6 @@ struct VolumePressure {
   Real slope = 0;     // p', Pa/m^3: the face-on-face stiffness is p' A_n^2
   Real energy = 0;    // U, J
 };
-
-// volume: p = K min(V / A_ref, V^(1/3)), linear below the switch volume V_s = A_ref^(3/2) (the
-// paper's above it), so p' <= K / A_ref: bounded stiffness (docs/contact.md). volume_paper: p = K
-// V^(1/3) (Eq. 12 with k_n = K A_n, Eq. 13), p' unbounded as V -> 0. K = E_A/R_A + E_B/R_B.
-template <class Real>
-TALUS_HD inline VolumePressure<Real> volume_pressure(ContactLaw law, Real modulus,
-                                                     Real reference_area, Real volume) {
-  VolumePressure<Real> out;
-  const Real cube_root = std::cbrt(volume);
-  if (law == ContactLaw::volume && volume < reference_area * cube_root) {
-    out.pressure = modulus * volume / reference_area;
-    out.slope = modulus / reference_area;
-    out.energy = Real(0.5) * modulus * volume * volume / reference_area;
-  } else {
-    out.pressure = modulus * cube_root;
-    out.slope = cube_root > Real(0) ? modulus / (Real(3) * cube_root * cube_root) : Real(0);
-    out.energy = Real(0.75) * modulus * volume * cube_root;
-    // U continuous at V_s: 1/2 K A_ref^2 below, 3/4 K A_ref^2 from the paper's expression.
-    if (law == ContactLaw::volume)
-      out.energy -= Real(0.25) * modulus * reference_area * reference_area;
-  }
-  return out;
-}
 
 // A_ref of the default volume law: the cross-section of the smaller body's equivalent sphere.
 template <class Real>

@@ -6,6 +6,8 @@
 #include <limits>
 #include <string>
 
+#include "solver/contact/contact_laws.hpp"
+
 namespace talus {
 namespace {
 
@@ -166,11 +168,13 @@ TimeStepAdvice advise_time_step(const Scene& scene) {
   }
   const double gravity = effects.gravity ? norm(*effects.gravity) : 0.0;
   const double speed = largest_initial_speed(scene);
-  if (model == ContactModel::volume_paper && gravity == 0 && speed == 0) {
-    advice.limit =
-        "no load: the volume_paper law's stiffness is unbounded as the overlap vanishes and is "
-        "evaluated at the load a contact carries, and the scene has neither gravity nor an "
-        "initial speed";
+  const bool at_load =
+      with_contact_law(model, [](auto law) { return decltype(law)::kStiffnessAtLoad; });
+  if (at_load && gravity == 0 && speed == 0) {
+    advice.limit = std::string("no load: the ") + to_string(model) +
+                   " law's stiffness is unbounded as the overlap vanishes and is evaluated at "
+                   "the load a contact carries, and the scene has neither gravity nor an "
+                   "initial speed";
     return advice;
   }
 
@@ -209,38 +213,29 @@ TimeStepAdvice advise_time_step(const Scene& scene) {
       inverse_translational += 1 / pb->mass;
     }
 
-    switch (model) {
-      case ContactModel::volume:
-        // p(V) = K min(V/A_ref, V^(1/3)): below the switch k_n = K A_n^2 / A_ref, its largest
-        // value (docs/contact.md); above it the paper's K A_n^2 / (3 V^(2/3)) is softer.
-        kind.normal_stiffness = modulus * area * area / (M_PI * radius_min * radius_min);
-        break;
-      case ContactModel::volume_paper: {
-        // F = K A_n V^(1/3) (Eqs. 12-13) has dF/dd = K A^2 / (3 V^(2/3)) face on face (V = A d),
-        // unbounded as V -> 0, so the law has no stable step for every state; take the state it
-        // rests in. Under gravity: the heavier body's weight W = m_max |g| (a particle deeper in
-        // a bed carries more and is softer, since k falls as 1/W^2; a lighter, grazing contact
-        // is stiffer still and unbounded). Then V^(1/3) = W/(K A) and k_n = K^3 A^4 / (3 W^2).
-        // Without gravity: the peak force of a face-on impact at the scene's largest initial
-        // speed v, where the contact is softest: 1/2 m_eff v^2 = U(d) = 3/4 K A^(4/3) d^(4/3),
-        // F = K A^(4/3) d^(1/3), i.e. F = K A^(4/3) (2 m_eff v^2 / (3 K A^(4/3)))^(1/4).
-        double load = mass_max * gravity;
-        if (gravity == 0) {
-          const double a43 = std::pow(area, 4.0 / 3.0);
-          const double energy = 0.5 * speed * speed / inverse_translational;
-          load = modulus * a43 * std::pow(4 * energy / (3 * modulus * a43), 0.25);
-        }
-        kind.load = load;
-        kind.normal_stiffness = modulus * modulus * modulus * std::pow(area, 4) / (3 * load * load);
-        break;
-      }
-      case ContactModel::linear:
-        kind.normal_stiffness = effects.linear.stiffness;  // BLAZE-DEM Eq. 2
-        break;
-    }
+    // The law's k_n at the contact's stiffest state (contact/laws/), and its normal damping
+    // ratio (below).
+    StiffestContact stiffest;
+    stiffest.modulus = modulus;
+    stiffest.area = area;
+    stiffest.radius_min = radius_min;
+    stiffest.mass_max = mass_max;
+    stiffest.inverse_mass = inverse_translational;
+    stiffest.effective_mass = 1 / inverse_translational;
+    stiffest.gravity = gravity;
+    stiffest.speed = speed;
+    stiffest.linear_stiffness = effects.linear.stiffness;
+    stiffest.linear_damping = effects.linear.damping;
+    bool tangential_spring = false;
+    const AdvisedStiffness normal_stiffness = with_contact_law(model, [&](auto law) {
+      tangential_spring = decltype(law)::kTangentialHistory;
+      return decltype(law)::largest_normal_stiffness(stiffest);
+    });
+    kind.normal_stiffness = normal_stiffness.normal_stiffness;
+    kind.load = normal_stiffness.load;
     // The tangential spring k_t = G A_n (Eq. 19) acts only with friction (Eq. 17); the linear
     // law has none (its tangential force is a capped dashpot, BLAZE-DEM Eq. 3).
-    if (effects.friction && model != ContactModel::linear) kind.tangential_stiffness = shear * area;
+    if (effects.friction && tangential_spring) kind.tangential_stiffness = shear * area;
 
     // The inverse mass along the contact with the worst lever arm: 1/m + R_b^2 / I_min per body
     // (a unit force at distance R_b, its torque about the axis of least inertia). A sphere's
@@ -264,7 +259,6 @@ TimeStepAdvice advise_time_step(const Scene& scene) {
       }
       return w;
     };
-    const double m_eff = 1 / inverse_translational;
     // Damping ratios: the dashpots' own on m_eff, Eqs. 15 and 20's zeta(eps) for both volume
     // laws (volume_paper's calibrated c_n rebounds with the same eps), eta / (2 sqrt(k m_eff))
     // for the linear law. A mode with rotation meets its dashpot with a smaller mass, so a larger
@@ -272,10 +266,9 @@ TimeStepAdvice advise_time_step(const Scene& scene) {
     // together would refuse the tetrahedra's 1e-5 s (7e-6 s), which they run at rest
     // (tests/step/test_hard_cases.cpp).
     const double zeta = restitution_damping_ratio(restitution);
-    const double zeta_n =
-        model == ContactModel::linear
-            ? effects.linear.damping / (2 * std::sqrt(kind.normal_stiffness * m_eff))
-            : zeta;
+    const double zeta_n = with_contact_law(model, [&](auto law) {
+      return decltype(law)::normal_damping_ratio(stiffest, kind.normal_stiffness, zeta);
+    });
     const Mode normal = oscillator(kind.normal_stiffness, zeta_n, inverse_mass(true));
     const Mode tangential = oscillator(kind.tangential_stiffness, zeta, inverse_mass(false));
     const Mode& limiting = tangential.critical_step < normal.critical_step ? tangential : normal;

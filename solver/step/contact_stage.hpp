@@ -1,8 +1,9 @@
 // Host driver of the particle-particle contact stages: candidate pairs from the broad phase
 // (neighbor/contact_pairs.hpp: bounding spheres), per pair the geometry and the force law
-// (pair_kernels.hpp) into the pair's own record, compaction of the touching pairs, the history
-// store rebuilt from them (sorted global-id keys), and the deterministic accumulation in pair
-// order. Host code: std::vector and exceptions allowed here, not in the per-pair functions.
+// (pair_kernels.hpp, templated on the scene's law: compute picks it once per call from
+// contact/contact_laws.hpp) into the pair's own record, compaction of the touching pairs, the
+// history store rebuilt from them (sorted global-id keys), and the deterministic accumulation in
+// pair order. Host code: std::vector and exceptions allowed here, not in the per-pair functions.
 //
 // Threads (core/host_parallel.hpp): the pairs run on all of them, each with its own overlap
 // workspaces, and the accumulation runs per particle, each particle adding its contacts in pair
@@ -19,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "solver/contact/contact_laws.hpp"
 #include "solver/contact/damping_calibration.hpp"
 #include "solver/core/host_parallel.hpp"
 #include "solver/neighbor/contact_pairs.hpp"
@@ -36,14 +38,21 @@ class PairContactStage {
   // `threads`: how many the host loops use (>= 1; HostStep resolves the default).
   PairContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
                    int threads = 1)
-      : scene_(scene), bodies_(bodies), threads_(threads > 0 ? threads : 1), workspaces_(threads_) {
+      : scene_(scene),
+        bodies_(bodies),
+        model_(*scene.effects.contact),
+        threads_(threads > 0 ? threads : 1),
+        workspaces_(threads_) {
     const Effects& fx = scene.effects;
     const int n = static_cast<int>(scene.materials.size());
     for (const Material& m : scene.materials) {
       youngs_.push_back(Real(m.youngs_modulus));
       poisson_.push_back(Real(m.poisson_ratio));
     }
-    const bool volume = is_volume_model(*fx.contact);
+    const bool volume =
+        with_contact_law(model_, [](auto law) { return decltype(law)::kVolumeGeometry; });
+    const bool calibrated =
+        with_contact_law(model_, [](auto law) { return decltype(law)::kCalibratedDamping; });
     bool any_sphere = false, any_polyhedron = false;
     for (const ParticleTemplate& t : scene.templates) {
       (t.kind == ParticleShapeKind::sphere ? any_sphere : any_polyhedron) = true;
@@ -69,9 +78,7 @@ class PairContactStage {
         const double eps = scene.pair_restitution(a, b);
         restitution_.push_back(Real(eps));
         // beta(eps) of the calibrated damping: only the paper's law uses it.
-        damping_ratio_.push_back(*fx.contact == ContactModel::volume_paper
-                                     ? Real(calibrated_damping_ratio_for(eps))
-                                     : Real(0));
+        damping_ratio_.push_back(calibrated ? Real(calibrated_damping_ratio_for(eps)) : Real(0));
       }
     }
     tables_.bodies = bodies_.data();
@@ -81,7 +88,6 @@ class PairContactStage {
     tables_.pair_restitution = restitution_.data();
     tables_.pair_damping_ratio = damping_ratio_.data();
     tables_.materials = n;
-    tables_.law = law_of(*fx.contact);
     tables_.with_friction = fx.friction;
     tables_.time_step = Real(scene.time_step);
     tables_.linear.stiffness = Real(fx.linear.stiffness);
@@ -103,6 +109,12 @@ class PairContactStage {
   // Narrow phase, overlap and force law per candidate; compaction; the next history store.
   // A degenerate pair throws after the loop, the lowest pair index first, as the serial loop did.
   void compute(const ParticleView<Real>& p, Real spring_dt) {
+    with_contact_law(model_, [&](auto law) { compute<decltype(law)>(p, spring_dt); });
+  }
+
+  // compute under the law Law (the scene's).
+  template <class Law>
+  void compute(const ParticleView<Real>& p, Real spring_dt) {
     const long long count = static_cast<long long>(candidates_.size());
     records_.resize(candidates_.size());
     const int old_count = static_cast<int>(keys_.size());
@@ -111,9 +123,9 @@ class PairContactStage {
     parallel_for_dynamic(threads_, count, 64, [&](long long k) {
       int ia, ib;
       order_pair(p, tables_, candidates_[k].a, candidates_[k].b, ia, ib);
-      const PairGeometryData<Real> g = geometry(p, ia, ib, workspaces_[host_thread_index()]);
-      records_[k] = pair_contact_force(p, tables_, ia, ib, g, spring_dt, keys_.data(),
-                                       histories_.data(), old_count);
+      const PairGeometryData<Real> g = geometry<Law>(p, ia, ib, workspaces_[host_thread_index()]);
+      records_[k] = pair_contact_force<Law>(p, tables_, ia, ib, g, spring_dt, keys_.data(),
+                                            histories_.data(), old_count);
     });
     for (const PairContactRecord<Real>& r : records_) {
       if (r.degenerate) {
@@ -125,7 +137,7 @@ class PairContactStage {
     for (const PairContactRecord<Real>& r : records_) {
       if (r.in_contact) contacts_.push_back(r);
     }
-    if (has_volume_geometry(tables_.law)) sort_histories_by_key(contacts_, keys_, histories_);
+    if constexpr (Law::kTangentialHistory) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
   // Per-particle sums in pair order (deterministic): each particle's contacts listed in pair
@@ -203,13 +215,23 @@ class PairContactStage {
     std::size_t bytes = 0;
   };
 
+  // The pair's geometry under Law: two polyhedra under a law of volume geometry need an overlap
+  // workspace (polyhedra_geometry), the rest none.
+  template <class Law>
   PairGeometryData<Real> geometry(const ParticleView<Real>& p, int ia, int ib,
                                   Workspaces& ws) const {
-    const BodyProperties<Real>& a = bodies_[p.template_id[ia]];
-    const BodyProperties<Real>& b = bodies_[p.template_id[ib]];
-    if (!has_volume_geometry(tables_.law) || a.sphere || b.sphere) {
-      return simple_pair_geometry(p, tables_, ia, ib);
+    if constexpr (Law::kVolumeGeometry) {
+      const BodyProperties<Real>& a = bodies_[p.template_id[ia]];
+      const BodyProperties<Real>& b = bodies_[p.template_id[ib]];
+      if (!a.sphere && !b.sphere) return polyhedra_geometry(p, ia, ib, a, b, ws);
     }
+    return simple_pair_geometry<Law>(p, tables_, ia, ib);
+  }
+
+  // Two polyhedra's overlap, in the workspace of their capacity.
+  PairGeometryData<Real> polyhedra_geometry(const ParticleView<Real>& p, int ia, int ib,
+                                            const BodyProperties<Real>& a,
+                                            const BodyProperties<Real>& b, Workspaces& ws) const {
     const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
     const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
     switch (overlap_capacity_for(a.faces + b.faces)) {
@@ -235,6 +257,7 @@ class PairContactStage {
 
   const Scene& scene_;
   const std::vector<BodyProperties<Real>>& bodies_;
+  ContactModel model_;  // the scene's law, dispatched on once per compute
   int threads_;
   std::vector<Workspaces> workspaces_;  // per thread
   std::vector<Real> youngs_, poisson_, friction_, restitution_, damping_ratio_;

@@ -6,6 +6,7 @@
 
 #include <cstring>
 
+#include "solver/contact/contact_laws.hpp"
 #include "solver/core/cub_call.cuh"
 
 namespace talus {
@@ -87,7 +88,11 @@ __global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int
 
 template <class Real>
 DevicePairList<Real>::DevicePairList(DeviceStepShared<Real>& shared, Real skin)
-    : shared_(shared), skin_(skin) {
+    : shared_(shared),
+      tangential_history_(
+          with_contact_law(*shared.scene.effects.contact,
+                           [](auto law) { return decltype(law)::kTangentialHistory; })),
+      skin_(skin) {
   bind_particles();
   largest_move_.resize(1);
 }
@@ -135,7 +140,7 @@ bool DevicePairList<Real>::expired() {
 template <class Real>
 int DevicePairList<Real>::store_touching_histories() {
   const int old = builds_ > 0 ? candidates_ : 0;
-  if (!has_volume_geometry(shared_.tables.law) || old == 0) return 0;
+  if (!tangential_history_ || old == 0) return 0;
   old_keys_.grow_to(old), old_touching_.grow_to(old);
   store_keys_.grow_to(old), store_histories_.grow_to(old);
   key_slots<<<blocks_for(old), kBlock>>>(shared_.global_ids.data(), pairs(), old,
@@ -161,11 +166,12 @@ int DevicePairList<Real>::store_touching_histories() {
   return stored;
 }
 
-// The new slots: the stored histories carried over (volume model), every slot apart.
+// The new slots: the stored histories carried over (a law with a tangential history), every slot
+// apart.
 template <class Real>
 void DevicePairList<Real>::carry_histories(int stored) {
   slot_state_.grow_to(candidates_);
-  if (has_volume_geometry(shared_.tables.law)) slot_history_.grow_to(candidates_);
+  if (tangential_history_) slot_history_.grow_to(candidates_);
   if (candidates_ == 0) return;
   carry_histories_kernel<<<blocks_for(candidates_), kBlock>>>(
       shared_.global_ids.data(), pairs(), candidates_, store_keys_.data(), store_histories_.data(),
@@ -209,7 +215,7 @@ void DevicePairList<Real>::export_histories(std::vector<PairKey>& keys,
 template <class Real>
 void DevicePairList<Real>::import_histories(
     const std::vector<PairKey>& keys, const std::vector<ContactHistoryData<Real>>& histories) {
-  imported_ = has_volume_geometry(shared_.tables.law) ? static_cast<int>(keys.size()) : 0;
+  imported_ = tangential_history_ ? static_cast<int>(keys.size()) : 0;
   if (imported_ == 0) return;
   store_keys_.grow_to(imported_), store_histories_.grow_to(imported_);
   TALUS_CUDA_CHECK(cudaMemcpy(store_keys_.data(), keys.data(), imported_ * sizeof(PairKey),

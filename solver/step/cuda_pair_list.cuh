@@ -1,10 +1,10 @@
 // The CUDA step's pair list (a Verlet list) and its slots. The broad phase (ContactPairsGpu, with
 // the scene's skin) gives the candidate pairs; the list is kept until some particle has moved
 // 0.45 skin since it was built, and each candidate keeps its slot: the pair's tangential history
-// (volume model), its state and, in deterministic mode, its force. A rebuild carries the
-// touching slots' histories over to the new slots of the same pairs, by global ids (a sorted
-// store and find_pair_key), and in deterministic mode builds each particle's slots in slot order
-// (a CSR over the list) for the accumulation. Included only from .cu files.
+// (a law with one: contact/laws/), its state and, in deterministic mode, its force. A rebuild
+// carries the touching slots' histories over to the new slots of the same pairs, by global ids (a
+// sorted store and find_pair_key), and in deterministic mode builds each particle's slots in slot
+// order (a CSR over the list) for the accumulation. Included only from .cu files.
 #pragma once
 
 #include <memory>
@@ -31,7 +31,8 @@ class DevicePairList {
   // carrying the touching slots' histories over as any rebuild does.
   void particles_changed();
 
-  // The touching slots' keys and histories, sorted by key (volume model; else none). After
+  // The touching slots' keys and histories, sorted by key (a law with a tangential history; else
+  // none). After
   // import_histories and before the next update: the imported store.
   void export_histories(std::vector<PairKey>& keys,
                         std::vector<ContactHistoryData<Real>>& histories);
@@ -46,8 +47,8 @@ class DevicePairList {
   const ContactPair* pairs() const { return broad_phase_.device_pairs(); }
   unsigned char* slot_state() { return slot_state_.data(); }
   const unsigned char* slot_state() const { return slot_state_.data(); }
-  ContactHistoryData<Real>* histories() {  // volume model only, else null
-    return has_volume_geometry(shared_.tables.law) ? slot_history_.data() : nullptr;
+  ContactHistoryData<Real>* histories() {  // a law with a tangential history only, else null
+    return tangential_history_ ? slot_history_.data() : nullptr;
   }
   SlotForce<Real>* forces() {  // deterministic mode only, else null
     return deterministic() ? slot_forces_.data() : nullptr;
@@ -71,6 +72,8 @@ class DevicePairList {
   void build_csr();
 
   DeviceStepShared<Real>& shared_;
+  // The scene's law has a tangential history (its trait, read once through the laws' table).
+  bool tangential_history_ = false;
   ContactPairsGpu<Real> broad_phase_;
   Real skin_ = 0;
   long long builds_ = 0;

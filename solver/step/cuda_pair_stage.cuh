@@ -21,7 +21,7 @@ template <class Real>
 class DevicePairStage {
  public:
   // The workspace capacities come from the scene's templates (host views, for their counts of
-  // faces) under the shared tables' contact model.
+  // faces) under the scene's contact law.
   DevicePairStage(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
                   const std::vector<BodyProperties<Real>>& host_bodies);
   ~DevicePairStage();
@@ -38,11 +38,16 @@ class DevicePairStage {
   std::size_t bytes() const;
 
  private:
+  // Templated on the scene's contact law (contact/laws/), which compute picks once per call.
+  template <class Law>
+  void launch_all(int candidates);
+  template <class Law>
   void launch_pairs(int capacity, const int* slots, int n);
-  template <int Capacity>
+  template <class Law, int Capacity>
   void launch_pairs(const int* slots, int n);
-  template <int Cap>
+  template <class Law, int Cap>
   void launch_polytopes(int begin, int n, cudaStream_t stream);
+  template <class Law>
   void compute_phased();
 
   DeviceStepShared<Real>& shared_;

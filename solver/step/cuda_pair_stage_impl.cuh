@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "solver/contact/contact_laws.hpp"
 #include "solver/core/cub_call.cuh"
 #include "solver/step/pair_kernels.hpp"
 
@@ -21,12 +22,12 @@ namespace {
 
 // ---- Pair contacts (pair_kernels.hpp) ----
 
-// The workspace capacity of the ordered pair (ia, ib): 0 when its geometry needs none (linear
-// model, spheres), else overlap_capacity_for of the two templates' faces, as the host picks it.
-template <class Real>
-TALUS_HD int pair_capacity(const BodyProperties<Real>& a, const BodyProperties<Real>& b,
-                           ContactLaw law) {
-  if (!has_volume_geometry(law) || a.sphere || b.sphere) return 0;
+// The workspace capacity of the ordered pair (ia, ib) under Law: 0 when its geometry needs none
+// (the linear law, spheres), else overlap_capacity_for of the two templates' faces, as the host
+// picks it.
+template <class Law, class Real>
+TALUS_HD int pair_capacity(const BodyProperties<Real>& a, const BodyProperties<Real>& b) {
+  if (!Law::kVolumeGeometry || a.sphere || b.sphere) return 0;
   return overlap_capacity_for(a.faces + b.faces);
 }
 
@@ -42,7 +43,7 @@ __device__ void atomic_add(const Soa3<Real>& s, int i, const Vec3<Real>& v) {
 // rebuild, which carries the histories over), the slot's state, and the force: added to the
 // two particles at once by atomics (Atomic, deterministic: false) or kept in the slot for
 // accumulate_kernel. Returns whether the pair touches.
-template <class Real, bool Atomic>
+template <class Law, class Real, bool Atomic>
 __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Real>& t,
                             const ContactPair& pair, int ia, int ib, int k,
                             const PairGeometryData<Real>& g, Real spring_dt,
@@ -52,7 +53,7 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
                             double* __restrict__ energy_sums) {
   ContactHistoryData<Real> previous;
   if (histories && g.in_contact) previous = histories[k];
-  const PairContactRecord<Real> r = pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
+  const PairContactRecord<Real> r = pair_contact_force<Law>(p, t, ia, ib, g, spring_dt, previous);
   if (histories) histories[k] = r.in_contact ? r.history : ContactHistoryData<Real>();
   slot_state[k] = !r.in_contact ? slot_apart : (ia == pair.a ? slot_a_first : slot_b_first);
   if (r.degenerate) atomicMin(flag + degenerate_pair, k);
@@ -86,7 +87,7 @@ template <class Real>
 struct SlotArgs {
   const ContactPair* pairs = nullptr;
   Real spring_dt = 0;
-  ContactHistoryData<Real>* histories = nullptr;  // volume model
+  ContactHistoryData<Real>* histories = nullptr;  // a law with a tangential history
   SlotForce<Real>* forces = nullptr;              // deterministic mode
   unsigned char* slot_state = nullptr;
   int* flag = nullptr;
@@ -100,8 +101,8 @@ struct SlotArgs {
 // capacity present in the scene computes the rest), so a thread's local memory is the
 // workspace of its own template pair. Used for the linear model and spheres (Capacity 0), for
 // template pairs with more than 64 faces together, and for the few pairs the phased kernels
-// defer.
-template <class Real, int Capacity, bool Atomic>
+// defer. Law: the scene's contact law (contact/laws/).
+template <class Law, class Real, int Capacity, bool Atomic>
 __global__ void __launch_bounds__(kBlock)
     pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, const int* slots,
                 int count) {
@@ -114,18 +115,19 @@ __global__ void __launch_bounds__(kBlock)
     order_pair(p, t, pair.a, pair.b, ia, ib);
     const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
     const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
-    if (pair_capacity(a, b, t.law) == Capacity) {
+    if (pair_capacity<Law>(a, b) == Capacity) {
       PairGeometryData<Real> g;
       if constexpr (Capacity == 0) {
-        g = simple_pair_geometry(p, t, ia, ib);
+        g = simple_pair_geometry<Law>(p, t, ia, ib);
       } else {
         const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
         const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
         OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
         g = polyhedra_volume_geometry(a.shape, pose_a, b.shape, pose_b, workspace);
       }
-      in_contact = finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories,
-                                             s.forces, s.slot_state, s.flag, s.energy_sums);
+      in_contact =
+          finish_slot<Law, Real, Atomic>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories,
+                                         s.forces, s.slot_state, s.flag, s.energy_sums);
     }
   }
   count_touching(in_contact, s.touching);
@@ -147,8 +149,9 @@ constexpr unsigned char kOtherPath = 255;  // a slot phase 1 leaves to pair_kern
 // model, more than 64 faces). `histogram` counts the keys 0 .. 65 (one atomic per block and key).
 // Register-bound: 164 registers a thread left 6 warps per SM; capped for 4 blocks (16 warps)
 // the kernel ran 1.2x faster in the step (H100, the 1e6 bed: pair stage 23.4 -> 21.5 ms), while
-// the polytope kernel's caps (6 or 8 blocks) spilled and lost 1.2-1.5x.
-template <class Real>
+// the polytope kernel's caps (6 or 8 blocks) spilled and lost 1.2-1.5x. Law: a law of volume
+// geometry (the phased path is only theirs).
+template <class Law, class Real>
 __global__ void __launch_bounds__(kBlock, 4)
     cull_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, int count,
                      unsigned long long* __restrict__ masks, unsigned char* __restrict__ keys,
@@ -164,7 +167,7 @@ __global__ void __launch_bounds__(kBlock, 4)
     const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
     const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
     unsigned char key = kOtherPath;
-    if (pair_capacity(a, b, t.law) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
+    if (pair_capacity<Law>(a, b) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
       const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
       const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
       // As polyhedra_volume_geometry: GJK first, then the overlap's own culling.
@@ -180,8 +183,8 @@ __global__ void __launch_bounds__(kBlock, 4)
           g = volume_geometry_from(result);  // separate, touching or degenerate: no contact
       }
       if (kept < 0) {
-        finish_slot<Real, false>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories, s.forces,
-                                 s.slot_state, s.flag, s.energy_sums);
+        finish_slot<Law, Real, false>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories, s.forces,
+                                      s.slot_state, s.flag, s.energy_sums);
         key = 0;
       } else {
         key = static_cast<unsigned char>(kept + 1);
@@ -200,7 +203,7 @@ __global__ void __launch_bounds__(kBlock, 4)
 // in a workspace of Cap planes (by the vertex enumeration alone for 8), then the force. A pair
 // the workspace cannot hold (the hull needs more room than its planes suggest; rare) or the
 // enumeration declines is appended to `deferred` for pair_kernel.
-template <class Real, int Cap, bool Atomic>
+template <class Law, class Real, int Cap, bool Atomic>
 __global__ void __launch_bounds__(kBlock)
     polytope_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s,
                          const int* __restrict__ order, int begin, int count,
@@ -231,9 +234,9 @@ __global__ void __launch_bounds__(kBlock)
     if (overlap.workspace_overrun) {
       deferred[atomicAdd(deferred_count, 1)] = k;
     } else {
-      in_contact = finish_slot<Real, Atomic>(p, t, pair, ia, ib, k, volume_geometry_from(overlap),
-                                             s.spring_dt, s.histories, s.forces, s.slot_state,
-                                             s.flag, s.energy_sums);
+      in_contact = finish_slot<Law, Real, Atomic>(
+          p, t, pair, ia, ib, k, volume_geometry_from(overlap), s.spring_dt, s.histories, s.forces,
+          s.slot_state, s.flag, s.energy_sums);
     }
   }
   count_touching(in_contact, s.touching);
@@ -267,7 +270,9 @@ DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePai
   // One pair launch per workspace capacity among the scene's template pairs.
   for (const BodyProperties<Real>& a : host_bodies) {
     for (const BodyProperties<Real>& b : host_bodies) {
-      const int capacity = pair_capacity(a, b, shared.tables.law);
+      const int capacity = with_contact_law(*shared.scene.effects.contact, [&](auto law) {
+        return pair_capacity<decltype(law)>(a, b);
+      });
       if (std::find(capacities_.begin(), capacities_.end(), capacity) == capacities_.end())
         capacities_.push_back(capacity);
     }
@@ -291,39 +296,46 @@ DevicePairStage<Real>::~DevicePairStage() {
 
 // pair_kernel for the pairs of capacity Capacity among `slots` (all slots when null).
 template <class Real>
-template <int Capacity>
+template <class Law, int Capacity>
 void DevicePairStage<Real>::launch_pairs(const int* slots, int n) {
   if (n <= 0) return;
   const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
   const ParticleView<Real>& v = shared_.view;
   if (shared_.scene.deterministic) {
-    pair_kernel<Real, Capacity, false>
+    pair_kernel<Law, Real, Capacity, false>
         <<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
   } else {
-    pair_kernel<Real, Capacity, true><<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
+    pair_kernel<Law, Real, Capacity, true>
+        <<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
   }
   TALUS_CUDA_LAUNCH_CHECK();
 }
 
+// A law without volume geometry has only capacity 0 (no workspace kernels are made for it).
 template <class Real>
+template <class Law>
 void DevicePairStage<Real>::launch_pairs(int capacity, const int* slots, int n) {
-  switch (capacity) {
-    case 0:
-      return launch_pairs<0>(slots, n);
-    case 32:
-      return launch_pairs<32>(slots, n);
-    case 64:
-      return launch_pairs<64>(slots, n);
-    case 128:
-      return launch_pairs<128>(slots, n);
-    default:
-      return launch_pairs<256>(slots, n);
+  if constexpr (!Law::kVolumeGeometry) {
+    return launch_pairs<Law, 0>(slots, n);
+  } else {
+    switch (capacity) {
+      case 0:
+        return launch_pairs<Law, 0>(slots, n);
+      case 32:
+        return launch_pairs<Law, 32>(slots, n);
+      case 64:
+        return launch_pairs<Law, 64>(slots, n);
+      case 128:
+        return launch_pairs<Law, 128>(slots, n);
+      default:
+        return launch_pairs<Law, 256>(slots, n);
+    }
   }
 }
 
 // Phase 2 with a workspace of Cap planes over the sorted slots [begin, begin + n), on `stream`.
 template <class Real>
-template <int Cap>
+template <class Law, int Cap>
 void DevicePairStage<Real>::launch_polytopes(int begin, int n, cudaStream_t stream) {
   if (n <= 0) return;
   const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
@@ -334,21 +346,22 @@ void DevicePairStage<Real>::launch_polytopes(int begin, int n, cudaStream_t stre
     TALUS_CUDA_LAUNCH_CHECK();
   };
   if (shared_.scene.deterministic) {
-    launch(polytope_pair_kernel<Real, Cap, false>);
+    launch(polytope_pair_kernel<Law, Real, Cap, false>);
   } else {
-    launch(polytope_pair_kernel<Real, Cap, true>);
+    launch(polytope_pair_kernel<Law, Real, Cap, true>);
   }
 }
 
 // The phased path over every slot: cull, sort by kept planes, polytopes, deferred pairs.
 template <class Real>
+template <class Law>
 void DevicePairStage<Real>::compute_phased() {
   const int n = list_.candidates();
   masks_.grow_to(n), keys_.grow_to(n), sorted_keys_.grow_to(n);
   order_.grow_to(n), sorted_order_.grow_to(n);
   histogram_.grow_to(kMaxMaskPlanes + 2);
   TALUS_CUDA_CHECK(cudaMemset(histogram_.data(), 0, histogram_.size() * sizeof(int)));
-  cull_pair_kernel<<<blocks_for(n), kBlock>>>(
+  cull_pair_kernel<Law><<<blocks_for(n), kBlock>>>(
       shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_), n, masks_.data(),
       keys_.data(), order_.data(), histogram_.data());
   TALUS_CUDA_LAUNCH_CHECK();
@@ -373,13 +386,27 @@ void DevicePairStage<Real>::compute_phased() {
     for (; m <= (8 << size); ++m) begin[size + 1] += counts[m + 1];
   }
   const auto bucket = [&](int size) { return begin[size + 1] - begin[size]; };
-  launch_polytopes<64>(begin[3], bucket(3), streams_[3]);
-  launch_polytopes<32>(begin[2], bucket(2), streams_[2]);
-  launch_polytopes<16>(begin[1], bucket(1), streams_[1]);
-  launch_polytopes<8>(begin[0], bucket(0), streams_[0]);
+  launch_polytopes<Law, 64>(begin[3], bucket(3), streams_[3]);
+  launch_polytopes<Law, 32>(begin[2], bucket(2), streams_[2]);
+  launch_polytopes<Law, 16>(begin[1], bucket(1), streams_[1]);
+  launch_polytopes<Law, 8>(begin[0], bucket(0), streams_[0]);
   const int late = shared_.flags.read(deferred_pairs);
   for (const int capacity : capacities_) {
-    if (capacity > 0 && capacity <= kMaxMaskPlanes) launch_pairs(capacity, deferred_.data(), late);
+    if (capacity > 0 && capacity <= kMaxMaskPlanes)
+      launch_pairs<Law>(capacity, deferred_.data(), late);
+  }
+}
+
+// The launches under the scene's law Law; the phased path only for a law of volume geometry.
+template <class Real>
+template <class Law>
+void DevicePairStage<Real>::launch_all(int candidates) {
+  if constexpr (Law::kVolumeGeometry) {
+    if (phased_) compute_phased<Law>();
+  }
+  for (const int capacity : capacities_) {
+    if (!phased_ || capacity == 0 || capacity > kMaxMaskPlanes)
+      launch_pairs<Law>(capacity, nullptr, candidates);
   }
 }
 
@@ -390,11 +417,8 @@ void DevicePairStage<Real>::compute(Real spring_dt) {
   const int candidates = list_.candidates();
   if (candidates == 0) return;
   spring_dt_ = spring_dt;
-  if (phased_) compute_phased();
-  for (const int capacity : capacities_) {
-    if (!phased_ || capacity == 0 || capacity > kMaxMaskPlanes)
-      launch_pairs(capacity, nullptr, candidates);
-  }
+  with_contact_law(*shared_.scene.effects.contact,
+                   [&](auto law) { launch_all<decltype(law)>(candidates); });
   const int bad = shared_.flags.read(degenerate_pair);
   if (bad != INT_MAX) {
     const ContactPair pair = download(list_.pairs() + bad, 1)[0];

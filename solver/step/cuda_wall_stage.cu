@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "solver/contact/contact_laws.hpp"
 #include "solver/core/cub_call.cuh"
 #include "solver/step/wall_kernels.hpp"
 
@@ -28,7 +29,8 @@ struct WallArgs {
 // `touching[0 .. capacity)`, their number counted in flag[touching_walls] even past the capacity
 // (the caller then grows the buffer and runs the kernel again: it only reads the old histories, so
 // a second run writes the same records); order_wall_contacts then puts them in wall-major order.
-template <class Real>
+// Law: the scene's contact law (contact/laws/).
+template <class Law, class Real>
 __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
                             Real spring_dt, HistoryIn old,
                             const ContactHistoryData<Real>* __restrict__ histories,
@@ -38,8 +40,8 @@ __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArg
   if (k >= static_cast<long long>(p.count) * walls.walls) return;
   const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
   const WallContactRecord<Real> r =
-      wall_contact(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w], spring_dt,
-                   old.keys, histories, old.count);
+      wall_contact<Law>(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w],
+                        spring_dt, old.keys, histories, old.count);
   if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
   if (!r.in_contact) return;
   const int at = atomicAdd(flag + touching_walls, 1);
@@ -223,9 +225,11 @@ void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
     if (touching_.size() == 0) touching_.grow_to(std::min<long long>(n, 64));
     for (;;) {
       const int capacity = static_cast<int>(touching_.size());
-      wall_kernel<<<blocks_for(n), kBlock>>>(shared_.view, shared_.tables, args, spring_dt,
-                                             history_.in(), history_.values(), touching_.data(),
-                                             capacity, shared_.flags.data());
+      with_contact_law(*shared_.scene.effects.contact, [&](auto law) {
+        wall_kernel<decltype(law)><<<blocks_for(n), kBlock>>>(
+            shared_.view, shared_.tables, args, spring_dt, history_.in(), history_.values(),
+            touching_.data(), capacity, shared_.flags.data());
+      });
       TALUS_CUDA_LAUNCH_CHECK();
       const int bad = shared_.flags.read(degenerate_wall);
       if (bad != INT_MAX) {
@@ -241,7 +245,9 @@ void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
     }
   }
   if (contact_count_ > 0) sort_records(n);
-  if (has_volume_geometry(shared_.tables.law)) rebuild_history();
+  const bool tangential_history = with_contact_law(
+      *shared_.scene.effects.contact, [](auto law) { return decltype(law)::kTangentialHistory; });
+  if (tangential_history) rebuild_history();
   sums_ready_ = false;
 }
 

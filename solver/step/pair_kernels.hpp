@@ -1,11 +1,13 @@
 // The per-pair stage of the step (one thread per candidate pair on the GPU, a loop on the host):
 // the pair's geometry, its previous history looked up by global ids, the force law of the
-// scene's contact model, and the contact written to the pair's own slot. Nothing is accumulated
+// scene's contact model, and the contact written to the pair's own slot. The functions are
+// templated on the law (contact/laws/; the host picks it once per stage call through
+// contact/contact_laws.hpp). Nothing is accumulated
 // here, so the result does not depend on the order in which pairs run; accumulate_pair_forces
 // then sums per particle in pair order.
 #pragma once
 
-#include "solver/contact/force_law.hpp"
+#include "solver/contact/laws/law_common.hpp"
 #include "solver/contact/pair_geometry.hpp"
 #include "solver/contact/tangential_history.hpp"
 #include "solver/step/particle_kernels.hpp"
@@ -24,38 +26,11 @@ struct PairLawTables {
   const Real* pair_restitution = nullptr;
   const Real* pair_damping_ratio = nullptr;
   int materials = 0;
-  ContactLaw law = ContactLaw::volume;
   bool with_friction = false;
   NormalDampingModel damping = NormalDampingModel::calibrated;
   Real time_step = 0;          // s
   LinearLawData<Real> linear;  // K_N, eta, gamma (friction filled per pair)
 };
-
-// The volume law's parameters for material pair `pair` (a * materials + b) and effective mass m.
-template <class Real>
-TALUS_HD inline VolumeLawData<Real> volume_law(const PairLawTables<Real>& t, int pair,
-                                               Real effective_mass) {
-  VolumeLawData<Real> law;
-  law.effective_mass = effective_mass;
-  law.restitution = t.pair_restitution[pair];
-  law.friction = t.pair_friction[pair];
-  law.damping_ratio = t.pair_damping_ratio[pair];
-  law.time_step = t.time_step;
-  law.with_friction = t.with_friction;
-  // The default law's damping is Eq. 15's on its bounded stiffness (docs/contact.md).
-  law.damping = t.law == ContactLaw::volume ? NormalDampingModel::paper : t.damping;
-  law.bounded_spring_energy = t.law == ContactLaw::volume;
-  return law;
-}
-
-// The linear law's parameters (K_N, eta, gamma of the scene) with material pair `pair`'s mu.
-template <class Real>
-TALUS_HD inline LinearLawData<Real> linear_law(const PairLawTables<Real>& t, int pair) {
-  LinearLawData<Real> law = t.linear;
-  law.friction = t.pair_friction[pair];
-  law.with_friction = t.with_friction;
-  return law;
-}
 
 template <class Real>
 struct PairContactRecord {
@@ -100,10 +75,10 @@ TALUS_HD inline void order_pair(const ParticleView<Real>& p, const PairLawTables
   ib = swap ? i : j;
 }
 
-// Geometry for the ordered pair (ia, ib) except polyhedra in the volume model, which need an
-// overlap workspace (polyhedra_volume_geometry, called by the backend with the capacity of the
-// two templates).
-template <class Real>
+// Geometry for the ordered pair (ia, ib) except polyhedra under a law of volume geometry, which
+// need an overlap workspace (polyhedra_volume_geometry, called by the backend with the capacity
+// of the two templates).
+template <class Law, class Real>
 TALUS_HD inline PairGeometryData<Real> simple_pair_geometry(const ParticleView<Real>& p,
                                                             const PairLawTables<Real>& t, int ia,
                                                             int ib) {
@@ -111,10 +86,11 @@ TALUS_HD inline PairGeometryData<Real> simple_pair_geometry(const ParticleView<R
   const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
   const Vec3<Real> xa = p.position.get(ia), xb = p.position.get(ib);
   if (a.sphere && b.sphere) {
-    return has_volume_geometry(t.law)
-               ? sphere_lens_geometry(xa, a.sphere_radius, xb, b.sphere_radius)
-               : from_simple_contact(
-                     sphere_sphere_contact(xa, a.sphere_radius, xb, b.sphere_radius));
+    if constexpr (Law::kVolumeGeometry) {
+      return sphere_lens_geometry(xa, a.sphere_radius, xb, b.sphere_radius);
+    } else {
+      return from_simple_contact(sphere_sphere_contact(xa, a.sphere_radius, xb, b.sphere_radius));
+    }
   }
   const Pose<Real> pose_a{xa, p.orientation.get(ia)};
   if (b.sphere) {
@@ -128,7 +104,7 @@ TALUS_HD inline PairGeometryData<Real> simple_pair_geometry(const ParticleView<R
 // the step before (stored as seen from the lower global id as A; the default when the pair was
 // not touching). `spring_dt` is the time the spring advances by (0 for the evaluation before the
 // first step). The record's history is the one to keep for the next step.
-template <class Real>
+template <class Law, class Real>
 TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Real>& p,
                                                            const PairLawTables<Real>& t, int ia,
                                                            int ib, const PairGeometryData<Real>& g,
@@ -149,45 +125,47 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
   c.point = g.point;
   ContactForceData<Real> f;
   r.key = make_pair_key(p.global_id[ia], p.global_id[ib]);
-  if (has_volume_geometry(t.law)) {
+  if constexpr (Law::kVolumeGeometry) {
     const Real ea = t.youngs_modulus[ma], eb = t.youngs_modulus[mb];
     const Real stiffness = ea / a.equivalent_radius + eb / b.equivalent_radius;  // Eq. 13 / A_n
     const Real shear =
         ea / (Real(2) * (Real(1) + t.poisson_ratio[ma]) * a.equivalent_radius) +
         eb / (Real(2) * (Real(1) + t.poisson_ratio[mb]) * b.equivalent_radius);  // Eq. 19 / A_n
-    const VolumePressure<Real> pv =
-        volume_pressure(t.law, stiffness,
-                        volume_reference_area(a.equivalent_radius, b.equivalent_radius), g.volume);
-    if (t.law == ContactLaw::volume_paper) {
-      c.normal_stiffness = stiffness * g.area;               // Eq. 13
-      c.elastic = c.normal_stiffness * std::cbrt(g.volume);  // Eq. 12
-    } else {
-      c.normal_stiffness = pv.slope * g.area * g.area;  // p' A_n^2, bounded
-      c.elastic = pv.pressure * g.area;
-    }
+    const NormalElastic<Real> e = Law::contact_elastic(
+        stiffness, volume_reference_area(a.equivalent_radius, b.equivalent_radius), g.volume,
+        g.area);
+    c.normal_stiffness = e.stiffness;
+    c.elastic = e.force;
     c.tangential_stiffness = shear * g.area;  // Eq. 19
     c.area = g.area;
-    c.potential = pv.energy;
-    const VolumeLawData<Real> law = volume_law(t, pair, a.mass * b.mass / (a.mass + b.mass));
+    c.potential = e.energy;
+  } else {
+    const NormalElastic<Real> e = Law::contact_elastic(t.linear.stiffness, g.depth);
+    c.elastic = e.force;
+    c.potential = e.energy;
+  }
+  const auto law = Law::parameters(t, pair, a.mass * b.mass / (a.mass + b.mass));
+  if constexpr (Law::kTangentialHistory) {
     ContactHistoryData<Real> history = previous;
     // The elastic force is stored as on the lower id as A.
     const Real sign = p.global_id[ia] == r.key.low ? Real(1) : Real(-1);
     history.elastic_force *= sign;
-    f = volume_contact_force(c, law, v_r, spring_dt, history);
+    f = Law::force(c, law, v_r, spring_dt, history);
     history.elastic_force *= sign;
     r.history = history;
   } else {
-    c.elastic = t.linear.stiffness * g.depth;
-    c.potential = Real(0.5) * c.elastic * g.depth;
-    f = linear_contact_force(c, linear_law(t, pair), v_r);
+    ContactHistoryData<Real> none;
+    f = Law::force(c, law, v_r, spring_dt, none);
   }
   r.in_contact = true;
   r.point = g.point;
   r.force_on_a = f.total();
-  if (t.law == ContactLaw::volume && p.angular_velocity.present()) {
-    r.couple =
-        patch_couple(f, c.normal, c.area, t.pair_friction[pair],
-                     world_angular_velocity(p, ia) - world_angular_velocity(p, ib), f.dissipation);
+  if constexpr (Law::kPatchCouple) {
+    if (p.angular_velocity.present()) {
+      r.couple = patch_couple(f, c.normal, c.area, t.pair_friction[pair],
+                              world_angular_velocity(p, ia) - world_angular_velocity(p, ib),
+                              f.dissipation);
+    }
   }
   r.normal_energy = c.potential;
   r.tangential_energy = f.spring_energy;
@@ -196,18 +174,20 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
 }
 
 // The same, with the previous history found among old_keys[0 .. old_count) (sorted by key).
-template <class Real>
+template <class Law, class Real>
 TALUS_HD inline PairContactRecord<Real> pair_contact_force(
     const ParticleView<Real>& p, const PairLawTables<Real>& t, int ia, int ib,
     const PairGeometryData<Real>& g, Real spring_dt, const PairKey* old_keys,
     const ContactHistoryData<Real>* old_histories, int old_count) {
   ContactHistoryData<Real> previous;
-  if (g.in_contact && has_volume_geometry(t.law)) {
-    const int found =
-        find_pair_key(old_keys, old_count, make_pair_key(p.global_id[ia], p.global_id[ib]));
-    if (found >= 0) previous = old_histories[found];
+  if constexpr (Law::kTangentialHistory) {
+    if (g.in_contact) {
+      const int found =
+          find_pair_key(old_keys, old_count, make_pair_key(p.global_id[ia], p.global_id[ib]));
+      if (found >= 0) previous = old_histories[found];
+    }
   }
-  return pair_contact_force(p, t, ia, ib, g, spring_dt, previous);
+  return pair_contact_force<Law>(p, t, ia, ib, g, spring_dt, previous);
 }
 
 // Adds one contact's force and torques (Eqs. 21-22) to its two particles. Called over the

@@ -7,23 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "solver/contact/force_law.hpp"
 #include "solver/scene/scene.hpp"
 
 namespace talus {
-
-// The kernels' law for the scene's contact model.
-inline ContactLaw law_of(ContactModel model) {
-  switch (model) {
-    case ContactModel::volume:
-      return ContactLaw::volume;
-    case ContactModel::volume_paper:
-      return ContactLaw::volume_paper;
-    case ContactModel::linear:
-      break;
-  }
-  return ContactLaw::linear;
-}
 
 // A scene asks for something the production step does not provide (yet): the message names the
 // scene item and says what to do instead. `talus run` reports it as a setting, exit status 2.

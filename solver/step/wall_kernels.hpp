@@ -1,8 +1,10 @@
 // The per-(particle, wall) stage of the step: the wall geometry of walls/wall_contact.hpp, the
 // force law of the scene's contact model with the wall as an infinitely large rigid body, and
 // the contact written to its own slot (accumulated later, in order, with the pair contacts).
+// Templated on the law (contact/laws/), as the pair functions are.
 #pragma once
 
+#include "solver/contact/laws/linear_law.hpp"
 #include "solver/step/pair_kernels.hpp"
 #include "solver/walls/wall_contact.hpp"
 
@@ -24,7 +26,9 @@ struct WallContactRecord {
   Real wall_power = 0;         // power the moving wall gives the particle, F . v_wall(point), W
 };
 
-template <class Real>
+// A sphere's contact is the nearest-facet rule's depth under the linear law whatever Law is (the
+// volume laws refuse spheres with walls: WallContactStage).
+template <class Law, class Real>
 TALUS_HD inline WallContactRecord<Real> wall_contact(
     const ParticleView<Real>& p, const PairLawTables<Real>& t, int i, int wall, int wall_material,
     const WallFacets<Real>& facets, const WallMotionData<Real>& motion, Real spring_dt,
@@ -40,13 +44,13 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
     g = sphere_wall_geometry(p.position.get(i), body.sphere_radius, facets, t.linear.stiffness);
   } else {
     const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
-    const bool volume = has_volume_geometry(t.law);
-    const Real stiffness = volume ? youngs / body.equivalent_radius : t.linear.stiffness;
+    const Real stiffness =
+        Law::kVolumeGeometry ? youngs / body.equivalent_radius : t.linear.stiffness;
     const Real shear =
         youngs / (Real(2) * (Real(1) + t.poisson_ratio[material]) * body.equivalent_radius);
     const Real reference_area =
         volume_reference_area(body.equivalent_radius, body.equivalent_radius);
-    g = polyhedron_wall_geometry(body.shape, pose, facets, t.law, stiffness, shear, reference_area);
+    g = polyhedron_wall_geometry<Law>(body.shape, pose, facets, stiffness, shear, reference_area);
   }
   r.degenerate = g.degenerate;
   if (!g.in_contact) return r;
@@ -63,23 +67,27 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   const Vec3<Real> v_r = point_velocity(p, i, g.point) - wall_velocity;
   ContactForceData<Real> f;
   r.key = PairKey{p.global_id[i], wall};
-  if (has_volume_geometry(t.law) && !body.sphere) {
-    const VolumeLawData<Real> law = volume_law(t, pair, body.mass);  // 1 / m_wall = 0
-    const int found = find_pair_key(old_keys, old_count, r.key);
-    ContactHistoryData<Real> history;
-    if (found >= 0) history = old_histories[found];
-    f = volume_contact_force(c, law, v_r, spring_dt, history);
-    r.history = history;
+  ContactHistoryData<Real> history;
+  if (!Law::kVolumeGeometry || !body.sphere) {
+    const auto law = Law::parameters(t, pair, body.mass);  // 1 / m_wall = 0
+    if constexpr (Law::kTangentialHistory) {
+      const int found = find_pair_key(old_keys, old_count, r.key);
+      if (found >= 0) history = old_histories[found];
+    }
+    f = Law::force(c, law, v_r, spring_dt, history);
+    if constexpr (Law::kTangentialHistory) r.history = history;
   } else {
-    f = linear_contact_force(c, linear_law(t, pair), v_r);
+    f = LinearLaw::force(c, LinearLaw::parameters(t, pair, body.mass), v_r, spring_dt, history);
   }
   r.in_contact = true;
   r.point = g.point;
   r.force = f.total();
-  if (t.law == ContactLaw::volume && !body.sphere && p.angular_velocity.present()) {
-    r.couple =
-        patch_couple(f, c.normal, c.area, t.pair_friction[pair],
-                     world_angular_velocity(p, i) - motion.angular_velocity(), f.dissipation);
+  if constexpr (Law::kPatchCouple) {
+    if (!body.sphere && p.angular_velocity.present()) {
+      r.couple =
+          patch_couple(f, c.normal, c.area, t.pair_friction[pair],
+                       world_angular_velocity(p, i) - motion.angular_velocity(), f.dissipation);
+    }
   }
   if (p.angular_velocity.present()) r.couple += g.couple;  // the facets' own points
   r.normal_energy = c.potential;

@@ -1,7 +1,8 @@
 // Host driver of the wall contacts (paper §2.4): each wall located at the current time by its
 // rigid motion (scene/wall_motion.hpp; a closed outlet's plate dropped when it opens) and its
 // triangles placed (a moving wall's every step, a static wall's once), then per particle and
-// wall, in wall-major order, one area-weighted contact (wall_kernels.hpp); the volume model's
+// wall, in wall-major order, one area-weighted contact (wall_kernels.hpp, templated on the
+// scene's law: compute picks it once per call from contact/contact_laws.hpp); the volume laws'
 // histories keyed by {global id, wall}; the contacts added to the particles after the pair
 // contacts, in order. A particle's facets come from the wall's bin grid (walls/facet_grid.hpp,
 // built once in the mesh's frame at construction), or, with WallSearch::brute_force, from
@@ -21,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "solver/contact/contact_laws.hpp"
 #include "solver/core/host_parallel.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/scene/wall_motion.hpp"
@@ -38,7 +40,8 @@ class WallContactStage {
   WallContactStage(const Scene& scene, const std::vector<BodyProperties<Real>>& bodies,
                    int threads = 1, WallSearch search = WallSearch::grid)
       : scene_(scene), meshes_(make_wall_meshes(scene)), threads_(threads > 0 ? threads : 1) {
-    const bool volume = is_volume_model(*scene.effects.contact);
+    const bool volume = with_contact_law(*scene.effects.contact,
+                                         [](auto law) { return decltype(law)::kVolumeGeometry; });
     double max_radius = 0;  // the grid's cell size follows the largest bounding sphere
     for (const BodyProperties<Real>& b : bodies) {
       if (volume && b.sphere) {
@@ -120,14 +123,22 @@ class WallContactStage {
   // Record w * count + i for particle i and wall w; the touching ones compacted in that order. A
   // failed clipping throws after the loop, the lowest record first, as the serial loop did.
   void compute(const ParticleView<Real>& p, const PairLawTables<Real>& tables, Real spring_dt) {
+    with_contact_law(*scene_.effects.contact,
+                     [&](auto law) { compute<decltype(law)>(p, tables, spring_dt); });
+  }
+
+  // compute under the law Law (the scene's).
+  template <class Law>
+  void compute(const ParticleView<Real>& p, const PairLawTables<Real>& tables, Real spring_dt) {
     const int old_count = static_cast<int>(keys_.size());
     const long long count = p.count;
     records_.resize(facets_.size() * static_cast<std::size_t>(count));
     // Dynamic chunks: a particle near a wall clips facets, one far from it only queries the grid.
     parallel_for_dynamic(threads_, static_cast<long long>(records_.size()), 64, [&](long long k) {
       const int w = static_cast<int>(k / count), i = static_cast<int>(k % count);
-      records_[k] = wall_contact(p, tables, i, w, scene_.walls[w].material, facets_[w], motion_[w],
-                                 spring_dt, keys_.data(), histories_.data(), old_count);
+      records_[k] =
+          wall_contact<Law>(p, tables, i, w, scene_.walls[w].material, facets_[w], motion_[w],
+                            spring_dt, keys_.data(), histories_.data(), old_count);
     });
     contacts_.clear();
     for (const WallContactRecord<Real>& r : records_) {
@@ -139,7 +150,7 @@ class WallContactStage {
       }
       if (r.in_contact) contacts_.push_back(r);
     }
-    if (has_volume_geometry(tables.law)) sort_histories_by_key(contacts_, keys_, histories_);
+    if constexpr (Law::kTangentialHistory) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
   // The forces on the particles (per particle, its walls in order: add_wall_force's additions),

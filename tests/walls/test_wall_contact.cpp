@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "solver/contact/contact_laws.hpp"
 #include "solver/shape/builtins.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/walls/wall_contact.hpp"
@@ -41,22 +42,26 @@ TEST(WallContact, AreaWeightingCountsAParticleOverEdgesAndVerticesOnce) {
   const Pose<double> pose{Vec3d(0, 0, kHalfEdge),
                           Quatd::from_axis_angle(Vec3d(0.6, 0.8, 0), 0.2).normalized()};
   const std::vector<Vec3d> big = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
-  for (const ContactLaw law : {ContactLaw::volume, ContactLaw::volume_paper, ContactLaw::linear}) {
-    const WallContactGeometry<double> one =
-        polyhedron_wall_geometry(cube.view(), pose, facets_of(big), law, 1e9, 4e8, 1.3e-5);
-    ASSERT_TRUE(one.in_contact);
-    EXPECT_NEAR(one.normal.z, -1.0, 1e-15);  // from the particle into the wall
-    for (const std::vector<Vec3d>& mesh : {square_two(0.05), square_fan(0.05)}) {
-      const WallContactGeometry<double> split =
-          polyhedron_wall_geometry(cube.view(), pose, facets_of(mesh), law, 1e9, 4e8, 1.3e-5);
-      ASSERT_TRUE(split.in_contact);
-      EXPECT_NEAR(split.elastic, one.elastic, 1e-12 * one.elastic);
-      EXPECT_NEAR(split.normal_stiffness, one.normal_stiffness,
-                  1e-12 * one.normal_stiffness + 1e-30);
-      EXPECT_NEAR(split.area, one.area, 1e-12 * one.area);
-      EXPECT_NEAR(split.potential, one.potential, 1e-12 * one.potential);
-      EXPECT_LT(norm(split.point - one.point), 1e-12);
-    }
+  for (const ContactModel model :
+       {ContactModel::volume, ContactModel::volume_paper, ContactModel::linear}) {
+    with_contact_law(model, [&](auto law) {
+      using Law = decltype(law);
+      const WallContactGeometry<double> one =
+          polyhedron_wall_geometry<Law>(cube.view(), pose, facets_of(big), 1e9, 4e8, 1.3e-5);
+      ASSERT_TRUE(one.in_contact);
+      EXPECT_NEAR(one.normal.z, -1.0, 1e-15);  // from the particle into the wall
+      for (const std::vector<Vec3d>& mesh : {square_two(0.05), square_fan(0.05)}) {
+        const WallContactGeometry<double> split =
+            polyhedron_wall_geometry<Law>(cube.view(), pose, facets_of(mesh), 1e9, 4e8, 1.3e-5);
+        ASSERT_TRUE(split.in_contact);
+        EXPECT_NEAR(split.elastic, one.elastic, 1e-12 * one.elastic);
+        EXPECT_NEAR(split.normal_stiffness, one.normal_stiffness,
+                    1e-12 * one.normal_stiffness + 1e-30);
+        EXPECT_NEAR(split.area, one.area, 1e-12 * one.area);
+        EXPECT_NEAR(split.potential, one.potential, 1e-12 * one.potential);
+        EXPECT_LT(norm(split.point - one.point), 1e-12);
+      }
+    });
   }
 }
 
@@ -66,10 +71,10 @@ TEST(WallContact, SectionHalfOverTheEdgeHalvesTheForce) {
   const Pose<double> centred{Vec3d(0, 0, kHalfEdge - 1e-4), Quatd()};
   const Pose<double> on_edge{Vec3d(0.05, 0, kHalfEdge - 1e-4), Quatd()};
   const std::vector<Vec3d> mesh = square_two(0.05);
-  const WallContactGeometry<double> full = polyhedron_wall_geometry(
-      cube.view(), centred, facets_of(mesh), ContactLaw::linear, 1e4, 0.0, 0.0);
-  const WallContactGeometry<double> half = polyhedron_wall_geometry(
-      cube.view(), on_edge, facets_of(mesh), ContactLaw::linear, 1e4, 0.0, 0.0);
+  const WallContactGeometry<double> full =
+      polyhedron_wall_geometry<LinearLaw>(cube.view(), centred, facets_of(mesh), 1e4, 0.0, 0.0);
+  const WallContactGeometry<double> half =
+      polyhedron_wall_geometry<LinearLaw>(cube.view(), on_edge, facets_of(mesh), 1e4, 0.0, 0.0);
   ASSERT_TRUE(full.in_contact && half.in_contact);
   EXPECT_NEAR(full.elastic, 1e4 * 1e-4, 1e-12);  // K_N delta, delta = 0.1 mm
   EXPECT_NEAR(half.elastic, 0.5 * full.elastic, 1e-12);
