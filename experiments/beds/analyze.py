@@ -409,8 +409,13 @@ def main():
         c.update(released_pe=e["released"], time_to_rest=e["time_to_rest"],
                  final_ke=e["final_ke"], ke_left=e["ke_left"], energy_created=e["created"],
                  end_time=e["end_time"])
-        if c["stopped"]:
-            c["time_to_rest"] = float("nan")  # a stopped run never came to rest
+        # A run cut by run_beds.sh's time limit (SIGTERM: exit 143, its outputs kept) came to rest
+        # or not in the part it ran, which is all measured; a run that stopped on its own (the
+        # watchdog, an error) never came to rest.
+        if status == "143" or c["stopped"].startswith("SIGTERM"):
+            c["stopped"] = f"cut by the time limit at t = {e['end_time']:.3g} s"
+        elif c["stopped"]:
+            c["time_to_rest"] = float("nan")
         # The packing is measured on the last frame only when the run reached its end.
         frames, names = frames_of(run_dir)
         c["has_final_frame"] = status == "0" and len(frames) > 1
