@@ -64,8 +64,10 @@ struct ContactForceData {
   Vec3<Real> normal_force;      // on A, N
   Vec3<Real> tangential_force;  // on A, N
   bool sliding = false;         // the Coulomb cap bound
-  // Power taken from the bodies' relative motion and not stored (damping, friction), W (>= 0),
-  // and the tangential spring's energy |F_t^e|^2 / (2 k_t) after the step, J: the energy probe.
+  // Power the non-conservative forces take from the bodies' relative motion now (damping,
+  // friction and the tangential spring: negative while the spring gives energy back), W, and the
+  // tangential spring's energy |F_t^e|^2 / (2 k_t) after the step, J. The energy ledger counts
+  // as dissipated the power's integral less the springs' gain (energy.hpp).
   Real dissipation = 0;
   Real spring_energy = 0;
   Real normal_damping = 0;      // c_n of this evaluation, N s/m
@@ -179,9 +181,7 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   if (projected > Real(0)) f_e *= length / projected;
   const Vec3<Real> v_t = v_r - n * v_n;
   const Real k_t = c.tangential_stiffness;
-  // The energy the spring held after the last step, with the stiffness it had then.
-  const Real k_before = history.spring_stiffness;
-  const Real spring_before = k_before > Real(0) ? norm2(f_e) / (Real(2) * k_before) : Real(0);
+  const Real k_before = history.spring_stiffness;  // k_t at the last evaluation
   // k_t = G A_n follows the contact's area. At a fixed force a falling k_t would raise the
   // stored |F|^2 / (2 k_t), energy from nothing that the spring then gives back as motion (an
   // ending contact's k_t -> 0). The default law scales the force by sqrt(k_t / k_before) when k_t
@@ -201,10 +201,11 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
     f_e = f_t + v_t * c_t;
   }
   out.tangential_force = f_t;
-  // What the tangential force took from the relative motion over dt, less what the spring kept.
+  // The power the tangential force takes from the relative motion now. What of it the spring
+  // keeps is the change of the springs' energy, which the energy ledger takes off (energy.hpp):
+  // a per-step difference here, added as a rate, would lag the trapezoid by half a step.
   out.spring_energy = k_t > Real(0) ? norm2(f_e) / (Real(2) * k_t) : Real(0);
-  out.dissipation +=
-      dt > Real(0) ? -dot(f_t, v_t) - (out.spring_energy - spring_before) / dt : c_t * norm2(v_t);
+  out.dissipation -= dot(f_t, v_t);
   return out;
 }
 

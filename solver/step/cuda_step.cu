@@ -118,10 +118,14 @@ struct CudaStep<Real>::Impl {
     if (walls) walls->add_energy_sums(shared.energy_sums.data());
     const std::vector<double> sums = download(shared.energy_sums.data(), kEnergySums);
     std::copy(sums.begin(), sums.end(), energy_sums.begin());
+    ContactRates rates;
+    rates.dissipation = energy_sums[sum_dissipation];
+    rates.wall_power = energy_sums[sum_wall_power];
+    rates.spring = energy_sums[sum_tangential];
     if (first) {
-      ledger.start(energy_sums[sum_dissipation], energy_sums[sum_wall_power]);
+      ledger.start(rates);
     } else {
-      ledger.advance(scene.time_step, energy_sums[sum_dissipation], energy_sums[sum_wall_power]);
+      ledger.advance(scene.time_step, rates);
     }
   }
 

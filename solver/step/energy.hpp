@@ -8,26 +8,42 @@
 
 namespace talus {
 
+// What the contacts of one force evaluation report to the ledger (sums over the touching ones).
+struct ContactRates {
+  // W, the power the contacts' non-conservative forces take from the bodies: damping, friction
+  // and the tangential springs (force_law.hpp: ContactForceData::dissipation).
+  double dissipation = 0;
+  double wall_power = 0;  // W, given by moving walls
+  double spring = 0;      // J, the tangential springs' energy after the evaluation
+};
+
 // Running totals over the steps, in double. The rates are the contacts' at the last force
 // evaluation; each step adds the trapezoid of the rates at its two ends, the rule that matches
-// velocity Verlet's average of the step-start and step-end forces.
+// velocity Verlet's average of the step-start and step-end forces. What the tangential springs
+// took in over the step is not dissipated: their energy's change (a state, not a rate) is taken
+// off. A contact that ends takes its spring's energy with it (its history leaves the store,
+// tangential_history.hpp, and nothing gives the energy back to the bodies): that fall of the
+// springs' total is dissipated, whatever ended the contact (separation, a pair list rebuilt, a
+// particle removed).
 struct EnergyLedger {
   double dissipated = 0;        // J
   double wall_work = 0;         // J, by moving walls on the particles
   double fed = 0;               // J, kinetic + gravitational energy of inserted particles
   double dissipation_rate = 0;  // W, at the last evaluation
   double wall_power = 0;        // W, at the last evaluation
+  double spring_energy = 0;     // J, the tangential springs' at the last evaluation
 
   // The rates at the force evaluation before the first step (nothing accumulated yet).
-  void start(double dissipation_now, double wall_power_now) {
-    dissipation_rate = dissipation_now;
-    wall_power = wall_power_now;
+  void start(const ContactRates& now) {
+    dissipation_rate = now.dissipation;
+    wall_power = now.wall_power;
+    spring_energy = now.spring;
   }
   // One step of dt ending at an evaluation with these rates.
-  void advance(double dt, double dissipation_now, double wall_power_now) {
-    dissipated += 0.5 * dt * (dissipation_rate + dissipation_now);
-    wall_work += 0.5 * dt * (wall_power + wall_power_now);
-    start(dissipation_now, wall_power_now);
+  void advance(double dt, const ContactRates& now) {
+    dissipated += 0.5 * dt * (dissipation_rate + now.dissipation) - (now.spring - spring_energy);
+    wall_work += 0.5 * dt * (wall_power + now.wall_power);
+    start(now);
   }
 };
 

@@ -286,25 +286,29 @@ void HostStep<Real>::run_force_stages(Real spring_dt) {
 }
 
 template <class Real>
-void HostStep<Real>::contact_rates(double& dissipation, double& wall_power) const {
-  dissipation = wall_power = 0;
-  if (contacts_)
-    for (const PairContactRecord<Real>& c : contacts_->contacts()) dissipation += c.dissipation;
-  if (walls_) {
-    for (const WallContactRecord<Real>& c : walls_->contacts()) {
-      dissipation += c.dissipation;
-      wall_power += c.wall_power;
+ContactRates HostStep<Real>::contact_rates() const {
+  ContactRates r;
+  if (contacts_) {
+    for (const PairContactRecord<Real>& c : contacts_->contacts()) {
+      r.dissipation += c.dissipation;
+      r.spring += c.tangential_energy;
     }
   }
+  if (walls_) {
+    for (const WallContactRecord<Real>& c : walls_->contacts()) {
+      r.dissipation += c.dissipation;
+      r.wall_power += c.wall_power;
+      r.spring += c.tangential_energy;
+    }
+  }
+  return r;
 }
 
 template <class Real>
 void HostStep<Real>::evaluate_forces() {
   run_force_stages(Real(0));
   forces_ready_ = true;
-  double dissipation, wall_power;
-  contact_rates(dissipation, wall_power);
-  ledger_.start(dissipation, wall_power);
+  ledger_.start(contact_rates());
 }
 
 template <class Real>
@@ -328,9 +332,7 @@ void HostStep<Real>::step() {
   time_ += scene_.time_step;
   ++steps_;
   run_force_stages(dt_);
-  double dissipation, wall_power;
-  contact_rates(dissipation, wall_power);
-  ledger_.advance(scene_.time_step, dissipation, wall_power);
+  ledger_.advance(scene_.time_step, contact_rates());
   timed(Stage::integrate_end, [&] {
     parallel_for(threads_, count_,
                  [&](long long i) { integrate_end(p, bodies, static_cast<int>(i), dt_); });

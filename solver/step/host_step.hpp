@@ -125,8 +125,8 @@ class HostStep {
   void set_particle(int i, const ParticleState& p);  // index i's state and ids from p
   void feed();                                       // the feeds' insertions at time_
   void run_force_stages(Real spring_dt);
-  // The contacts' dissipation power and the moving walls' power at the last evaluation, W.
-  void contact_rates(double& dissipation, double& wall_power) const;
+  // What the contacts of the last evaluation report to the energy ledger.
+  ContactRates contact_rates() const;
   template <class Body>
   void timed(Stage stage, Body&& body);
 

@@ -121,8 +121,8 @@ void put_step_state(Checkpoint& c, const StepState<Real>& s) {
   for (const std::string& state : s.feed_states) feeds += state + "\n";
   c.put_text("feeds.states", feeds);
   const EnergyLedger& e = s.ledger;
-  c.put("step.energy",
-        std::vector<double>{e.dissipated, e.wall_work, e.fed, e.dissipation_rate, e.wall_power});
+  c.put("step.energy", std::vector<double>{e.dissipated, e.wall_work, e.fed, e.dissipation_rate,
+                                           e.wall_power, e.spring_energy});
 }
 
 // The state back from put_step_state's sections. CheckpointError when one is missing, of another
@@ -140,8 +140,9 @@ StepState<Real> get_step_state(const Checkpoint& c) {
   s.count = c.get_value<int>("step.count");
   if (c.has("step.energy")) {  // absent from checkpoints written before the energy probe
     const std::vector<double> e = c.get<double>("step.energy");
-    if (e.size() != 5) c.fail("step.energy", "expected 5 numbers");
-    s.ledger = EnergyLedger{e[0], e[1], e[2], e[3], e[4]};
+    // 5 numbers before the springs' energy was kept (it then starts at zero).
+    if (e.size() != 5 && e.size() != 6) c.fail("step.energy", "expected 6 numbers");
+    s.ledger = EnergyLedger{e[0], e[1], e[2], e[3], e[4], e.size() == 6 ? e[5] : 0.0};
   }
   const std::string names = c.text("step.arrays");
   const auto check = [&](const std::string& name, std::size_t size) {
