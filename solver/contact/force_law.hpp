@@ -57,6 +57,10 @@ struct ContactHistoryData {
   // k_t at the last evaluation, N/m (0 before the first): the default law keeps the spring's
   // energy from growing when k_t falls (volume_contact_force).
   Real spring_stiffness = 0;
+  // The default law's rocking spring (patch_couple): its couple on A, N m, in the contact plane,
+  // and its stiffness k_r at the last evaluation, N m/rad (0 before the first).
+  Vec3<Real> rocking_moment;
+  Real rocking_stiffness = 0;
 };
 
 template <class Real>
@@ -65,9 +69,10 @@ struct ContactForceData {
   Vec3<Real> tangential_force;  // on A, N
   bool sliding = false;         // the Coulomb cap bound
   // Power the non-conservative forces take from the bodies' relative motion now (damping,
-  // friction and the tangential spring: negative while the spring gives energy back), W, and the
-  // tangential spring's energy |F_t^e|^2 / (2 k_t) after the step, J. The energy ledger counts
-  // as dissipated the power's integral less the springs' gain (energy.hpp).
+  // friction and the springs: negative while a spring gives energy back), W, and the springs'
+  // energy after the step, J: the tangential |F_t^e|^2 / (2 k_t) and, with the patch couple,
+  // the rocking |M_e|^2 / (2 k_r). The energy ledger counts as dissipated the power's integral
+  // less the springs' gain (energy.hpp).
   Real dissipation = 0;
   Real spring_energy = 0;
   Real normal_damping = 0;      // c_n of this evaluation, N s/m
@@ -209,36 +214,65 @@ TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactD
   return out;
 }
 
-// The default volume law's resistance to relative rotation, the couple that one contact point
-// leaves out of a pressure and a shear spread over the contact patch A_n. The normal dashpot c_n
-// spread over the patch (density c_n / A_n) resists rocking, w_perp about axes in the contact
-// plane, with the moment -c_n (I / A_n) w_perp, I the patch's second moment about such an axis:
-// A_n^2 / 12 for a square (A_n^2 / (4 pi) for a disc). The tangential dashpot c_t (Eq. 20) spread
-// alike resists twisting, w_n about the normal, with -c_t (J / A_n) w_n, J = A_n^2 / 6 the polar
-// moment. Without them a face resting on a face rocks and spins undamped about the contact point,
-// where neither dashpot sees motion: a stack of cubes never settles and a tetrahedron spins on
-// its face for ever (tests/step/test_hard_cases.cpp). Each is capped by what the patch can give:
-// rocking by |F_n| sqrt(A_n) / 2 (a pressure that cannot pull), twisting by mu |F_n| times the
-// mean radius 2/3 sqrt(A_n / pi) of a disc (Coulomb). Returns the couple on A (B gets its
-// opposite) and adds the power it takes, -couple . w_rel >= 0, to `dissipation`. w_rel: w_A - w_B,
-// world frame.
+// The default volume law's couples on rotating bodies, besides its force at the point c.
+// The exact couple of the potential U(V) (the overlap's surface moment, applied by the caller)
+// leaves a face resting on a face without tilt stiffness: V does not change when the face tilts
+// at a fixed volume, so a cube on a cube is an inverted pendulum on its contact. A real patch's
+// pressure is not uniform: as a Winkler foundation of the contact's stiffness k_n spread over A_n
+// it resists a tilt theta with the moment k_n (I / A_n) theta, I the patch's second moment about
+// the tilt's axis (A_n^2 / 12 for a square). That is the rocking spring, k_r = k_n A_n / 12, kept
+// in the history as the tangential spring is (Eq. 18's incremental form, turned with the normal
+// and scaled by sqrt(k_r / k_before) when k_r falls, so that its energy |M_e|^2 / (2 k_r) never
+// grows from nothing), in parallel with the rocking dashpot, the normal dashpot c_n spread alike:
+// -c_n (A_n / 12) w_perp, w_perp the relative rotation about axes in the contact plane. Their sum
+// is capped by what a pressure that cannot pull gives, |F_n| sqrt(A_n) / 2 (the whole force at
+// the patch's edge); the spring slips there, as the tangential one at Coulomb's cap. The
+// tangential dashpot c_t (Eq. 20) spread over the patch resists twisting, w_n about the normal,
+// with -c_t (J / A_n) w_n, J = A_n^2 / 6 the polar moment, capped by mu |F_n| times the mean
+// radius 2/3 sqrt(A_n / pi) of a disc (Coulomb). Without the dashpots a face resting on a face
+// rocks and spins undamped (tests/step/test_hard_cases.cpp). Returns the couple on A (B gets its
+// opposite); adds the power it takes from the relative rotation, -couple . w_rel, to
+// f.dissipation and the rocking spring's energy to f.spring_energy (the energy ledger takes the
+// springs' change off the power, step/energy.hpp). w_rel: w_A - w_B, world frame; dt: the time the
+// spring advances by; normal_stiffness: k_n.
 template <class Real>
-TALUS_HD inline Vec3<Real> patch_couple(const ContactForceData<Real>& f, const Vec3<Real>& n,
-                                        Real area, Real friction, const Vec3<Real>& w_rel,
-                                        Real& dissipation) {
-  if (!(area > Real(0))) return Vec3<Real>();
+TALUS_HD inline Vec3<Real> patch_couple(ContactForceData<Real>& f, const Vec3<Real>& n, Real area,
+                                        Real normal_stiffness, Real friction,
+                                        const Vec3<Real>& w_rel, Real dt,
+                                        ContactHistoryData<Real>& history) {
+  if (!(area > Real(0))) {
+    history.rocking_moment = Vec3<Real>();
+    history.rocking_stiffness = 0;
+    return Vec3<Real>();
+  }
   const Real pushing = norm(f.normal_force);
   const Real w_n = dot(w_rel, n);
   const Vec3<Real> w_perp = w_rel - n * w_n;
-  Vec3<Real> rocking = w_perp * (-f.normal_damping * area / Real(12));
+  // The spring turned into the current contact plane, its length kept.
+  Vec3<Real>& m_e = history.rocking_moment;
+  const Real length = norm(m_e);
+  m_e -= n * dot(m_e, n);
+  const Real projected = norm(m_e);
+  if (projected > Real(0)) m_e *= length / projected;
+  const Real k_r = normal_stiffness * area / Real(12);
+  const Real k_before = history.rocking_stiffness;
+  if (k_before > k_r && k_before > Real(0)) m_e *= std::sqrt(k_r / k_before);
+  history.rocking_stiffness = k_r;
+  m_e -= w_perp * (k_r * dt);
+  const Real c_r = f.normal_damping * area / Real(12);
+  Vec3<Real> rocking = m_e - w_perp * c_r;
   const Real rocking_cap = Real(0.5) * pushing * std::sqrt(area), rocking_size = norm(rocking);
-  if (rocking_size > rocking_cap) rocking *= rocking_cap / rocking_size;
+  if (rocking_size > rocking_cap) {
+    rocking *= rocking_cap / rocking_size;
+    m_e = rocking + w_perp * c_r;
+  }
+  f.spring_energy += k_r > Real(0) ? norm2(m_e) / (Real(2) * k_r) : Real(0);
   Real twisting = -f.tangential_damping * area / Real(6) * w_n;
   const Real twisting_cap =
       friction * pushing * Real(2) / Real(3) * std::sqrt(area / Real(3.14159265358979323846));
   twisting = max_of(-twisting_cap, min_of(twisting, twisting_cap));
   const Vec3<Real> couple = rocking + n * twisting;
-  dissipation -= dot(couple, w_rel);
+  f.dissipation -= dot(couple, w_rel);
   return couple;
 }
 

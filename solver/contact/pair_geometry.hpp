@@ -19,6 +19,9 @@ struct PairGeometryData {
   Real volume = 0;          // dV, m^3 (volume model)
   Real area = 0;            // A_n = |S|, m^2 (volume model)
   Real depth = 0;           // delta, m (linear model)
+  // The overlap's surface moment on A's part of its boundary about `point`, m^3 (polyhedra in
+  // the volume model: OverlapResult::surface_moment; zero for the spheres' lens, by symmetry).
+  Vec3<Real> moment;
 };
 
 // Two spheres in the volume model: the lens of two caps. With x the distance of the plane where
@@ -75,6 +78,7 @@ TALUS_HD inline PairGeometryData<Real> volume_geometry_from(const OverlapResult<
   g.area = area;
   g.normal = overlap.vector_area / area;
   g.point = overlap.centroid;
+  g.moment = overlap.surface_moment;
   return g;
 }
 

@@ -52,7 +52,7 @@ struct EnergyTerms {
   double kinetic_rotational = 0;     // J
   double gravitational = 0;          // J, -sum m g . x (zero at the origin)
   double elastic_normal = 0;         // J, the contacts' normal potentials U
-  double elastic_tangential = 0;     // J, the tangential springs' |F_t^e|^2 / (2 k_t)
+  double elastic_tangential = 0;     // J, the tangential (and rocking) springs' energy
   EnergyLedger ledger;
 
   double kinetic() const { return kinetic_translational + kinetic_rotational; }

@@ -43,7 +43,7 @@ struct PairContactRecord {
   Vec3<Real> couple;      // N m, a torque on A besides (point - x_a) x force_on_a; B gets -couple
   ContactHistoryData<Real> history;
   Real normal_energy = 0;      // the normal elastic potential U, J
-  Real tangential_energy = 0;  // the tangential spring's energy, J
+  Real tangential_energy = 0;  // the tangential and rocking springs' energy, J
   Real dissipation = 0;        // power dissipated by damping and friction, W
 };
 
@@ -145,27 +145,32 @@ TALUS_HD inline PairContactRecord<Real> pair_contact_force(const ParticleView<Re
     c.potential = e.energy;
   }
   const auto law = Law::parameters(t, pair, a.mass * b.mass / (a.mass + b.mass));
+  ContactHistoryData<Real> history;
+  // The history's force and couple are stored as on the lower id as A.
+  const Real sign = p.global_id[ia] == r.key.low ? Real(1) : Real(-1);
   if constexpr (Law::kTangentialHistory) {
-    ContactHistoryData<Real> history = previous;
-    // The elastic force is stored as on the lower id as A.
-    const Real sign = p.global_id[ia] == r.key.low ? Real(1) : Real(-1);
+    history = previous;
     history.elastic_force *= sign;
-    f = Law::force(c, law, v_r, spring_dt, history);
-    history.elastic_force *= sign;
-    r.history = history;
-  } else {
-    ContactHistoryData<Real> none;
-    f = Law::force(c, law, v_r, spring_dt, none);
+    history.rocking_moment *= sign;
   }
+  f = Law::force(c, law, v_r, spring_dt, history);
   r.in_contact = true;
   r.point = g.point;
   r.force_on_a = f.total();
   if constexpr (Law::kPatchCouple) {
     if (p.angular_velocity.present()) {
-      r.couple = patch_couple(f, c.normal, c.area, t.pair_friction[pair],
+      // The exact couple of U(V), -p M (OverlapResult::surface_moment; F^e = -p S, |S| = A_n),
+      // and the patch's rocking spring and dashpots.
+      r.couple = patch_couple(f, c.normal, c.area, c.normal_stiffness, t.pair_friction[pair],
                               world_angular_velocity(p, ia) - world_angular_velocity(p, ib),
-                              f.dissipation);
+                              spring_dt, history);
+      if (c.area > Real(0)) r.couple -= g.moment * (c.elastic / c.area);
     }
+  }
+  if constexpr (Law::kTangentialHistory) {
+    history.elastic_force *= sign;
+    history.rocking_moment *= sign;
+    r.history = history;
   }
   r.normal_energy = c.potential;
   r.tangential_energy = f.spring_energy;

@@ -50,7 +50,8 @@ void put_histories(Checkpoint& c, const std::string& name, const std::vector<Pai
   for (const PairKey& key : keys) k.insert(k.end(), {key.low, key.high});
   for (const ContactHistoryData<Real>& d : histories)
     h.insert(h.end(), {d.elastic_force.x, d.elastic_force.y, d.elastic_force.z, d.approach_speed,
-                       d.spring_stiffness});
+                       d.spring_stiffness, d.rocking_moment.x, d.rocking_moment.y,
+                       d.rocking_moment.z, d.rocking_stiffness});
   c.put(name + ".keys", k);
   c.put(name + ".histories", h);
 }
@@ -60,9 +61,13 @@ void get_histories(const Checkpoint& c, const std::string& name, std::vector<Pai
                    std::vector<ContactHistoryData<Real>>& histories) {
   const std::vector<long long> k = c.get<long long>(name + ".keys");
   const std::vector<Real> h = c.get<Real>(name + ".histories");
-  const std::size_t per = k.empty() || h.size() == 5 * (k.size() / 2) ? 5 : 4;
+  // 9 numbers a history; 5 before the rocking spring, 4 before the spring's stiffness (the
+  // missing ones start at zero).
+  std::size_t per = 9;
+  for (const std::size_t older : {std::size_t(5), std::size_t(4)})
+    if (!k.empty() && h.size() == older * (k.size() / 2)) per = older;
   if (k.size() % 2 != 0 || h.size() != per * (k.size() / 2))
-    c.fail(name + ".histories", "expected one history of 5 numbers per key");
+    c.fail(name + ".histories", "expected one history of 9 numbers per key");
   keys.clear();
   histories.clear();
   for (std::size_t e = 0; e < k.size() / 2; ++e) {
@@ -70,7 +75,11 @@ void get_histories(const Checkpoint& c, const std::string& name, std::vector<Pai
     ContactHistoryData<Real> d;
     d.elastic_force = Vec3<Real>(h[per * e], h[per * e + 1], h[per * e + 2]);
     d.approach_speed = h[per * e + 3];
-    if (per == 5) d.spring_stiffness = h[per * e + 4];
+    if (per >= 5) d.spring_stiffness = h[per * e + 4];
+    if (per == 9) {
+      d.rocking_moment = Vec3<Real>(h[per * e + 5], h[per * e + 6], h[per * e + 7]);
+      d.rocking_stiffness = h[per * e + 8];
+    }
     histories.push_back(d);
   }
 }

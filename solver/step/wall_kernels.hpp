@@ -21,7 +21,7 @@ struct WallContactRecord {
   Vec3<Real> couple;  // N m, a torque on the particle besides (point - x) x force
   ContactHistoryData<Real> history;
   Real normal_energy = 0;      // the normal elastic potential U, J
-  Real tangential_energy = 0;  // the tangential spring's energy, J
+  Real tangential_energy = 0;  // the tangential and rocking springs' energy, J
   Real dissipation = 0;        // power dissipated by damping and friction, W
   Real wall_power = 0;         // power the moving wall gives the particle, F . v_wall(point), W
 };
@@ -75,7 +75,6 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
       if (found >= 0) history = old_histories[found];
     }
     f = Law::force(c, law, v_r, spring_dt, history);
-    if constexpr (Law::kTangentialHistory) r.history = history;
   } else {
     f = LinearLaw::force(c, LinearLaw::parameters(t, pair, body.mass), v_r, spring_dt, history);
   }
@@ -84,12 +83,15 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   r.force = f.total();
   if constexpr (Law::kPatchCouple) {
     if (!body.sphere && p.angular_velocity.present()) {
-      r.couple =
-          patch_couple(f, c.normal, c.area, t.pair_friction[pair],
-                       world_angular_velocity(p, i) - motion.angular_velocity(), f.dissipation);
+      r.couple = patch_couple(f, c.normal, c.area, c.normal_stiffness, t.pair_friction[pair],
+                              world_angular_velocity(p, i) - motion.angular_velocity(), spring_dt,
+                              history);
     }
   }
-  if (p.angular_velocity.present()) r.couple += g.couple;  // the facets' own points
+  if constexpr (Law::kTangentialHistory) r.history = history;
+  // The facets' forces at their own points (for Law::kPatchCouple the sections' centroids: the
+  // exact couple of U(V), polyhedron_wall_geometry).
+  if (p.angular_velocity.present()) r.couple += g.couple;
   r.normal_energy = c.potential;
   r.tangential_energy = f.spring_energy;
   r.dissipation = f.dissipation;

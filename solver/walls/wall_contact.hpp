@@ -13,8 +13,10 @@
 //                the stored energy sum_i w_i U(dV_i);
 //   linear model: F^e = sum_i w_i K_N delta_i n_i, energy sum_i w_i K_N delta_i^2 / 2;
 // n = -F^e / |F^e| (from the particle into the wall), the point = the overlap-area-weighted mean
-// of the clipped sections' centroids (volume laws: each moved to where the volume below its plane
-// has its centroid, so that a tilted face is pushed back level, as between particles). Spheres
+// of the clipped sections' centroids (volume_paper: each moved to where the volume below its
+// plane has its centroid, as between particles; the default law keeps the section's centroid,
+// the exact torque of its potential, and takes its tilt stiffness from the rocking spring of
+// force_law.hpp's patch_couple). Spheres
 // (linear model) use the nearest-facet rule: the closest point q of the wall's surface to the
 // centre, delta = r - |c - q|, exact across facet edges and vertices.
 #pragma once
@@ -119,8 +121,8 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
     // round-off, and the weights must be the reference's definition to agree with it.
     const Real w = wc.overlap_area / wc.section_area;
     const Vec3<Real> elastic_before = elastic;
-    // The volume laws' point is the overlap volume's centroid, as between particles: the clipped
-    // section's centroid moved by the volume's offset from the section's (wall_clip.hpp).
+    // The paper's volume law's point is the overlap volume's centroid, as between particles: the
+    // clipped section's centroid moved by the volume's offset from the section's (wall_clip.hpp).
     Vec3<Real> point = wc.overlap_centroid;
     if constexpr (Law::kVolumeGeometry) {
       if (!(wc.volume_below > Real(0))) continue;
@@ -130,7 +132,10 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
       g.normal_stiffness += e.stiffness;
       g.potential += e.energy;
       g.tangential_stiffness += w * shear * wc.section_area;  // Eq. 19
-      point = wc.overlap_centroid + wc.volume_offset;
+      // The laws with the patch couple take the exact torque of U(V): for a plane, a rotation
+      // changes the volume below it by the section's moment, so the force acts at the section's
+      // centroid (the overlap's boundary on the particle and the section have opposite moments).
+      if constexpr (!Law::kPatchCouple) point = wc.overlap_centroid + wc.volume_offset;
     } else {
       if (!(wc.depth > Real(0))) continue;
       const NormalElastic<Real> e = Law::facet_elastic(w, stiffness, wc.depth);

@@ -148,5 +148,70 @@ TEST(TangentialHistory, KeysAreFoundBySearch) {
   EXPECT_EQ(find_pair_key(keys, 0, make_pair_key(0, 3)), -1);
 }
 
+// The rocking spring of patch_couple: a contact of area A and k_n rocked at a steady rate w_perp
+// (no damping, a large load so that the cap stays away) builds M_e = -k_r w_perp t, k_r = k_n A /
+// 12, exactly (each step adds -k_r w dt; the sums of 100 equal terms round at 1e-16 relative);
+// its energy is |M_e|^2 / (2 k_r), and the power the couple takes is -M . w.
+TEST(PatchCouple, RockingSpringBuildsAtTheWinklerStiffness) {
+  const Vec3<double> n(0, 0, 1), w(2.0, -1.0, 0.0);  // rad/s, in the contact plane
+  const double area = 1e-4, k_n = 5e4, dt = 1e-5;
+  const double k_r = k_n * area / 12;
+  ContactForceData<double> f;
+  f.normal_force = Vec3<double>(0, 0, -1e3);  // the cap, 1e3 sqrt(A) / 2 = 5 N m, stays away
+  ContactHistoryData<double> h;
+  Vec3<double> couple;
+  for (int k = 0; k < 100; ++k) {
+    f.dissipation = f.spring_energy = 0;
+    couple = patch_couple(f, n, area, k_n, 0.0, w, dt, h);
+  }
+  const Vec3<double> expected = w * (-k_r * dt * 100);
+  EXPECT_NEAR(norm(couple - expected), 0.0, 1e-14 * norm(expected));
+  EXPECT_NEAR(norm(h.rocking_moment - expected), 0.0, 1e-14 * norm(expected));
+  EXPECT_DOUBLE_EQ(h.rocking_stiffness, k_r);
+  EXPECT_NEAR(f.spring_energy, norm2(expected) / (2 * k_r), 1e-13 * f.spring_energy);
+  EXPECT_NEAR(f.dissipation, -dot(couple, w), 1e-14 * std::abs(f.dissipation));
+  // The spring takes energy in: the power is positive, and it is the rate of the spring's
+  // energy, M . dM/dt / k_r = -M . w (the ledger takes the energy's change off it).
+  EXPECT_GT(f.dissipation, 0.0);
+}
+
+// The cap |F_n| sqrt(A) / 2: a spring wound past it slips there, its elastic part then holding the
+// capped couple plus the dashpot's (as the tangential spring at Coulomb's cap).
+TEST(PatchCouple, RockingSpringSlipsAtThePatchEdge) {
+  const Vec3<double> n(0, 0, 1), w(0.0, 3.0, 0.0);
+  const double area = 4e-4, k_n = 1e6;
+  ContactForceData<double> f;
+  f.normal_force = Vec3<double>(0, 0, -2.0);  // cap = 2 x 0.02 / 2 = 0.02 N m
+  f.normal_damping = 10.0;                    // c_r = 10 x 4e-4 / 12
+  const double c_r = 10.0 * area / 12;
+  ContactHistoryData<double> h;
+  h.rocking_moment = Vec3<double>(0, -0.5, 0);  // far past the cap
+  h.rocking_stiffness = k_n * area / 12;
+  const Vec3<double> couple = patch_couple(f, n, area, k_n, 0.0, w, 1e-5, h);
+  EXPECT_NEAR(norm(couple), 0.02, 1e-15);
+  EXPECT_NEAR(couple.y, -0.02, 1e-15);
+  EXPECT_NEAR(h.rocking_moment.y, -0.02 + c_r * 3.0, 1e-15);
+}
+
+// k_r follows the area: when it falls the stored couple is scaled by sqrt(k_r / k_before), so the
+// spring's energy is kept, not raised (|M|^2 / (2 k_r) at a fixed |M| would grow as 1 / k_r); a
+// contact that loses its area loses its spring.
+TEST(PatchCouple, RockingSpringKeepsItsEnergyAsTheAreaFalls) {
+  const Vec3<double> n(0, 0, 1), still;
+  const double k_n = 1e5;
+  ContactForceData<double> f;
+  f.normal_force = Vec3<double>(0, 0, -1e3);
+  ContactHistoryData<double> h;
+  h.rocking_moment = Vec3<double>(1e-3, 0, 0);
+  h.rocking_stiffness = k_n * 4e-4 / 12;
+  const double before = norm2(h.rocking_moment) / (2 * h.rocking_stiffness);
+  patch_couple(f, n, 1e-4, k_n, 0.0, still, 1e-5, h);  // the area falls by 4
+  EXPECT_NEAR(h.rocking_moment.x, 0.5e-3, 1e-18);      // sqrt(1/4)
+  EXPECT_NEAR(f.spring_energy, before, 1e-15 * before);
+  patch_couple(f, n, 0.0, k_n, 0.0, still, 1e-5, h);
+  EXPECT_EQ(norm(h.rocking_moment), 0.0);
+  EXPECT_EQ(h.rocking_stiffness, 0.0);
+}
+
 }  // namespace
 }  // namespace talus

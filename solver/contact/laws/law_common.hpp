@@ -10,7 +10,9 @@
 //                          spheres: the lens; walls: the volume below each facet), else the depth;
 //   kTangentialHistory     a tangential spring carried across steps (ContactHistoryData, kept in
 //                          stores sorted by global-id keys);
-//   kPatchCouple           the patch couple (force_law.hpp) on rotating bodies;
+//   kPatchCouple           on rotating bodies: the exact torque of U(V) (the overlap's surface
+//                          moment; at walls the sections' centroids) and force_law.hpp's
+//                          patch_couple (the rocking spring, the patch's dashpots);
 //   kCalibratedDamping     reads beta(eps) of the calibrated damping per material pair;
 //   kStiffnessAtLoad       its stiffness is unbounded as the overlap vanishes: the advisor
 //                          evaluates it at the load a contact carries (none: no limit);

@@ -2,7 +2,8 @@
 // volume V_s = A_ref^(3/2) (the paper's, volume_paper_law.hpp, above it), so p' <= K / A_ref:
 // bounded stiffness (docs/contact.md); A_ref = pi min(R_A, R_B)^2 (volume_reference_area). The
 // elastic force on A is -p(V) S with k_n = p' A_n^2, Eq. 15's damping on that k_n, the patch
-// couple on rotating bodies, and a tangential spring whose energy does not grow as k_t falls
+// couple (exact torque, rocking spring, dashpots) on rotating bodies, and a tangential spring
+// whose energy does not grow as k_t falls
 // (force_law.hpp's volume_contact_force and patch_couple).
 #pragma once
 
