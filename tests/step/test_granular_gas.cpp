@@ -88,6 +88,12 @@ double balance_error(const std::string& yaml) {
   return worst / start;
 }
 
+// The errors at dt and dt / 2 shrink as dt^2 (see below).
+void expect_dt_squared(double coarse, double fine) {
+  EXPECT_GT(coarse / fine, 3.0) << coarse << " then " << fine;
+  EXPECT_LT(coarse / fine, 6.0) << coarse << " then " << fine;
+}
+
 // Velocity Verlet's energy error of a smooth force field is O(dt^2): halving dt divides it by 4.
 // Contacts make the field only piecewise smooth (a contact starts between two steps), which adds
 // O(dt^3) per event: a ratio between 3 and 6 says dt^2 (a first-order error gives 2, a
@@ -95,20 +101,19 @@ double balance_error(const std::string& yaml) {
 // gained 14 % at either step, docs/contact.md). The bound on the size: at 1e-5 s the error
 // measured 1.5e-5 without rotation and 6.7e-6 with it; 1e-4 leaves room while a work from
 // nothing of a percent fails it.
-TEST(GranularGas, ElasticGasWithoutRotationConservesEnergyToDtSquared) {
-  const double coarse = balance_error(gas(1e-5, 0.1, false));
-  const double fine = balance_error(gas(5e-6, 0.1, false));
+void expect_elastic_gas_conserves(bool rotation) {
+  const double coarse = balance_error(gas(1e-5, 0.1, rotation));
+  const double fine = balance_error(gas(5e-6, 0.1, rotation));
   EXPECT_LT(coarse, 1e-4);
-  EXPECT_GT(coarse / fine, 3.0) << coarse << " then " << fine;
-  EXPECT_LT(coarse / fine, 6.0) << coarse << " then " << fine;
+  expect_dt_squared(coarse, fine);
+}
+
+TEST(GranularGas, ElasticGasWithoutRotationConservesEnergyToDtSquared) {
+  expect_elastic_gas_conserves(false);
 }
 
 TEST(GranularGas, ElasticGasWithRotationConservesEnergyToDtSquared) {
-  const double coarse = balance_error(gas(1e-5, 0.1, true));
-  const double fine = balance_error(gas(5e-6, 0.1, true));
-  EXPECT_LT(coarse, 1e-4);
-  EXPECT_GT(coarse / fine, 3.0) << coarse << " then " << fine;
-  EXPECT_LT(coarse / fine, 6.0) << coarse << " then " << fine;
+  expect_elastic_gas_conserves(true);
 }
 
 // With eps = 0.5, mu = 0.4 and rotation, 81 % of the energy is dissipated in 0.1 s, by damping,
@@ -123,8 +128,7 @@ TEST(GranularGas, FrictionalGasBalanceClosesToDtSquared) {
   const double coarse = balance_error(gas(2.5e-6, 0.1, true, m));
   const double fine = balance_error(gas(1.25e-6, 0.1, true, m));
   EXPECT_LT(fine, 1e-6);
-  EXPECT_GT(coarse / fine, 3.0) << coarse << " then " << fine;
-  EXPECT_LT(coarse / fine, 6.0) << coarse << " then " << fine;
+  expect_dt_squared(coarse, fine);
 }
 
 }  // namespace
