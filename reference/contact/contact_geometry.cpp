@@ -37,6 +37,7 @@ PairGeometry volume_geometry(const ShapeTemplate& a, const RefPose& pose_a, cons
   g.area = area;
   g.normal = overlap.vector_area_a / area;  // dV/dx_A = +S: from A into B
   g.point = overlap.centroid;
+  g.moment = overlap.surface_moment_a;
   return g;
 }
 

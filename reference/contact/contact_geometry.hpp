@@ -17,9 +17,15 @@ struct PairGeometry {
   double volume = 0;                                 // dV, m^3 (volume model)
   double area = 0;                                   // A_n = |S|, m^2 (volume model)
   double depth = 0;                                  // delta, m (linear model)
+  // m^3 (volume model): the surface moment of the overlap's boundary on A about `point`
+  // (RefOverlap::surface_moment_a); the default law's couple of U(V) on A is -p(V) times it.
+  // Zero for the spheres' lens: A's normals all pass through A's centre, so M = (x_A - point) x S,
+  // and the point and S lie on the line of centres.
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
 };
 
-// Volume model, two polyhedra: exact_overlap; n = S / |S|, A_n = |S|, point = overlap centroid.
+// Volume model, two polyhedra: exact_overlap; n = S / |S|, A_n = |S|, point = overlap centroid,
+// moment = its surface moment on A.
 PairGeometry volume_geometry(const ShapeTemplate& a, const RefPose& pose_a, const ShapeTemplate& b,
                              const RefPose& pose_b);
 

@@ -45,13 +45,18 @@ RefOverlap exact_overlap(const ExactConvex& a, const ExactConvex& b) {
     const ExactPoint& q = hull.point(hull.target(h));
     const ExactPoint& r = hull.point(hull.target(hull.next(h)));
     // Outward area vector in double, from differences of the (exact, rounded) corners.
-    const Eigen::Vector3d p_d = to_eigen(p);
-    const Eigen::Vector3d area = 0.5 * (to_eigen(q) - p_d).cross(to_eigen(r) - p_d);
+    const Eigen::Vector3d p_d = to_eigen(p), q_d = to_eigen(q), r_d = to_eigen(r);
+    const Eigen::Vector3d area = 0.5 * (q_d - p_d).cross(r_d - p_d);
     result.boundary_area += area.norm();
     ++result.facets;
     // A facet of P on a plane of A has A's outward normal there (P lies inside A).
     if (!on_any_plane(a.planes, p, q, r)) continue;
-    result.vector_area_a += on_any_plane(b.planes, p, q, r) ? 0.5 * area : area;
+    const double weight = on_any_plane(b.planes, p, q, r) ? 0.5 : 1.0;
+    result.vector_area_a += weight * area;
+    // n is constant on the flat triangle: its moment about the centroid is the lever of its own
+    // centroid times its area vector.
+    const Eigen::Vector3d lever = (p_d + q_d + r_d) / 3 - result.centroid;
+    result.surface_moment_a += weight * lever.cross(area);
   }
   return result;
 }

@@ -1,6 +1,6 @@
 // Reference overlap of two posed convex polyhedra (the oracle for solver/geometry/overlap_*.hpp):
-// the intersection polytope built exactly with CGAL, its volume, centroid and the vector area of
-// its boundary on A's surface.
+// the intersection polytope built exactly with CGAL, its volume, centroid and the vector area and
+// surface moment of its boundary on A's surface.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +18,12 @@ struct RefOverlap {
   // m^2: sum of (outward area vector) over the intersection's facets lying on A's surface; a facet
   // lying on both surfaces counts half. Points from A into B (dV/dx_A = +S).
   Eigen::Vector3d vector_area_a = Eigen::Vector3d::Zero();
+  // m^3: the moment of that same part of the boundary about the centroid, the integral of
+  // (r - centroid) x n dA (each flat facet: (its centroid - centroid) x its area vector), with the
+  // same half weight for shared facets. Turning A by a small angle theta about a unit axis e
+  // through x_A changes the volume by dV/dtheta = e . ((centroid - x_A) x S + M): the surface
+  // moves at e x (r - x_A). So U(V)'s couple on A about the centroid is -U'(V) M.
+  Eigen::Vector3d surface_moment_a = Eigen::Vector3d::Zero();
   double boundary_area = 0;  // m^2: total area of the intersection's surface
   int facets = 0;            // triangles of the intersection's hull
 };

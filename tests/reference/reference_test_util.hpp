@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 
 #include "reference/geometry/exact_convex.hpp"
 #include "solver/shape/shape.hpp"
@@ -37,6 +38,18 @@ inline RefPose at(double x, double y, double z,
 
 inline Eigen::Vector3d to_eigen(const Vec3d& v) {
   return {v.x, v.y, v.z};
+}
+
+// The pose turned by `angle` about the unit axis e through its position (the body's centroid).
+inline RefPose turned(const RefPose& p, const Eigen::Vector3d& e, double angle) {
+  RefPose q = p;
+  q.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, e)) * p.orientation;
+  return q;
+}
+
+// The axes the turn tests check: the coordinate axes and `extra` (unit).
+inline std::array<Eigen::Vector3d, 4> turn_axes(const Eigen::Vector3d& extra) {
+  return {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ(), extra};
 }
 
 }  // namespace talus::reference::testing

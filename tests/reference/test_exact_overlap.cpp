@@ -1,8 +1,11 @@
-// The reference overlap (reference/geometry/exact_overlap.hpp) against closed forms and against
-// the production dual-space overlap (solver/geometry/overlap_polyhedra.hpp) on random poses.
+// The reference overlap (reference/geometry/exact_overlap.hpp) against closed forms, against
+// the production dual-space overlap (solver/geometry/overlap_polyhedra.hpp) on random poses, and
+// its surface moment against the rate of its volume under a turn.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include "reference/geometry/exact_overlap.hpp"
@@ -182,6 +185,101 @@ TEST(ExactOverlap, AgreesWithProduction_RandomPairsOfBuiltins) {
       "volume %.2e, vector area %.2e, centroid %.2e\n",
       compared, separate_both, worst_volume, worst_vector_area, worst_centroid);
   EXPECT_GE(compared, 500);
+}
+
+// The surface moment M of A's part of the boundary (RefOverlap::surface_moment_a) is what makes
+// the default law's couple exact: turning a body by theta about a unit axis e through its
+// centroid moves its surface at e x (r - x), so dV/dtheta_A = e . ((c - x_A) x S + M) and, B's
+// part being the rest of the closed surface (S_B = -S, M_B = -M), dV/dtheta_B = -e . ((c - x_B)
+// x S + M). Checked against a central difference of the exact volume, the body's orientation
+// turned by +-h about e. Error budget, relative to A_P R (A_P the overlap's boundary area, R the
+// larger bounding radius; |dV/dtheta| <= A_P R): truncation h^2 |d3V/dtheta3| / 6 with
+// |d3V/dtheta3| ~ A_P R (a boundary of size R swept at lever R): ~1e-13 for h = 1e-6; round-off
+// of the volume (a sum of double products, ~1e-15 A_P R about a vertex) and of the turned
+// vertices (rounded once, 1e-18 m times A_P) over 2h: ~1e-9. A kink of V (a vertex crossing a
+// face within +-h) would add O(h) only at the rare poses where one falls inside the interval.
+// 1e-7 is above both and far below a missed facet or weight (an O(1) relative error in M).
+TEST(ExactOverlap, SurfaceMomentIsTheVolumeRateUnderATurn) {
+  const std::vector<std::string> specs = {"cube:0.01", "tetrahedron:0.012", "dodecahedron:0.01",
+                                          "mineral:0.01"};
+  std::mt19937_64 rng(7350012);
+  const double h = 1e-6;
+  int checked = 0;
+  double worst = 0;
+  for (size_t i = 0; i < specs.size(); ++i) {
+    for (size_t j = i; j < specs.size(); ++j) {
+      const ShapeTemplate a = make_builtin(specs[i]), b = make_builtin(specs[j]);
+      const double radius = std::max(a.bounding_radius, b.bounding_radius);
+      for (int draw = 0, found = 0; found < 2 && draw < 50; ++draw) {
+        const PosePair poses =
+            random_overlapping_pair(rng, a.bounding_radius, b.bounding_radius, 0.15, 0.4);
+        const RefPose pa = to_ref_pose(poses.a), pb = to_ref_pose(poses.b);
+        const RefOverlap r = exact_overlap(a, pa, b, pb);
+        const double scale = r.boundary_area * radius;            // A_P R
+        if (!r.overlapping || r.volume < 1e-3 * scale) continue;  // no slivers
+        ++found;
+        const Eigen::Vector3d tilted = to_eigen(random_direction(rng));
+        for (const Eigen::Vector3d& e : turn_axes(tilted)) {
+          const double rate_a = (exact_overlap(a, turned(pa, e, h), b, pb).volume -
+                                 exact_overlap(a, turned(pa, e, -h), b, pb).volume) /
+                                (2 * h);
+          const double rate_b = (exact_overlap(a, pa, b, turned(pb, e, h)).volume -
+                                 exact_overlap(a, pa, b, turned(pb, e, -h)).volume) /
+                                (2 * h);
+          const Eigen::Vector3d& s = r.vector_area_a;
+          const Eigen::Vector3d& m = r.surface_moment_a;
+          const double expected_a = e.dot((r.centroid - pa.position).cross(s) + m);
+          const double expected_b = -e.dot((r.centroid - pb.position).cross(s) + m);
+          const double error =
+              std::max(std::abs(rate_a - expected_a), std::abs(rate_b - expected_b)) / scale;
+          worst = std::max(worst, error);
+          EXPECT_LT(error, 1e-7) << specs[i] << " vs " << specs[j] << " draw " << draw
+                                 << ": dV/dtheta_A " << rate_a << " vs " << expected_a
+                                 << ", dV/dtheta_B " << rate_b << " vs " << expected_b;
+          ++checked;
+        }
+        // M is not negligible here (else the check would test the lever term alone).
+        EXPECT_GT(r.surface_moment_a.norm(), 1e-3 * scale) << specs[i] << " vs " << specs[j];
+      }
+    }
+  }
+  std::printf("surface moment vs dV/dtheta: %d turns, worst error %.2e of A_P R\n", checked, worst);
+  EXPECT_EQ(checked, 10 * 2 * 4);  // 10 shape pairs, 2 poses each, 4 axes
+}
+
+// Closed forms. Two boxes (AxisAlignedBoxes): each of A's faces on the overlap has its centroid
+// on the overlap's centroid moved along the face's normal, so every lever is parallel to its
+// area vector and M = 0. A triangular prism B (vertical, z in [-1, 1]) poking its edge into the
+// unit cube A's +x face: the overlap is the prism over the triangle (1/4, 0), (1/2, -1/16),
+// (1/2, 3/16), z in [-1/2, 1/2] (A's top and bottom, on A only). A's +x face on it, y in
+// [y1, y2] = [-1/16, 3/16], area (y2 - y1) along +x, has its centroid at y = (y1 + y2) / 2, the
+// overlap's at (y1 + y2) / 3: lever y (y1 + y2) / 6, so M_z = -(y2^2 - y1^2) / 6 = -1/192 (the top
+// and bottom triangles' levers are along z, their area vectors too). Check: turning A about z
+// moves its +x face by -y dtheta, dV/dtheta = -(y2^2 - y1^2) / 2 = z . (c x S) + M_z.
+TEST(ExactOverlap, SurfaceMoment_ClosedForms) {
+  const ShapeTemplate boxes = box_vertices(0.010, 0.012, 0.014);
+  const RefOverlap r = exact_overlap(boxes, at(0, 0, 0), boxes, at(0.008, 0.001, 0.0005));
+  EXPECT_LT(r.surface_moment_a.norm(), kClosedRel * 0.01 * r.vector_area_a.norm());
+
+  const ShapeTemplate cube = box_vertices(1, 1, 1);
+  ShapeTemplate prism;
+  prism.name = "prism";
+  for (const double z : {-1.0, 1.0}) {
+    prism.vertices.push_back({0.25, 0, z});
+    prism.vertices.push_back({0.75, -0.125, z});
+    prism.vertices.push_back({0.75, 0.375, z});
+  }
+  prism.volume = 0.5 * 0.5 * 0.5 * 2;
+  const RefOverlap p = exact_overlap(cube, at(0, 0, 0), prism, at(0, 0, 0));
+  ASSERT_TRUE(p.overlapping);
+  const double y1 = -0.0625, y2 = 0.1875;
+  EXPECT_NEAR(p.volume, 0.5 * 0.25 * (y2 - y1), kClosedRel);
+  EXPECT_LT((p.vector_area_a - Eigen::Vector3d(y2 - y1, 0, 0)).norm(), kClosedRel);
+  const Eigen::Vector3d moment(0, 0, -(y2 * y2 - y1 * y1) / 6);
+  EXPECT_NEAR(moment.z(), -1.0 / 192, 1e-18);
+  EXPECT_LT((p.surface_moment_a - moment).norm(), kClosedRel * std::abs(moment.z()));
+  const double rate = Eigen::Vector3d::UnitZ().dot(p.centroid.cross(p.vector_area_a)) + moment.z();
+  EXPECT_NEAR(rate, -(y2 * y2 - y1 * y1) / 2, kClosedRel);
 }
 
 }  // namespace
