@@ -197,18 +197,40 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
 }
 
 PatchCouple patch_couple(const ContactForce& force, const Eigen::Vector3d& normal, double area,
-                         double friction, const Eigen::Vector3d& relative_angular_velocity) {
+                         double normal_stiffness, double friction,
+                         const Eigen::Vector3d& relative_angular_velocity, double dt,
+                         ContactHistory& history) {
   PatchCouple out;
-  if (!(area > 0)) return out;
+  if (!(area > 0)) {
+    history.rocking_moment.setZero();
+    history.rocking_stiffness = 0;
+    return out;
+  }
   const Eigen::Vector3d& w = relative_angular_velocity;
   const double normal_load = force.normal_force.norm();  // |F_n|, after the no-tension rule
   const double spin = normal.dot(w);                     // w_n
   const Eigen::Vector3d tilt = w - spin * normal;        // w_perp
-  // Rocking: -c_n I / A_n w_perp, I = A_n^2 / 12 (square patch), within the patch's edge.
-  out.rocking = -(force.normal_damping * area / 12) * tilt;
+  // The rocking spring M_e: into the current contact plane with its length kept, its energy kept
+  // where k_r = k_n A_n / 12 fell, then advanced by -k_r w_perp dt (see the header).
+  Eigen::Vector3d& spring = history.rocking_moment;
+  const double kept_length = spring.norm();
+  spring -= spring.dot(normal) * normal;
+  if (const double in_plane = spring.norm(); in_plane > 0) spring *= kept_length / in_plane;
+  const double k_r = normal_stiffness * area / 12;
+  const double k_previous = history.rocking_stiffness;
+  if (k_previous > 0 && k_r < k_previous) spring *= std::sqrt(k_r / k_previous);
+  history.rocking_stiffness = k_r;
+  spring -= (k_r * dt) * tilt;
+  // With the dashpot c_n I / A_n, I = A_n^2 / 12 (square patch), within the patch's edge; the
+  // spring keeps what the capped moment leaves it.
+  const double c_r = force.normal_damping * area / 12;
+  out.rocking = spring - c_r * tilt;
   const double rocking_limit = normal_load * std::sqrt(area) / 2;
-  const double rocking_size = out.rocking.norm();
-  if (rocking_size > rocking_limit) out.rocking *= rocking_limit / rocking_size;
+  if (const double size = out.rocking.norm(); size > rocking_limit) {
+    out.rocking *= rocking_limit / size;
+    spring = out.rocking + c_r * tilt;
+  }
+  out.spring_energy = k_r > 0 ? spring.squaredNorm() / (2 * k_r) : 0.0;
   // Twisting: -c_t J / A_n w_n, J = A_n^2 / 6, within Coulomb's mu |F_n| at the mean radius
   // (2/3) sqrt(A_n / pi).
   const double twist_limit = friction * normal_load * (2.0 / 3.0) * std::sqrt(area / M_PI);

@@ -7,7 +7,9 @@
 //                 with the calibrated damping (NormalDamping::kCalibrated) by default.
 //   linear        BLAZE-DEM (§3.1, Eqs. 2-4).
 // Both volume laws share the tangential spring of Eqs. 17-20 (volume_contact_force). The default
-// law adds, with rotation, the patch couple of its dashpots over the contact area (patch_couple).
+// law adds, with rotation, the exact couple of its potential (the overlap's surface moment; at a
+// wall each facet's force at its section's centroid) and the patch couple: a rocking spring and
+// dashpot and a twisting dashpot over the contact area (patch_couple).
 //
 // Conventions, for one contact between a body A and a body B (B may be a wall):
 //   n        unit normal from A into B (for the volume laws n = S / |S|, S the vector area of
@@ -15,7 +17,8 @@
 //   v_r      v_A(c) - v_B(c), the velocity of A's material point at the contact point c relative
 //            to B's; v_r . n > 0 while the bodies approach;
 //   force    the force on A; B gets its opposite, and each body the torque (c - x) x F about its
-//            own centroid (Eqs. 21-22), plus, for the default law, the patch couple (A: +, B: -).
+//            own centroid (Eqs. 21-22), plus, for the default law, U(V)'s couple -p M and the
+//            patch couple (A: +, B: -).
 #pragma once
 
 #include <Eigen/Core>
@@ -161,12 +164,16 @@ struct VolumeLawParameters {
 
 // What a contact carries across steps: the elastic tangential force F_t^e = -k_t Delta-s of
 // Eq. 18 (N, advanced incrementally: volume_contact_force), the largest normal approach speed
-// v0 seen since it began (m/s; kCalibrated; < 0 before the first force evaluation), and the k_t
-// of the last evaluation with friction (N/m; 0 before it; bounded_spring_energy).
+// v0 seen since it began (m/s; kCalibrated; < 0 before the first force evaluation), the k_t
+// of the last evaluation with friction (N/m; 0 before it; bounded_spring_energy), and the default
+// law's rocking spring (patch_couple): its moment M_e on A (N m, in the contact plane) and its
+// k_r at the last evaluation (N m/rad; 0 before the first).
 struct ContactHistory {
   Eigen::Vector3d elastic_force = Eigen::Vector3d::Zero();
   double approach_speed = -1;
   double spring_stiffness = 0;
+  Eigen::Vector3d rocking_moment = Eigen::Vector3d::Zero();
+  double rocking_stiffness = 0;
 };
 
 struct ContactForce {
@@ -209,38 +216,53 @@ ContactForce volume_contact_force(const NormalContact& contact, const VolumeLawP
                                   const Eigen::Vector3d& relative_velocity, double dt,
                                   ContactHistory& history);
 
-// The default volume law's patch couple: the moment that a single contact point leaves out when
-// the law's two dashpots act over the contact patch A_n instead of at its centre. A torque on A
-// besides (c - x_A) x F, B (or the wall) getting its opposite; only for `volume`, with rotation.
+// The default volume law's patch couple: what one contact point leaves out of a pressure and a
+// shear spread over the contact patch A_n. A torque on A besides (c - x_A) x F and the exact couple
+// of U(V) (the overlap's surface moment, applied by world.cpp), B (or the wall) getting its
+// opposite; only for `volume`, with rotation.
 //   w_rel = w_A - w_B (world; a rotating wall's w_B = its axis times its angular speed),
 //   n the contact normal, w_n = w_rel . n, w_perp = w_rel - w_n n.
-//   Rocking: the normal dashpot spread evenly over the patch, c_n / A_n per unit area, meets a
-//   rotation w_perp about an axis through the centre in the patch's plane with the local normal
-//   speed (w_perp x r) . n, a moment -c_n (I / A_n) w_perp, I the second moment of the patch about
-//   that axis. For a square of area A_n, I = A_n^2 / 12 (a disc: A_n^2 / (4 pi), 5% less):
-//       M_rock = -c_n (A_n / 12) w_perp,
-//   scaled down to |F_n| sqrt(A_n) / 2 at most: a pressure that cannot pull moves its resultant
-//   at most to the patch's edge, half a side sqrt(A_n) / 2 from the centre.
+//   Rocking spring: U(V) alone gives a face resting on a face no tilt stiffness (tilting it at a
+//   fixed volume leaves V unchanged: a cube on a cube is an inverted pendulum). Read the contact's
+//   k_n as a Winkler foundation spread evenly over the patch, k_n / A_n per unit area: a tilt
+//   theta about an axis through the centre in the patch's plane meets the moment
+//   k_n (I / A_n) theta, I the second moment of the patch about that axis, A_n^2 / 12 for a square
+//   (a disc: A_n^2 / (4 pi), 5% less). So k_r = k_n A_n / 12, and the spring's moment M_e is kept
+//   in the history and advanced as the tangential spring is: turned into the plane normal to the
+//   current n with its length kept, scaled by sqrt(k_r / k_before) where k_r fell (its energy
+//   |M_e|^2 / (2 k_r) never grows from nothing), then M_e -= k_r w_perp dt.
+//   Rocking dashpot: the normal dashpot spread alike, c_r = c_n A_n / 12, in parallel:
+//       M_rock = M_e - c_r w_perp,
+//   scaled down to |F_n| sqrt(A_n) / 2 at most (a pressure that cannot pull moves its resultant
+//   at most to the patch's edge, half a side from the centre); where that binds the spring slips,
+//   M_e = M_rock + c_r w_perp, as the tangential spring at Coulomb's cap.
 //   Twisting: the tangential dashpot c_t (Eq. 20) spread alike meets the in-plane speed
 //   w_n |r| of a twist, a moment -c_t (J / A_n) w_n about n, J = A_n^2 / 6 the polar moment of
 //   the square:
 //       M_twist = -c_t (A_n / 6) w_n,
 //   clamped to +-mu |F_n| (2/3) sqrt(A_n / pi): Coulomb's mu |F_n| at the mean radius of a disc
 //   of area A_n.
-// Why: at one contact point neither dashpot sees a rotation about that point. A face resting on
-// a face then rocks and spins undamped (a stack of cubes never settles, a tetrahedron spins on
-// its face for ever: the production solver's tests/step/test_hard_cases.cpp); the patch's
-// dashpots damp it as a distributed contact would. The couple dissipates -M . w_rel >= 0.
+// Why the dashpots: at one contact point neither dashpot sees a rotation about that point, so a
+// face resting on a face rocks and spins undamped (a stack of cubes never settles, a tetrahedron
+// spins on its face for ever: the production solver's tests/step/test_hard_cases.cpp).
 // `force` is the law's result for the contact (its normal force and its dashpots), `area` A_n
-// (walls: sum_i w_i A_i, the area of k_t), `friction` the pair's mu.
+// (walls: sum_i w_i A_i, the area of k_t), `normal_stiffness` the contact's k_n, `friction` the
+// pair's mu, `dt` the time the spring advances by (0 in the evaluation before the first step),
+// `history` the contact's (M_e and k_r are read and written; A's view, see world.cpp). No area:
+// the rocking history is cleared and the couple is zero.
 struct PatchCouple {
   Eigen::Vector3d rocking = Eigen::Vector3d::Zero();   // N m, in the contact plane
   Eigen::Vector3d twisting = Eigen::Vector3d::Zero();  // N m, along n
   Eigen::Vector3d total() const { return rocking + twisting; }
-  double dissipation = 0;  // -total() . w_rel, W (>= 0)
+  // -total() . w_rel, W: the power the couple takes from the relative rotation. Not a loss: it
+  // is negative while the rocking spring gives back the energy it holds.
+  double dissipation = 0;
+  double spring_energy = 0;  // |M_e|^2 / (2 k_r) after this evaluation, J (0 when k_r = 0)
 };
 PatchCouple patch_couple(const ContactForce& force, const Eigen::Vector3d& normal, double area,
-                         double friction, const Eigen::Vector3d& relative_angular_velocity);
+                         double normal_stiffness, double friction,
+                         const Eigen::Vector3d& relative_angular_velocity, double dt,
+                         ContactHistory& history);
 
 // Linear model (BLAZE-DEM Eqs. 2-3), history-free:
 //   F_N = -(K_N delta + eta v_n) n on A, with the same no-tension rule;

@@ -285,15 +285,32 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     const auto key = std::minmax(pa.id, pb.id);
     ContactHistory history;
     if (auto it = pair_histories_.find(key); it != pair_histories_.end()) history = it->second;
-    // The elastic force is stored for the lower id as A: flip it for the other order.
+    // The springs' force and moment are stored for the lower id as A: flip them for the other
+    // order (both are A's, odd in the swap).
     const double sign = pa.id == key.first ? 1.0 : -1.0;
-    history.elastic_force *= sign;
+    const auto flip = [&history, sign] {
+      history.elastic_force *= sign;
+      history.rocking_moment *= sign;
+    };
+    flip();
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
-    history.elastic_force *= sign;
-    next[key] = history;  // the elastic tangential force (with friction) and v0 (kCalibrated)
+    double rocking_energy = 0;
+    if (fx.contact == ContactModel::volume && fx.rotation) {
+      // The default law's patch couple (force_law.hpp): A gets it, B its opposite.
+      const PatchCouple pc =
+          patch_couple(f, g.normal, g.area, nc.normal_stiffness, props.friction,
+                       pa.state.angular_velocity_world() - pb.state.angular_velocity_world(),
+                       spring_dt, history);
+      c.couple = pc.total();
+      rocking_energy = pc.spring_energy;
+    }
+    flip();
+    // The elastic tangential force (with friction), v0 (kCalibrated) and the rocking spring.
+    next[key] = history;
     // Feng's potential: F_A = -U'(V) S (force_law.hpp).
     c.elastic_energy = e.energy;
-    c.tangential_energy = tangential_spring_energy(history.elastic_force, nc.tangential_stiffness);
+    c.tangential_energy =
+        tangential_spring_energy(history.elastic_force, nc.tangential_stiffness) + rocking_energy;
     c.volume = g.volume, c.area = g.area;
   } else {
     NormalContact nc;
@@ -306,15 +323,8 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
   const Eigen::Vector3d force = f.total();
   apply(ia, g.point, force);
   apply(ib, g.point, -force);
-  if (fx.contact == ContactModel::volume && fx.rotation) {
-    // The default law's patch couple (force_law.hpp): A gets it, B its opposite.
-    const PatchCouple couple =
-        patch_couple(f, g.normal, g.area, props.friction,
-                     pa.state.angular_velocity_world() - pb.state.angular_velocity_world());
-    bodies_[ia].state.torque += couple.total();
-    bodies_[ib].state.torque -= couple.total();
-    c.couple = couple.total();
-  }
+  bodies_[ia].state.torque += c.couple;  // zero but for the default law with rotation
+  bodies_[ib].state.torque -= c.couple;
   c.force_on_a = force;
   c.tangential_force = f.tangential_force;
   c.sliding = f.sliding;
@@ -405,15 +415,24 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   const PairProperties props = pair_properties(p.material, wall.material);
   const Eigen::Vector3d v_r = point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point);
   ContactForce f;
-  double tangential_energy = 0;
+  double tangential_energy = 0;  // the tangential spring's and the rocking spring's
+  PatchCouple patch;             // zero but for the default law with rotation
   if (volume_model) {
     const VolumeLawParameters law = volume_parameters(props, p.state.mass);
     const std::pair<long long, int> key(p.id, w);
     ContactHistory history;
     if (auto it = wall_histories_.find(key); it != wall_histories_.end()) history = it->second;
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
-    next[key] = history;
     tangential_energy = tangential_spring_energy(history.elastic_force, k_t);
+    if (fx.contact == ContactModel::volume && fx.rotation) {
+      // The default law's patch couple (force_law.hpp) against the wall's own rotation, the
+      // particle as A: the particle gets it, the wall its opposite.
+      patch = patch_couple(f, nc.normal, area, k_n, props.friction,
+                           p.state.angular_velocity_world() - wall.motion.angular_velocity(),
+                           spring_dt, history);
+      tangential_energy += patch.spring_energy;
+    }
+    next[key] = history;
   } else {
     f = linear_contact_force(nc, linear_law(props), v_r);
   }
@@ -426,14 +445,7 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
     // The facets' forces at their own points rather than their sum at nc.point: the couple
     // sum (x_i - point) x F_i, zero for coplanar facets; at a wall's edge or corner one force at
     // one point would turn the particle by work from nothing.
-    couple = force_moment - nc.point.cross(elastic);
-  }
-  if (fx.contact == ContactModel::volume && fx.rotation) {
-    // The default law's patch couple (force_law.hpp) against the wall's own rotation: the
-    // particle gets it, the wall its opposite.
-    couple += patch_couple(f, nc.normal, area, props.friction,
-                           p.state.angular_velocity_world() - wall.motion.angular_velocity())
-                  .total();
+    couple = force_moment - nc.point.cross(elastic) + patch.total();
   }
   bodies_[i].state.torque += couple;
   wall_torque_[w] -= couple;

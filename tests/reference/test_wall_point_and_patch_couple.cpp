@@ -3,7 +3,8 @@
 // from the whole section's centroid, reference/geometry/wall_area.hpp, reference/world/world.cpp)
 // and the patch couple (reference/contact/force_law.hpp, patch_couple), against hand
 // computations: a tilted cube's wedge below a plane, the torque it gets back, and the rocking and
-// twisting moments for a given relative angular velocity.
+// twisting moments for a given relative angular velocity; the rocking spring in a pair's history
+// and at a wall. The rocking spring's own rules: test_rocking_spring.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -166,9 +167,14 @@ TEST(ReferenceWallPoint, TiltedCubeOnAPlaneWallGetsARestoringTorque) {
 }
 
 // Released tilted by 0.03 rad with its low edge touching the plane, under gravity, friction and
-// rotation, the cube comes to rest level on its face under the default law: the offset's
-// restoring torque rights it and the patch couple's rocking dashpot damps the rocking.
-TEST(ReferenceWallPoint, TiltedCubeSettlesLevelOnAPlane) {
+// rotation, the cube comes to rest face down under the default law: the offset's restoring torque
+// rights it, the rocking spring stiffens the face's tilt and the patch's dashpots damp the
+// rocking. It does not end exactly level: the spring slips at its cap while the cube lands and
+// rocks, and then keeps a moment that balances the restoring torque at a small tilt (measured at
+// 50 ms: tilt 3.2e-5 rad, speed 9e-10 m/s, spin 7e-8 rad/s). Without the spring it ended level to
+// 3.6e-7 rad; the bound 5e-4 rad says "face down" (the face's own depth is 2e-7 m over L = 1e-2 m)
+// with room for the spring's memory.
+TEST(ReferenceWallPoint, TiltedCubeComesToRestOnItsFace) {
   const double l = 0.01, theta = 0.03, g = 9.81;
   RefWorldSetup s;
   s.templates = {box(l, l, l)};
@@ -183,36 +189,44 @@ TEST(ReferenceWallPoint, TiltedCubeSettlesLevelOnAPlane) {
   s.bodies = {polyhedron(0, 0, 1, Eigen::Vector3d(0, 0, height), q)};
   s.walls = {square_wall(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.05, 0)};
   RefWorld world(s);
-  // 50 ms: it falls from the edge onto the face, rocks (4 rad/s at first) and is level by
-  // ~25 ms; the rest decays at the contact's damping (measured at 50 ms: tilt 3.6e-7 rad, speed
-  // 4e-6 m/s, spin 5e-4 rad/s).
+  // 50 ms: it falls from the edge onto the face by ~10 ms, rocks and is at rest by ~30 ms.
   world.run(5000);
   const RigidBody& b = world.bodies()[0].state;
   const double tilt = std::acos(std::min(1.0, (b.orientation * Eigen::Vector3d::UnitZ()).z()));
+  ASSERT_EQ(world.contacts().size(), 1u);
+  const RefContact& c = world.contacts()[0];
   std::printf(
       "tilted cube released: tilt %.3g rad after 50 ms (from %.3g), speed %.3g m/s, "
-      "spin %.3g rad/s\n",
-      tilt, theta, b.velocity.norm(), b.angular_velocity_world().norm());
-  EXPECT_LT(tilt, 1e-5);
+      "spin %.3g rad/s, point %.3g m from under the centre, springs' energy %.3g J\n",
+      tilt, theta, b.velocity.norm(), b.angular_velocity_world().norm(),
+      (c.point - b.position).head<2>().norm(), c.tangential_energy);
+  EXPECT_LT(tilt, 5e-4);
   EXPECT_LT(b.velocity.norm(), 1e-4);
   EXPECT_LT(b.angular_velocity_world().norm(), 1e-2);
+  // At rest it carries its weight.
+  EXPECT_NEAR(c.force_on_a.z(), b.mass * g, 1e-3 * b.mass * g);
 }
 
-// The couple's two parts against their formulas for a given w_rel, and their caps.
+// The couple's two parts against their formulas for a given w_rel, and their caps, at a
+// contact's first evaluation (a fresh history, dt = 0: the rocking spring holds nothing).
 TEST(ReferencePatchCouple, RockingAndTwistingFormulas) {
   const Eigen::Vector3d n = Eigen::Vector3d(1, 2, 2) / 3;
   const Eigen::Vector3d w(0.3, -0.2, 0.7);
-  const double area = 1e-4, friction = 0.5, c_n = 3, c_t = 2;
+  const double area = 1e-4, friction = 0.5, c_n = 3, c_t = 2, k_n = 5e4;
   const double w_n = w.dot(n);
   const Eigen::Vector3d w_perp = w - w_n * n;
   ContactForce f;
   f.normal_damping = c_n;
   f.tangential_damping = c_t;
   f.tangential_force = Eigen::Vector3d(0.1, -0.3, 0.1);  // not read
+  const auto first = [&](double a) {
+    ContactHistory fresh;
+    return patch_couple(f, n, a, k_n, friction, w, 0.0, fresh);
+  };
 
   // Under a large load neither cap binds: -c_n A/12 w_perp and -c_t A/6 w_n n.
   f.normal_force = -100 * n;
-  PatchCouple pc = patch_couple(f, n, area, friction, w);
+  PatchCouple pc = first(area);
   const Eigen::Vector3d rocking = -c_n * area / 12 * w_perp;
   const Eigen::Vector3d twisting = -c_t * area / 6 * w_n * n;
   EXPECT_LT((pc.rocking - rocking).norm(), 1e-15 * rocking.norm());
@@ -222,12 +236,13 @@ TEST(ReferencePatchCouple, RockingAndTwistingFormulas) {
   const double power = c_n * area / 12 * w_perp.squaredNorm() + c_t * area / 6 * w_n * w_n;
   EXPECT_NEAR(pc.dissipation, power, 1e-14 * power);
   EXPECT_GT(pc.dissipation, 0);
+  EXPECT_EQ(pc.spring_energy, 0.0);
 
   // Under a light load both caps bind: the rocking moment is |F_n| sqrt(A) / 2 against w_perp,
   // the twisting mu |F_n| (2/3) sqrt(A / pi) against w_n.
   const double load = 1e-3;
   f.normal_force = -load * n;
-  pc = patch_couple(f, n, area, friction, w);
+  pc = first(area);
   const double rocking_cap = load * std::sqrt(area) / 2;
   const double twisting_cap = friction * load * 2 / 3 * std::sqrt(area / M_PI);
   ASSERT_GT(rocking.norm(), rocking_cap);
@@ -238,12 +253,12 @@ TEST(ReferencePatchCouple, RockingAndTwistingFormulas) {
 
   // No push (the no-tension rule dropped the normal force), no area: no couple.
   f.normal_force.setZero();
-  EXPECT_EQ(patch_couple(f, n, area, friction, w).total(), Eigen::Vector3d::Zero());
+  EXPECT_EQ(first(area).total(), Eigen::Vector3d::Zero());
   f.normal_force = -100 * n;
-  EXPECT_EQ(patch_couple(f, n, 0, friction, w).total(), Eigen::Vector3d::Zero());
+  EXPECT_EQ(first(0).total(), Eigen::Vector3d::Zero());
   // Without friction c_t = 0: no twisting.
   f.tangential_damping = 0;
-  EXPECT_EQ(patch_couple(f, n, area, friction, w).twisting, Eigen::Vector3d::Zero());
+  EXPECT_EQ(first(area).twisting, Eigen::Vector3d::Zero());
 }
 
 // A cube face down on a rotating plane wall, spinning: the world gives the particle the couple
@@ -301,6 +316,28 @@ TEST(ReferencePatchCouple, CubeSpinningOnARotatingWall) {
     EXPECT_LT((world.wall_torque(0) - wall_torque).norm(), 1e-12 * couple.norm());
     std::printf("cube spinning on a rotating wall: rocking %.4g N m, twisting %.4g N m\n",
                 (couple - couple.dot(n) * n).norm(), std::abs(couple.dot(n)));
+
+    // One more evaluation that advances the springs by dt (the state unchanged): the rocking
+    // spring holds -k_r w_perp dt, k_r = k_n A / 12, the particle as A, and the contact's spring
+    // energy is the tangential spring's k_t |v_t dt|^2 / 2 plus the rocking spring's
+    // k_r |w_perp dt|^2 / 2 (neither cap binds: asserted).
+    world.evaluate_forces(dt);
+    ASSERT_EQ(world.contacts().size(), 1u);
+    const RefContact& next = world.contacts()[0];
+    const double k_r = k_n * area / 12;
+    const Eigen::Vector3d rocking = -(k_r * dt + c_n * area / 12) * w_perp;
+    ASSERT_LT(rocking.norm(), load * std::sqrt(area) / 2);
+    EXPECT_LT((next.couple - next.couple.dot(n) * n - rocking).norm(), 1e-12 * rocking.norm());
+    const Eigen::Vector3d v_r =
+        w.cross(next.point - centre) - omega_wall * Eigen::Vector3d::UnitZ().cross(next.point);
+    const Eigen::Vector3d v_t = v_r - v_r.dot(n) * n;
+    ASSERT_LT((k_t * dt + c_t) * v_t.norm(), mu * load);
+    const double energy =
+        0.5 * k_t * (v_t * dt).squaredNorm() + 0.5 * k_r * (w_perp * dt).squaredNorm();
+    EXPECT_NEAR(next.tangential_energy, energy, 1e-12 * energy);
+    std::printf("after dt: rocking spring %.4g N m, springs' energy %.4g J (rocking %.4g J)\n",
+                k_r * dt * w_perp.norm(), next.tangential_energy,
+                0.5 * k_r * (w_perp * dt).squaredNorm());
   }
 }
 
@@ -367,6 +404,64 @@ TEST(ReferencePatchCouple, PairOfBoxesFaceOnFace) {
         "(cap %.4g)\n",
         load, rocking.norm(), rocking_cap, twisting, twisting_cap);
   }
+}
+
+// The rocking spring between particles: the boxes of PairOfBoxesFaceOnFace without friction,
+// each turning, the state held (evaluate_forces alone, twice by dt after the first evaluation).
+// The pair's history holds M_e = -2 k_r w_perp dt, k_r = k_n A_n / 12, w_perp the in-plane part
+// of w_lower - w_upper, as seen from the lower id as A: with the ids swapped (the upper box the
+// lower id), A (body 0) gets the same couple and the history holds the opposite moment. The
+// contact's tangential energy is the spring's |M_e|^2 / (2 k_r) (no tangential spring here).
+TEST(ReferencePatchCouple, PairRockingSpringHistory) {
+  const double a = 0.01, b = 0.006, d = 1e-5, youngs = 1e7, nu = 0.3, eps = 0.5, dt = 1e-5;
+  const Eigen::Vector3d w_low(0.5, 0.1, -0.3), w_up(-0.2, 0.4, 0.9);
+  const Eigen::Vector3d x_low = Eigen::Vector3d::Zero(), x_up(0, 0, a - d);
+  Eigen::Vector3d stored[2], couples[2];
+  for (const bool swapped : {false, true}) {
+    RefWorldSetup s;
+    s.templates = {box(a, a, a), box(b, b, a)};
+    s.materials = {material(youngs, eps, 0, 2500, nu)};
+    s.time_step = dt;
+    s.effects.rotation = true;
+    RefBodySpec low = polyhedron(0, 0, swapped ? 2 : 1, x_low);
+    RefBodySpec up = polyhedron(1, 0, swapped ? 1 : 2, x_up);
+    low.angular_velocity = w_low;
+    up.angular_velocity = w_up;
+    s.bodies = {low, up};
+    RefWorld world(s);
+    world.evaluate_forces(0);
+    world.evaluate_forces(dt);
+    world.evaluate_forces(dt);
+    ASSERT_EQ(world.contacts().size(), 1u);
+    const RefContact& c = world.contacts()[0];
+    ASSERT_EQ(c.body_a, 0);
+    const double area = b * b, volume = area * d;
+    const double m_low = world.bodies()[0].state.mass, m_up = world.bodies()[1].state.mass;
+    const double m_eff = m_low * m_up / (m_low + m_up);
+    const double r_low = equal_volume_radius(a * a * a), r_up = equal_volume_radius(b * b * a);
+    const double k = youngs / r_low + youngs / r_up, a_ref = M_PI * r_up * r_up;
+    const double k_n = k * area * area / a_ref, k_r = k_n * area / 12;
+    const double c_r = std::min(dashpot(eps, k_n, m_eff), m_eff / dt) * area / 12;
+    const Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d w_rel = w_low - w_up, w_perp = w_rel - w_rel.dot(n) * n;
+    const Eigen::Vector3d spring = -2 * k_r * dt * w_perp;  // on the lower box
+    const Eigen::Vector3d rocking = spring - c_r * w_perp;
+    ASSERT_LT(rocking.norm(), k * volume / a_ref * area * std::sqrt(area) / 2);  // under the cap
+    EXPECT_LT((c.couple - c.couple.dot(n) * n - rocking).norm(), 1e-12 * rocking.norm());
+    EXPECT_NEAR(c.tangential_energy, spring.squaredNorm() / (2 * k_r),
+                1e-12 * spring.squaredNorm() / (2 * k_r));
+    const ContactHistory* h = world.pair_history(1, 2);
+    ASSERT_NE(h, nullptr);
+    EXPECT_NEAR(h->rocking_stiffness, k_r, 1e-12 * k_r);
+    stored[swapped] = h->rocking_moment;
+    couples[swapped] = c.couple;
+    // The lower id's view: the lower box's spring, or the upper box's (its opposite).
+    EXPECT_LT((h->rocking_moment - (swapped ? -spring : spring)).norm(), 1e-12 * spring.norm());
+  }
+  EXPECT_LT((couples[0] - couples[1]).norm(), 1e-14 * couples[0].norm());
+  EXPECT_LT((stored[0] + stored[1]).norm(), 1e-14 * stored[0].norm());
+  std::printf("pair rocking spring after 2 dt: %.4g N m (stored %.4g, %.4g along x)\n",
+              stored[0].norm(), stored[0].x(), stored[1].x());
 }
 
 }  // namespace
