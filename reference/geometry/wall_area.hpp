@@ -26,8 +26,8 @@ struct RefWallContact {
   Eigen::Vector3d volume_below_centroid = Eigen::Vector3d::Zero();
   // m, world, in the plane: volume_below_centroid - section_centroid projected onto the plane
   // (computed exactly, rounded once); zero unless both the section's area and the volume below
-  // are positive. The volume laws' wall contact point of this facet is overlap_centroid +
-  // volume_offset (world/world.cpp says why).
+  // are positive. volume_paper's wall contact point of this facet is overlap_centroid +
+  // volume_offset (the default law's is overlap_centroid; world/world.cpp says why).
   Eigen::Vector3d volume_offset = Eigen::Vector3d::Zero();
 };
 

@@ -296,12 +296,14 @@ void RefWorld::pair_contact(int i, int j, double spring_dt,
     f = volume_contact_force(nc, law, v_r, spring_dt, history);
     double rocking_energy = 0;
     if (fx.contact == ContactModel::volume && fx.rotation) {
-      // The default law's patch couple (force_law.hpp): A gets it, B its opposite.
+      // The default law's couples on A (B gets their opposite): its patch couple (force_law.hpp)
+      // and the exact couple of U(V) about the point, -p M with p = |F^e| / A_n (F^e = -p S).
       const PatchCouple pc =
           patch_couple(f, g.normal, g.area, nc.normal_stiffness, props.friction,
                        pa.state.angular_velocity_world() - pb.state.angular_velocity_world(),
                        spring_dt, history);
       c.couple = pc.total();
+      if (g.area > 0) c.couple -= (e.force / g.area) * g.moment;
       rocking_energy = pc.spring_energy;
     }
     flip();
@@ -383,17 +385,19 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
       elastic += wt * fx.linear.stiffness * wc.depth * wc.normal;
       energy += wt * 0.5 * fx.linear.stiffness * wc.depth * wc.depth;
     }
-    // The volume laws' point of this facet: the clipped section's centroid moved by the offset
-    // of the volume below the facet's plane from the whole section's centroid (wall_area.hpp),
-    // so that a facet holding the whole section puts the force at the volume's centroid, as the
-    // overlap polytope's centroid does between particles: a tilted face is pushed back level
-    // (its deep side carries more). The section's centroid alone lies under the middle of the
-    // tilted face, on the shallow side of the particle's centre: a cube on a floor would be an
-    // inverted pendulum and a stack of cubes would never settle. The linear law keeps the
-    // section's centroid (its force is the depth's, not the volume's).
+    // The point of this facet's force. The default law: the clipped section's centroid, the
+    // exact torque of U(V): turning the particle by theta about an axis through x_A changes the
+    // volume below a plane by theta times the section's moment about that axis (the section
+    // sweeps it), so -U'(V) dV/dtheta is the force at the section's centroid. Its tilt stiffness
+    // is the patch couple's rocking spring (force_law.hpp). volume_paper: the section's centroid
+    // moved by the offset of the volume below the plane from the whole section's centroid
+    // (wall_area.hpp), so that a facet holding the whole section puts the force at the volume's
+    // centroid, as the overlap polytope's centroid does between particles: a tilted face is
+    // pushed back level. The linear law keeps the section's centroid (its force is the depth's).
     const Eigen::Vector3d facet_point =
-        volume_model ? Eigen::Vector3d(wc.overlap_centroid + wc.volume_offset)
-                     : wc.overlap_centroid;
+        fx.contact == ContactModel::volume_paper
+            ? Eigen::Vector3d(wc.overlap_centroid + wc.volume_offset)
+            : wc.overlap_centroid;
     moment += wc.overlap_area * facet_point;
     force_moment += facet_point.cross(elastic - elastic_before);
     area_sum += wc.overlap_area;

@@ -100,16 +100,19 @@ struct RefContact {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_on_a = Eigen::Vector3d::Zero();  // N (normal + tangential)
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero();
-  // N m: the default volume law's patch couple on A besides (point - x_A) x force_on_a (B or the
-  // wall gets its opposite); zero for the other laws and without rotation (force_law.hpp).
+  // N m: the torque on A besides (point - x_A) x force_on_a (B or the wall gets its opposite),
+  // with rotation: for the default volume law the patch couple (force_law.hpp) and, between
+  // particles, U(V)'s couple -p M (PairGeometry::moment); at walls also the facets' forces at
+  // their own points, sum (x_i - point) x F_i. Zero without rotation.
   Eigen::Vector3d couple = Eigen::Vector3d::Zero();
   double volume = 0;  // dV (volume laws; walls: sum of w_i dV_i), m^3
   double area = 0;    // A_n (volume laws; walls: sum of w_i A_i), m^2
   double depth = 0;   // delta (linear model; walls: the deepest facet's), m
   double weight = 1;  // walls: sum of the facets' area weights
   // J: the potential of the elastic normal force (volume laws: U(V), walls sum_i w_i U(V_i);
-  // linear: K_N delta^2 / 2), and the tangential spring's |F_t^e|^2 / (2 k_t) after this step
-  // (volume laws with friction; force_law.hpp).
+  // linear: K_N delta^2 / 2), and the springs' energy after this step: the tangential spring's
+  // |F_t^e|^2 / (2 k_t) (volume laws with friction) plus the rocking spring's |M_e|^2 / (2 k_r)
+  // (the default law with rotation; force_law.hpp).
   double elastic_energy = 0;
   double tangential_energy = 0;
   bool sliding = false;

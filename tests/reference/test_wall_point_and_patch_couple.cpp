@@ -1,19 +1,29 @@
-// The default volume law's rotational terms in the reference solver: the volume laws' wall contact
-// point (each facet's clipped section centroid moved by the offset of the volume below its plane
-// from the whole section's centroid, reference/geometry/wall_area.hpp, reference/world/world.cpp)
-// and the patch couple (reference/contact/force_law.hpp, patch_couple), against hand
-// computations: a tilted cube's wedge below a plane, the torque it gets back, and the rocking and
-// twisting moments for a given relative angular velocity; the rocking spring in a pair's history
-// and at a wall. The rocking spring's own rules: test_rocking_spring.cpp.
+// The volume laws' rotational terms in the reference solver: the wall contact point (the default
+// law: each facet's clipped section's centroid, the exact torque of U(V); volume_paper: moved by
+// the offset of the volume below the plane from the whole section's centroid,
+// reference/geometry/wall_area.hpp, reference/world/world.cpp), the default law's torques as the
+// rate of its energy under a turn (pair and wall), and its patch couple
+// (reference/contact/force_law.hpp, patch_couple), against hand computations: a tilted cube's
+// wedge below a plane, the torque it gets, and the rocking and twisting moments for a given
+// relative angular velocity; the rocking spring in a pair's history and at a wall. The rocking
+// spring's own rules: test_rocking_spring.cpp.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "reference/contact/force_law.hpp"
+#include "reference/geometry/exact_overlap.hpp"
 #include "reference/geometry/wall_area.hpp"
+#include "solver/shape/builtins.hpp"
 #include "tests/reference/reference_test_util.hpp"
 #include "tests/reference/world_test_util.hpp"
+#include "tests/support/random_poses.hpp"
 
 namespace talus::reference {
 namespace {
@@ -24,6 +34,9 @@ using testing::kClosedRel;
 using testing::material;
 using testing::polyhedron;
 using testing::square_wall;
+using testing::to_eigen;
+using testing::turn_axes;
+using testing::turned;
 
 // An axis-aligned box template with the mass properties the world needs.
 ShapeTemplate box(double lx, double ly, double lz) {
@@ -112,16 +125,18 @@ TEST(ReferenceWallPoint, TiltedCubeVolumeOffsetAgainstTheWedge) {
       w.section_centroid.x());
 }
 
-// The same cube on a plane wall at rest, in a world: the volume laws' contact point is the
-// section's centroid plus the offset, under the deep side, so the normal force levels the cube
-// (torque against the tilt). The linear law keeps the section's centroid, on the shallow side of
-// the centre: its force tips the cube further (the inverted pendulum the offset removes).
-TEST(ReferenceWallPoint, TiltedCubeOnAPlaneWallGetsARestoringTorque) {
+// The same cube on a plane wall at rest, in a world. volume_paper's contact point is the
+// section's centroid plus the offset, under the deep side, so its normal force levels the cube
+// (torque against the tilt). The default and the linear laws keep the section's centroid, on the
+// shallow side of the centre: their force tips the cube further. For the default law that is the
+// exact torque of its potential, -dU/dtheta: U(V) alone is an inverted pendulum on a face, and the
+// tilt stiffness is the rocking spring's, which holds nothing at rest before any rotation
+// (test_rocking_spring.cpp).
+TEST(ReferenceWallPoint, TiltedCubeOnAPlaneWall_PointAndTorque) {
   const TiltedCube cube;
   const double l = cube.side, youngs = 1e7;
   const Eigen::Vector3d centre(0, 0, cube.centre_height());
-  for (const ContactModel model :
-       {ContactModel::volume, ContactModel::volume_paper, ContactModel::linear}) {
+  const auto world_of = [&](ContactModel model, const Eigen::Quaterniond& orientation) {
     RefWorldSetup s;
     s.templates = {box(l, l, l)};
     s.materials = {material(youngs, 0.5, 0.5)};
@@ -130,10 +145,15 @@ TEST(ReferenceWallPoint, TiltedCubeOnAPlaneWallGetsARestoringTorque) {
     s.effects.linear.stiffness = 1e4;
     s.effects.friction = true;
     s.effects.rotation = true;
-    s.bodies = {polyhedron(0, 0, 1, centre, cube.orientation())};
+    s.bodies = {polyhedron(0, 0, 1, centre, orientation)};
     s.walls = {square_wall(Eigen::Vector3d(0.002, -0.001, 0), Eigen::Vector3d::UnitZ(), 0.05, 0)};
     RefWorld world(s);
     world.evaluate_forces(0);
+    return world;
+  };
+  for (const ContactModel model :
+       {ContactModel::volume, ContactModel::volume_paper, ContactModel::linear}) {
+    const RefWorld world = world_of(model, cube.orientation());
     ASSERT_EQ(world.contacts().size(), 1u);
     const RefContact& c = world.contacts()[0];
     const Eigen::Vector3d torque = world.bodies()[0].state.torque;
@@ -143,14 +163,15 @@ TEST(ReferenceWallPoint, TiltedCubeOnAPlaneWallGetsARestoringTorque) {
     EXPECT_LT(c.force_on_a.head<2>().norm(), 1e-12 * force);
     // Each facet's point carries the same offset (the same plane), so the weighted mean of the two
     // facets' points is the section's centroid plus it.
-    const double offset = model == ContactModel::linear ? 0.0 : cube.exact_offset();
+    const double offset = model == ContactModel::volume_paper ? cube.exact_offset() : 0.0;
     const Eigen::Vector3d point = cube.section_centroid() + offset * Eigen::Vector3d::UnitX();
     EXPECT_LT((c.point - point).norm(), kClosedRel * l) << to_string(model);
-    // (point - x) x F about y: -x_p F, x_p the point's x from the centre.
+    // (point - x) x F about y: -x_p F, x_p the point's x from the centre. At rest, at the first
+    // evaluation (dt = 0), the patch couple is zero.
     EXPECT_NEAR(torque.y(), -point.x() * force, 1e-12 * l * force) << to_string(model);
     EXPECT_NEAR(torque.x(), 0, 1e-12 * l * force);
     EXPECT_NEAR(torque.z(), 0, 1e-12 * l * force);
-    if (model == ContactModel::linear) {
+    if (model != ContactModel::volume_paper) {
       // The section's centroid is on the shallow side, (L/2 - D) sin(theta) from below the
       // centre: a torque along the tilt (+y), i.e. tipping further.
       EXPECT_GT(torque.y(), 0) << "the section's centroid tips the cube back";
@@ -161,17 +182,36 @@ TEST(ReferenceWallPoint, TiltedCubeOnAPlaneWallGetsARestoringTorque) {
       const double lever = cube.wedge_offset() - (0.5 * l - cube.depth) * std::sin(cube.tilt);
       EXPECT_NEAR(-torque.y() / force, lever, 1e-3 * cube.wedge_offset()) << to_string(model);
     }
+    if (model == ContactModel::volume) {
+      // -dE/dtheta by a central difference, the cube turned about y through its centroid by
+      // +-h, E the contact's sum_i w_i U(V_i) = U(V) (the section lies within the wall, so the
+      // weights sum to 1 at every angle). E = |F| D / 2 here; its round-off (the exact volume
+      // rounded once, the turned corners rounded: ~1e-14 relative) over 2h is ~1e-13 |F| m, and
+      // the truncation h^2 / (6 theta) relative (V ~ 1 / cos(theta) at a fixed centre): 2e-11.
+      // Both are far below 1e-6 of the torque (|F| times a lever of 5e-5 m).
+      const double h = 1e-6;
+      const auto energy = [&](double angle) {
+        const RefWorld turned =
+            world_of(model, Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY())));
+        return turned.contacts().at(0).elastic_energy;
+      };
+      const double rate = (energy(cube.tilt + h) - energy(cube.tilt - h)) / (2 * h);
+      EXPECT_NEAR(torque.y(), -rate, 1e-6 * std::abs(torque.y()));
+      std::printf("volume: torque about y %.10g N m, -dU/dtheta %.10g N m\n", torque.y(), -rate);
+    }
     std::printf("%s: torque about y %.4g N m for |F| %.4g N (lever %.4g m)\n", to_string(model),
                 torque.y(), force, -torque.y() / force);
   }
 }
 
 // Released tilted by 0.03 rad with its low edge touching the plane, under gravity, friction and
-// rotation, the cube comes to rest face down under the default law: the offset's restoring torque
-// rights it, the rocking spring stiffens the face's tilt and the patch's dashpots damp the
+// rotation, the cube comes to rest face down under the default law: U(V)'s torque rights it once
+// the face touches, the rocking spring stiffens the face's tilt and the patch's dashpots damp the
 // rocking. It does not end exactly level: the spring slips at its cap while the cube lands and
-// rocks, and then keeps a moment that balances the restoring torque at a small tilt (measured at
-// 50 ms: tilt 3.2e-5 rad, speed 9e-10 m/s, spin 7e-8 rad/s). Without the spring it ended level to
+// rocks, and then keeps a moment that balances U(V)'s at a small tilt (measured at 50 ms: tilt
+// 1.13e-4 rad, the face touching only near its low edge, the point 1.56 mm from under the centre,
+// the spring holding 3.8e-5 N m = 0.31 m g L / 2; speed 2e-6 m/s, spin 3e-4 rad/s; it stays so
+// to 150 ms). The old law without the spring (the force at the volume's centroid) ended level to
 // 3.6e-7 rad; the bound 5e-4 rad says "face down" (the face's own depth is 2e-7 m over L = 1e-2 m)
 // with room for the spring's memory.
 TEST(ReferenceWallPoint, TiltedCubeComesToRestOnItsFace) {
@@ -343,7 +383,9 @@ TEST(ReferencePatchCouple, CubeSpinningOnARotatingWall) {
 
 // Two particles face on face (a 10 mm cube A under a 6 x 6 x 10 mm box B, overlapping by d, so
 // A_n = 36 mm^2 and n = +z), each spinning: A gets the couple of the formulas with m_eff and the
-// pair's K, G; B its opposite. The other laws have none.
+// pair's K, G; B its opposite. The other laws have none. The overlap's surface moment is zero
+// here (A's part is the overlap's top face, straight above its centroid), and the springs hold
+// nothing at the first evaluation.
 TEST(ReferencePatchCouple, PairOfBoxesFaceOnFace) {
   const double a = 0.01, b = 0.006, d = 1e-5, youngs = 1e7, nu = 0.3, eps = 0.5, mu = 0.4;
   const double dt = 1e-6;
@@ -462,6 +504,85 @@ TEST(ReferencePatchCouple, PairRockingSpringHistory) {
   EXPECT_LT((stored[0] + stored[1]).norm(), 1e-14 * stored[0].norm());
   std::printf("pair rocking spring after 2 dt: %.4g N m (stored %.4g, %.4g along x)\n",
               stored[0].norm(), stored[0].x(), stored[1].x());
+}
+
+// The default law's torques between particles are exactly -dU/dtheta: two built-ins at random
+// overlapping poses, at rest (no dashpot, spring or patch couple acts at the first evaluation),
+// the torque on each body about its centroid along an axis e against a central difference of the
+// contact's U(V) with that body turned by +-h about e through its centroid. Without the couple
+// -p M (the overlap's surface moment) the torque would be (c - x) x F alone. Error budget,
+// relative to p A_P R (p = |F^e| / A_n, A_P the overlap's boundary area, R the larger bounding
+// radius; |dV/dtheta| <= A_P R): U's round-off is p times V's (~1e-15 A_P R), ~5e-10 over 2h
+// (h = 1e-6); truncation ~h^2 (test_exact_overlap.cpp, SurfaceMomentIsTheVolumeRateUnderATurn);
+// U'' dV^2 terms enter the central difference at h^2 only. 1e-7 leaves margin.
+TEST(ReferencePatchCouple, PairTorquesAreMinusTheEnergyRate) {
+  const std::vector<std::pair<std::string, std::string>> pairs = {
+      {"cube:0.01", "tetrahedron:0.012"},
+      {"dodecahedron:0.01", "mineral:0.01"},
+      {"cube:0.01", "cube:0.01"}};
+  std::mt19937_64 rng(99120);
+  double worst = 0;
+  int checked = 0;
+  for (const auto& [spec_a, spec_b] : pairs) {
+    const ShapeTemplate a = make_builtin(spec_a), b = make_builtin(spec_b);
+    RefWorldSetup s;
+    s.templates = {a, b};
+    s.materials = {material(1e7, 0.5, 0.5)};
+    s.time_step = 1e-6;
+    s.effects.friction = true;
+    s.effects.rotation = true;
+    PosePair poses;
+    RefOverlap overlap;
+    for (int draw = 0; draw < 100; ++draw) {
+      poses = random_overlapping_pair(rng, a.bounding_radius, b.bounding_radius, 0.15, 0.3);
+      overlap = exact_overlap(a, to_ref_pose(poses.a), b, to_ref_pose(poses.b));
+      if (overlap.overlapping &&
+          overlap.volume > 1e-3 * overlap.boundary_area * a.bounding_radius) {
+        break;
+      }
+    }
+    ASSERT_TRUE(overlap.overlapping) << spec_a << " vs " << spec_b;
+    const RefPose pose_a = to_ref_pose(poses.a), pose_b = to_ref_pose(poses.b);
+    const auto world_at = [&](const RefPose& pa, const RefPose& pb) {
+      RefWorldSetup t = s;
+      t.bodies = {polyhedron(0, 0, 1, pa.position, pa.orientation),
+                  polyhedron(1, 0, 2, pb.position, pb.orientation)};
+      RefWorld world(t);
+      world.evaluate_forces(0);
+      return world;
+    };
+    const RefWorld world = world_at(pose_a, pose_b);
+    ASSERT_EQ(world.contacts().size(), 1u);
+    const RefContact& c = world.contacts()[0];
+    ASSERT_EQ(c.body_a, 0);
+    const double pressure = c.force_on_a.norm() / c.area;  // at rest, F = F^e = -p S
+    // The couple is U(V)'s alone here: -p M.
+    EXPECT_LT((c.couple + pressure * overlap.surface_moment_a).norm(),
+              1e-12 * pressure * overlap.surface_moment_a.norm());
+    const double radius = std::max(a.bounding_radius, b.bounding_radius);
+    const double scale = pressure * overlap.boundary_area * radius;
+    EXPECT_GT(c.couple.norm(), 1e-3 * scale) << "the surface moment matters here";
+    const double h = 1e-6;
+    const Eigen::Vector3d tilted = to_eigen(random_direction(rng));
+    for (const Eigen::Vector3d& e : turn_axes(tilted)) {
+      const auto energy = [](const RefWorld& w) { return w.contacts().at(0).elastic_energy; };
+      const double rate_a = (energy(world_at(turned(pose_a, e, h), pose_b)) -
+                             energy(world_at(turned(pose_a, e, -h), pose_b))) /
+                            (2 * h);
+      const double rate_b = (energy(world_at(pose_a, turned(pose_b, e, h))) -
+                             energy(world_at(pose_a, turned(pose_b, e, -h)))) /
+                            (2 * h);
+      const double torque_a = e.dot(world.bodies()[0].state.torque);
+      const double torque_b = e.dot(world.bodies()[1].state.torque);
+      const double error = std::max(std::abs(torque_a + rate_a), std::abs(torque_b + rate_b));
+      worst = std::max(worst, error / scale);
+      EXPECT_LT(error, 1e-7 * scale)
+          << spec_a << " vs " << spec_b << ": torque on A " << torque_a << " vs " << -rate_a
+          << ", on B " << torque_b << " vs " << -rate_b;
+      ++checked;
+    }
+  }
+  std::printf("pair torques vs -dU/dtheta: %d axes, worst error %.2e of p A_P R\n", checked, worst);
 }
 
 }  // namespace
