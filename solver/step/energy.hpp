@@ -11,10 +11,10 @@ namespace talus {
 // What the contacts of one force evaluation report to the ledger (sums over the touching ones).
 struct ContactRates {
   // W, the power the contacts' non-conservative forces take from the bodies: damping, friction
-  // and the tangential springs (force_law.hpp: ContactForceData::dissipation).
+  // and the springs (force_law.hpp: ContactForceData::dissipation).
   double dissipation = 0;
   double wall_power = 0;  // W, given by moving walls
-  double spring = 0;      // J, the tangential springs' energy after the evaluation
+  double spring = 0;      // J, the tangential and rocking springs' energy after it
 };
 
 // Running totals over the steps, in double. The rates are the contacts' at the last force
@@ -31,7 +31,7 @@ struct EnergyLedger {
   double fed = 0;               // J, kinetic + gravitational energy of inserted particles
   double dissipation_rate = 0;  // W, at the last evaluation
   double wall_power = 0;        // W, at the last evaluation
-  double spring_energy = 0;     // J, the tangential springs' at the last evaluation
+  double spring_energy = 0;     // J, the springs' at the last evaluation
 
   // The rates at the force evaluation before the first step (nothing accumulated yet).
   void start(const ContactRates& now) {

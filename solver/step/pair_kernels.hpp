@@ -44,7 +44,7 @@ struct PairContactRecord {
   ContactHistoryData<Real> history;
   Real normal_energy = 0;      // the normal elastic potential U, J
   Real tangential_energy = 0;  // the tangential and rocking springs' energy, J
-  Real dissipation = 0;        // power dissipated by damping and friction, W
+  Real dissipation = 0;        // non-conservative power taken from the bodies, W (energy.hpp)
 };
 
 // Particle i's angular velocity in the world frame (zero without rotation).

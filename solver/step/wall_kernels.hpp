@@ -22,7 +22,7 @@ struct WallContactRecord {
   ContactHistoryData<Real> history;
   Real normal_energy = 0;      // the normal elastic potential U, J
   Real tangential_energy = 0;  // the tangential and rocking springs' energy, J
-  Real dissipation = 0;        // power dissipated by damping and friction, W
+  Real dissipation = 0;        // non-conservative power taken from the bodies, W (energy.hpp)
   Real wall_power = 0;         // power the moving wall gives the particle, F . v_wall(point), W
 };
 
