@@ -84,4 +84,28 @@ inline Vec3d to_d(const Vec3l& v) {
   return Vec3d(v);
 }
 
+// The poured cylinders' wedge (experiments/beds: the paper's 20-sided prism at 10 mm): two of
+// them end face on end face, a wedge 2.7e-9 m deep whose planes are 8e-7 rad apart, as the GPU
+// step met them at t = 0.16 s. wedge_cylinder_b_gpu() is B as the GPU's message gave it;
+// wedge_cylinder_b_retry() is B a few ulps away, where the first dual hull fails and the rounded
+// retry computes the overlap (tests/geometry/test_overlap_hard_cases.cpp, test_surface_moment.cpp).
+inline const char* wedge_cylinder_spec() {
+  return "cylinder:0.00834,0.00552,20";
+}
+inline Posed wedge_cylinder_a() {
+  return {Vec3d(0.0042624655412178058, 0.0046891993036728462, 0.11315625926417291),
+          Quatd(-0.061074531028207008, -0.36125367221283361, 0.93020029923548297,
+                -0.022205613584075658)};
+}
+inline Posed wedge_cylinder_b_gpu() {
+  return {Vec3d(0.0047950557676911965, 0.0062712608040956849, 0.11853454497013875),
+          Quatd(0.064985663825013695, 0.6541004543443335, -0.75361089412863547,
+                0.00028173462257318719)};
+}
+inline Posed wedge_cylinder_b_retry() {
+  return {Vec3d(0.0047950557676911948, 0.0062712608040956823, 0.11853454497013875),
+          Quatd(0.064985663825014112, 0.65410045434433317, -0.7536108941286358,
+                0.00028173462257349261)};
+}
+
 }  // namespace talus::testing

@@ -86,13 +86,9 @@ TEST(OverlapHardCases, ThinSlabOfStackedCubesWithTheCentreAtTheRim) {
 // ~1e-18 m, 4e-10 of the depth, and the cones from the centre cancel by another factor ~10
 // (2.6e-9 measured).
 TEST(OverlapHardCases, PouredCylindersWedgeAtTheGpuFailure) {
-  const TestShape c("cylinder:0.00834,0.00552,20");
-  const Posed a{Vec3d(0.0042624655412178058, 0.0046891993036728462, 0.11315625926417291),
-                Quatd(-0.061074531028207008, -0.36125367221283361, 0.93020029923548297,
-                      -0.022205613584075658)};
-  const Posed b{Vec3d(0.0047950557676911965, 0.0062712608040956849, 0.11853454497013875),
-                Quatd(0.064985663825013695, 0.6541004543443335, -0.75361089412863547,
-                      0.00028173462257318719)};
+  const TestShape c(wedge_cylinder_spec());
+  const Posed a = wedge_cylinder_a();
+  const Posed b = wedge_cylinder_b_gpu();
   expect_matches_oracle(c, a, c, b, 1e-7);
   std::mt19937_64 random(15);
   std::uniform_real_distribution<double> unit(-0.5, 0.5);

@@ -88,13 +88,9 @@ TEST(SurfaceMoment, TiltedFaceOnFace) {
 // rad: h = 1e-10 rad keeps the difference's curvature error far below the bound, and its
 // round-off, V eps / h = 1e-13 * 2e-16 / 1e-10 ~ 2e-19, is 1e-12 of |S| R (2e-7).
 TEST(SurfaceMoment, WedgeOfTheRoundedRetry) {
-  const TestShape c("cylinder:0.00834,0.00552,20");
-  const Posed a{Vec3d(0.0042624655412178058, 0.0046891993036728462, 0.11315625926417291),
-                Quatd(-0.061074531028207008, -0.36125367221283361, 0.93020029923548297,
-                      -0.022205613584075658)};
-  const Posed b{Vec3d(0.0047950557676911948, 0.0062712608040956823, 0.11853454497013875),
-                Quatd(0.064985663825014112, 0.65410045434433317, -0.7536108941286358,
-                      0.00028173462257349261)};
+  const TestShape c(wedge_cylinder_spec());
+  const Posed a = wedge_cylinder_a();
+  const Posed b = wedge_cylinder_b_retry();
   ASSERT_EQ(overlap(c, a, c, b).status, OverlapStatus::overlapping);
   expect_rotation_rates(c, a, c, b, OverlapOptions(), "wedge", 1e-10);
 }
