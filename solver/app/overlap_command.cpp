@@ -3,10 +3,10 @@
 
 #include "solver/app/arguments.hpp"
 #include "solver/app/commands.hpp"
-#include "solver/app/json_writer.hpp"
 #include "solver/geometry/gjk.hpp"
 #include "solver/geometry/overlap_polyhedra.hpp"
 #include "solver/geometry/simple_contact.hpp"
+#include "solver/io/json.hpp"
 #include "solver/shape/shape_arrays.hpp"
 
 namespace talus {
@@ -79,27 +79,25 @@ std::string overlap_json(const std::string& spec_a, const std::string& pose_a_te
   const bool has_normal = exact.status == OverlapStatus::overlapping && area > area_round_off;
   const Vec3d normal = has_normal ? exact.vector_area / area : Vec3d();
 
-  JsonWriter json;
-  json.begin_object();
-  json.member("a", spec_a);
-  json.member("b", spec_b);
-  json.member("status", to_string(exact.status));
-  json.member("volume", exact.volume);
-  json.member("normal", normal);
-  json.member("area", area);
-  json.member("vector_area", exact.vector_area);
-  json.member("point", exact.centroid);
-  json.member("chebyshev_depth", chebyshev_depth);
-  json.member("hull_points", exact.hull_points);
-  json.member("enumerated", exact.enumerated);
-  json.member("workspace_overrun", exact.workspace_overrun);
-  json.member("depth", simple.depth);
-  json.member("simple_touching", simple.touching);
-  json.member("simple_normal", simple.normal);
-  json.member("simple_point", simple.point);
-  json.member("gjk_intersecting", gjk.intersecting);
-  json.end_object();
-  return json.str();
+  Json json;
+  json["a"] = spec_a;
+  json["b"] = spec_b;
+  json["status"] = to_string(exact.status);
+  json["volume"] = exact.volume;
+  json["normal"] = normal;
+  json["area"] = area;
+  json["vector_area"] = exact.vector_area;
+  json["point"] = exact.centroid;
+  json["chebyshev_depth"] = chebyshev_depth;
+  json["hull_points"] = exact.hull_points;
+  json["enumerated"] = exact.enumerated;
+  json["workspace_overrun"] = exact.workspace_overrun;
+  json["depth"] = simple.depth;
+  json["simple_touching"] = simple.touching;
+  json["simple_normal"] = simple.normal;
+  json["simple_point"] = simple.point;
+  json["gjk_intersecting"] = gjk.intersecting;
+  return json_text(json);
 }
 
 }  // namespace talus

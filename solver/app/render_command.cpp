@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "solver/app/commands.hpp"
-#include "solver/app/json_writer.hpp"
+#include "solver/io/json.hpp"
 #include "solver/scene/scene_loader.hpp"
 
 namespace talus {
@@ -22,21 +22,16 @@ std::string render_json(const RenderArguments& args) {
     throw RunError(e.what());  // a directory or file it cannot draw: the user's input
   }
   const Projection& p = report.projection;
-  JsonWriter json;
-  json.begin_object();
-  json.member("trajectory_directory", report.trajectory_directory);
-  json.member("scene", report.scene_file);
-  json.member("output_directory", report.output_directory);
-  json.member("projection", report.output_directory + "/render.json");
-  json.member("view", p.axes.name);
-  json.member("pixels_per_metre", p.pixels_per_metre);
-  json.member("frames", static_cast<int>(report.images.size()));
-  json.key("images");
-  json.begin_array(JsonWriter::Layout::multi_line);
-  for (const std::string& image : report.images) json.value(image);
-  json.end_array();
-  json.end_object();
-  return json.str();
+  Json json;
+  json["trajectory_directory"] = report.trajectory_directory;
+  json["scene"] = report.scene_file;
+  json["output_directory"] = report.output_directory;
+  json["projection"] = report.output_directory + "/render.json";
+  json["view"] = p.axes.name;
+  json["pixels_per_metre"] = p.pixels_per_metre;
+  json["frames"] = report.images.size();
+  json["images"] = report.images;
+  return json_text(json);
 #else
   (void)args;
   throw RunError(

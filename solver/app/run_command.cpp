@@ -9,6 +9,8 @@
 // at a step boundary, with a checkpoint when the scene asks for them. Before either solver runs,
 // the time-step advisor (solver/contact/time_step_advisor.hpp) prints dt / dt_crit and refuses a
 // step above dt_crit unless --allow-unstable-step.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -19,11 +21,11 @@
 #include <utility>
 
 #include "solver/app/commands.hpp"
-#include "solver/app/json_writer.hpp"
 #include "solver/app/run_arguments.hpp"
 #include "solver/contact/time_step_advisor.hpp"
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/checkpoint.hpp"
+#include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
@@ -62,7 +64,7 @@ void print_production_progress(const ProductionProgress& p) {
 }
 
 // Members a caller adds to the summary after the run (the built-in scene's bed height).
-using ExtraMembers = std::function<void(const ProductionReport&, JsonWriter&)>;
+using ExtraMembers = std::function<void(const ProductionReport&, Json&)>;
 
 // The signal that asked the run to stop (0: none). The handler only records it and puts the
 // default action back, so that a second Ctrl-C ends the process at once.
@@ -96,46 +98,44 @@ class StopSignals {
 TimeStepAdvice check_time_step(const RunArguments& args, const Scene& scene) {
   const TimeStepAdvice advice = advise_time_step(scene);
   const double dt = scene.time_step;
-  char rayleigh[64] = "";
-  if (std::isfinite(advice.rayleigh_time))
-    std::snprintf(rayleigh, sizeof rayleigh, "; Rayleigh time %.1e s", advice.rayleigh_time);
+  const std::string rayleigh = std::isfinite(advice.rayleigh_time)
+                                   ? fmt::format("; Rayleigh time {:.1e} s", advice.rayleigh_time)
+                                   : "";
   const char* automatic = scene.time_step_auto ? " (step: auto)" : "";
   if (!args.quiet) {
     if (advice.limited()) {
-      std::fprintf(stderr,
-                   "talus run: time step %.3g s%s = %.2g of the critical step %.1e s (%s%s)\n", dt,
-                   automatic, dt / advice.critical_step, advice.critical_step,
-                   advice.describe().c_str(), rayleigh);
+      fmt::print(stderr,
+                 "talus run: time step {:.3g} s{} = {:.2g} of the critical step {:.1e} s ({}{})\n",
+                 dt, automatic, dt / advice.critical_step, advice.critical_step, advice.describe(),
+                 rayleigh);
     } else {
-      std::fprintf(stderr, "talus run: time step %.3g s%s; no critical step: %s%s\n", dt, automatic,
-                   advice.describe().c_str(), rayleigh);
+      fmt::print(stderr, "talus run: time step {:.3g} s{}; no critical step: {}{}\n", dt, automatic,
+                 advice.describe(), rayleigh);
     }
   }
   if (!(dt > advice.critical_step)) return advice;
   // The largest stable step, rounded down so that the value we suggest is stable.
   const double stable = round_down_two_digits(advice.critical_step);
-  char text[512];
   if (args.allow_unstable_step) {
-    std::snprintf(text, sizeof text,
-                  "talus run: warning: time step %.6g s is above the largest stable step %.1e s "
-                  "for %s (contact: %s); running anyway (--allow-unstable-step)\n",
-                  dt, stable, advice.limit.c_str(), advice.model.c_str());
-    std::fputs(text, stderr);
+    fmt::print(stderr,
+               "talus run: warning: time step {:.6g} s is above the largest stable step {:.1e} s "
+               "for {} (contact: {}); running anyway (--allow-unstable-step)\n",
+               dt, stable, advice.limit, advice.model);
     return advice;
   }
-  std::snprintf(text, sizeof text,
-                "%.6g s is above the largest stable step %.1e s for %s (contact: %s); write "
-                "time.step <= %.1e or step: auto, or pass --allow-unstable-step to run anyway",
-                dt, stable, advice.limit.c_str(), advice.model.c_str(), stable);
   const SourceRef& at = scene.time_step_source;
-  throw SceneError(at.file.empty() ? scene.file : at.file, at.line, at.column, "time.step", text);
+  throw SceneError(at.file.empty() ? scene.file : at.file, at.line, at.column, "time.step",
+                   fmt::format("{:.6g} s is above the largest stable step {:.1e} s for {} "
+                               "(contact: {}); write time.step <= {:.1e} or step: auto, or pass "
+                               "--allow-unstable-step to run anyway",
+                               dt, stable, advice.limit, advice.model, stable));
 }
 
 // The advisor's numbers in a run's summary: dt_crit (null when nothing limits it) and dt / dt_crit.
-void time_step_members(const Scene& scene, const TimeStepAdvice& advice, JsonWriter& json) {
-  json.member("time_step", scene.time_step);
-  json.member("critical_time_step", advice.critical_step);
-  json.member("time_step_ratio", scene.time_step / advice.critical_step);
+void time_step_members(const Scene& scene, const TimeStepAdvice& advice, Json& json) {
+  json["time_step"] = scene.time_step;
+  json["critical_time_step"] = advice.critical_step;
+  json["time_step_ratio"] = scene.time_step / advice.critical_step;
 }
 
 // The production solver on the chosen backend (make_step: empty for the host), from the scene's
@@ -152,13 +152,11 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   settings.stop_requested = [] { return stop_signal != 0; };
   if (!args.quiet) settings.progress = print_production_progress;
   if (advice.limited()) {
-    char hint[384];
-    std::snprintf(hint, sizeof hint,
-                  "The likely cause is a time step too large for the contact law: time.step = "
-                  "%.3g s is %.2g of the critical step %.1e s (%s); try time.step: auto (%.1e s).",
-                  scene.time_step, scene.time_step / advice.critical_step, advice.critical_step,
-                  advice.describe().c_str(), advice.recommended_step);
-    settings.instability_hint = hint;
+    settings.instability_hint = fmt::format(
+        "The likely cause is a time step too large for the contact law: time.step = {:.3g} s is "
+        "{:.2g} of the critical step {:.1e} s ({}); try time.step: auto ({:.1e} s).",
+        scene.time_step, scene.time_step / advice.critical_step, advice.critical_step,
+        advice.describe(), advice.recommended_step);
   }
   ProductionReport report;
   try {
@@ -186,40 +184,32 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
     }
     throw RunInterrupted(message, signal);
   }
-  JsonWriter json;
-  json.begin_object();
-  json.member("solver", "talus");
-  json.member("backend", report.backend);
-  if (report.host_threads > 0) json.member("host_threads", report.host_threads);
-  json.member("precision", to_string(scene.precision));
-  json.member("scene", resume ? resume->scene_file : args.scene_path);
-  if (resume) json.member("resumed_from_step", static_cast<double>(report.resumed_from_step));
-  json.member("steps", static_cast<double>(report.steps));
-  json.member("simulated_time", report.simulated_time);
+  Json json;
+  json["solver"] = "talus";
+  json["backend"] = report.backend;
+  if (report.host_threads > 0) json["host_threads"] = report.host_threads;
+  json["precision"] = to_string(scene.precision);
+  json["scene"] = resume ? resume->scene_file : args.scene_path;
+  if (resume) json["resumed_from_step"] = report.resumed_from_step;
+  json["steps"] = report.steps;
+  json["simulated_time"] = report.simulated_time;
   time_step_members(scene, advice, json);
-  json.member("wall_seconds", report.wall_seconds);
-  json.member("particles", static_cast<int>(report.particles));
-  json.member("mean_contacts_per_step", report.mean_contacts);
-  json.key("stage_seconds");
-  json.begin_object();
-  for (const auto& [stage, seconds] : report.stage_seconds) json.member(stage, seconds);
-  json.member("output", report.output_seconds);
-  json.end_object();
-  json.member("particle_array_bytes", static_cast<double>(report.particle_bytes));
-  json.member("peak_memory_bytes", static_cast<double>(report.peak_memory_bytes));
-  json.key("outputs");
-  json.begin_array(JsonWriter::Layout::multi_line);
-  for (const std::string& output : report.outputs) json.value(output);
-  json.end_array();
+  json["wall_seconds"] = report.wall_seconds;
+  json["particles"] = report.particles;
+  json["mean_contacts_per_step"] = report.mean_contacts;
+  Json& stages = json["stage_seconds"] = Json::object();
+  for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;
+  stages["output"] = report.output_seconds;
+  json["particle_array_bytes"] = report.particle_bytes;
+  json["peak_memory_bytes"] = report.peak_memory_bytes;
+  json["outputs"] = report.outputs;
   if (extra) extra(report, json);
-  json.end_object();
-  return json.str();
+  return json_text(json);
 }
 
 // The built-in scene's closing: its last frame drawn where OpenCV is built in, the final bed
 // height beside the paper's (solver/scene/builtin_scene.hpp), on stderr and in the summary.
-void finish_builtin_run(const RunArguments& args, const ProductionReport& report,
-                        JsonWriter& json) {
+void finish_builtin_run(const RunArguments& args, const ProductionReport& report, Json& json) {
   std::string picture;
 #if TALUS_HAVE_OPENCV
   RenderSettings render;
@@ -231,9 +221,9 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
   const RenderReport drawn = render_run(render);
   picture = drawn.images.back();
 #endif
-  json.member("bed_height", report.bed_height);
-  json.member("paper_bed_height", kPaperBedHeight);
-  json.member("picture", picture.empty() ? "none: this talus was built without OpenCV" : picture);
+  json["bed_height"] = report.bed_height;
+  json["paper_bed_height"] = kPaperBedHeight;
+  json["picture"] = picture.empty() ? "none: this talus was built without OpenCV" : picture;
   std::fprintf(stderr,
                "talus run: final bed height %.1f cm after %.3g s; the paper (section 3.3) reports "
                "about %.0f cm%s%s\n",
@@ -342,7 +332,7 @@ std::string run_json(const RunArguments& given) {
   if (args.solver == SolverKind::production) {
     ExtraMembers extra;
     if (builtin)
-      extra = [&args](const ProductionReport& report, JsonWriter& json) {
+      extra = [&args](const ProductionReport& report, Json& json) {
         finish_builtin_run(args, report, json);
       };
     return run_production_json(args, scene, advice, production_backend(args, scene), nullptr,
@@ -369,22 +359,17 @@ std::string run_json(const RunArguments& given) {
   settings.output_root = args.output_root;
   if (!args.quiet) settings.progress = print_progress;
   const reference::SceneRunReport report = reference::run_scene(scene, settings);
-  JsonWriter json;
-  json.begin_object();
-  json.member("solver", "reference");
-  json.member("scene", args.scene_path);
-  json.member("steps", static_cast<double>(report.steps));
-  json.member("simulated_time", report.simulated_time);
+  Json json;
+  json["solver"] = "reference";
+  json["scene"] = args.scene_path;
+  json["steps"] = report.steps;
+  json["simulated_time"] = report.simulated_time;
   time_step_members(scene, advice, json);
-  json.member("wall_seconds", report.wall_seconds);
-  json.member("particles", static_cast<int>(report.particles));
-  json.member("mean_contacts_per_step", report.mean_contacts);
-  json.key("outputs");
-  json.begin_array(JsonWriter::Layout::multi_line);
-  for (const std::string& output : report.outputs) json.value(output);
-  json.end_array();
-  json.end_object();
-  return json.str();
+  json["wall_seconds"] = report.wall_seconds;
+  json["particles"] = report.particles;
+  json["mean_contacts_per_step"] = report.mean_contacts;
+  json["outputs"] = report.outputs;
+  return json_text(json);
 #else
   throw RunError(
       "this talus was built without the reference solver (CMake did not find CGAL and "

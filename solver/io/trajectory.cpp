@@ -9,29 +9,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
 
 namespace talus {
 namespace {
 
 constexpr int kTrajectoryColumns = 15;
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if ((unsigned char)c < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", (unsigned char)c);
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 bool parse_integer(const std::string& text, long long& value) {
   if (text.empty()) return false;
@@ -43,26 +27,6 @@ bool parse_integer(const std::string& text, long long& value) {
 const std::regex& frame_name_pattern() {
   static const std::regex pattern("trajectory_([0-9]+)\\.csv");
   return pattern;
-}
-
-// The JSON string after "key": in `text` (the escapes json_string writes undone), or false.
-bool json_string_member(const std::string& text, const std::string& key, std::string& value) {
-  const std::regex pattern("\"" + key + "\"\\s*:\\s*\"((?:[^\"\\\\]|\\\\.)*)\"");
-  std::smatch match;
-  if (!std::regex_search(text, match, pattern)) return false;
-  const std::string raw = match[1].str();
-  value.clear();
-  for (std::size_t i = 0; i < raw.size(); ++i) {
-    if (raw[i] != '\\' || i + 1 >= raw.size()) {
-      value += raw[i];
-    } else if (raw[i + 1] == 'u' && i + 5 < raw.size()) {
-      value += static_cast<char>(std::strtol(raw.substr(i + 2, 4).c_str(), nullptr, 16));
-      i += 5;
-    } else {
-      value += raw[++i];
-    }
-  }
-  return true;
 }
 
 }  // namespace
@@ -156,16 +120,15 @@ RunInfo run_info(const Scene& scene, const std::string& solver) {
 }
 
 void write_run_info(const std::string& directory, const RunInfo& info) {
-  std::ostringstream json;
-  json << "{\n  \"scene\": " << json_string(info.scene_file)
-       << ",\n  \"solver\": " << json_string(info.solver)
-       << ",\n  \"precision\": " << json_string(info.precision)
-       << ",\n  \"time_step\": " << exact_decimal(info.time_step) << ",\n  \"templates\": [";
+  Json json;
+  json["scene"] = info.scene_file;
+  json["solver"] = info.solver;
+  json["precision"] = info.precision;
+  json["time_step"] = info.time_step;
+  json["templates"] = Json::array();
   for (std::size_t i = 0; i < info.templates.size(); ++i)
-    json << (i ? ",\n" : "\n") << "    {\"id\": " << i
-         << ", \"name\": " << json_string(info.templates[i]) << "}";
-  json << (info.templates.empty() ? "]\n}\n" : "\n  ]\n}\n");
-  write_file_atomically(directory + "/run.json", json.str());
+    json["templates"].push_back({{"id", i}, {"name", info.templates[i]}});
+  write_file_atomically(directory + "/run.json", json_text(json));
 }
 
 RunInfo read_run_info(const std::string& directory) {
@@ -177,25 +140,40 @@ RunInfo read_run_info(const std::string& directory) {
                              "writes beside its trajectory frames)");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  RunInfo info;
+  const Json json = parse_json(buffer.str(), path);
   auto fail = [&](const std::string& what) {
     throw std::runtime_error(path + ": expected " + what);
   };
-  if (!json_string_member(text, "scene", info.scene_file)) fail("a string member \"scene\"");
-  if (!json_string_member(text, "solver", info.solver)) fail("a string member \"solver\"");
-  if (!json_string_member(text, "precision", info.precision)) fail("a string member \"precision\"");
-  std::smatch match;
-  const std::regex time_step("\"time_step\"\\s*:\\s*([-+0-9.eE]+)");
-  if (!std::regex_search(text, match, time_step) || !parse_double(match[1].str(), info.time_step) ||
-      !(info.time_step > 0))
-    fail("a positive number \"time_step\" (s)");
-  const std::regex name("\\{\"id\": [0-9]+, \"name\": (\"(?:[^\"\\\\]|\\\\.)*\")\\}");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), name); it != std::sregex_iterator();
-       ++it) {
-    std::string template_name;
-    json_string_member("\"n\": " + (*it)[1].str(), "n", template_name);
-    info.templates.push_back(template_name);
+  if (!json.is_object()) fail("an object {\"scene\": ..., \"solver\": ..., ...}");
+  const auto member = [&](const char* key, const char* expected) -> const Json& {
+    const auto it = json.find(key);
+    if (it == json.end()) fail(std::string(expected) + " \"" + key + "\" (missing)");
+    return *it;
+  };
+  RunInfo info;
+  const auto string_member = [&](const char* key, std::string& value) {
+    const Json& v = member(key, "a string member");
+    if (!v.is_string()) fail(std::string("a string member \"") + key + "\", got " + v.dump());
+    value = v.get<std::string>();
+  };
+  string_member("scene", info.scene_file);
+  string_member("solver", info.solver);
+  string_member("precision", info.precision);
+  const Json& time_step = member("time_step", "a positive number");
+  if (!time_step.is_number() || !(time_step.get<double>() > 0))
+    fail("a positive number \"time_step\" (s), got " + time_step.dump());
+  info.time_step = time_step.get<double>();
+  const Json& templates = member("templates", "an array");
+  if (!templates.is_array()) fail("an array \"templates\", got " + templates.dump());
+  for (std::size_t i = 0; i < templates.size(); ++i) {
+    const Json& t = templates[i];
+    const std::string where = "templates[" + std::to_string(i) + "]";
+    if (!t.is_object() || !t.contains("id") || !t.contains("name") || !t["name"].is_string())
+      fail(where + " as {\"id\": " + std::to_string(i) + ", \"name\": \"...\"}, got " + t.dump());
+    if (!t["id"].is_number_integer() || t["id"].get<long long>() != static_cast<long long>(i))
+      fail(where + ".id = " + std::to_string(i) + " (a template's id is its index), got " +
+           t["id"].dump());
+    info.templates.push_back(t["name"].get<std::string>());
   }
   return info;
 }

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "solver/app/json_writer.hpp"
+#include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/trajectory.hpp"
 #include "solver/io/vtk_output.hpp"
@@ -71,40 +71,27 @@ struct FrameEntry {
 std::string render_json(const RenderReport& report, const RenderSettings& settings,
                         const std::vector<FrameEntry>& frames) {
   const Projection& p = report.projection;
-  JsonWriter json;
-  json.begin_object();
-  json.member("trajectory_directory", report.trajectory_directory);
-  json.member("scene", report.scene_file);
-  json.member("view", p.axes.name);
-  json.member("color", to_string(settings.color));
-  json.member("width", p.width);
-  json.member("height", p.height);
-  json.member("right", p.axes.right);
-  json.member("up", p.axes.up);
-  json.member("toward_viewer", p.axes.toward_viewer);
-  json.member("pixels_per_metre", p.pixels_per_metre);
-  json.key("origin_pixel");
-  json.begin_array();
-  json.value(p.origin_column);
-  json.value(p.origin_row);
-  json.end_array();
-  json.member("pixel_rule",
-              "column = origin_pixel[0] + pixels_per_metre * (right . x); row = origin_pixel[1] "
-              "- pixels_per_metre * (up . x); pixel (c, r) is centred at integer (c, r)");
-  json.member("max_speed", report.max_speed);
-  json.key("frames");
-  json.begin_array(JsonWriter::Layout::multi_line);
-  for (const FrameEntry& f : frames) {
-    json.begin_object(JsonWriter::Layout::one_line);
-    json.member("step", static_cast<double>(f.step));
-    json.member("time", f.time);
-    json.member("image", f.image);
-    json.member("particles", f.table);
-    json.end_object();
-  }
-  json.end_array();
-  json.end_object();
-  return json.str();
+  Json json;
+  json["trajectory_directory"] = report.trajectory_directory;
+  json["scene"] = report.scene_file;
+  json["view"] = p.axes.name;
+  json["color"] = to_string(settings.color);
+  json["width"] = p.width;
+  json["height"] = p.height;
+  json["right"] = p.axes.right;
+  json["up"] = p.axes.up;
+  json["toward_viewer"] = p.axes.toward_viewer;
+  json["pixels_per_metre"] = p.pixels_per_metre;
+  json["origin_pixel"] = {p.origin_column, p.origin_row};
+  json["pixel_rule"] =
+      "column = origin_pixel[0] + pixels_per_metre * (right . x); row = origin_pixel[1] - "
+      "pixels_per_metre * (up . x); pixel (c, r) is centred at integer (c, r)";
+  json["max_speed"] = report.max_speed;
+  json["frames"] = Json::array();
+  for (const FrameEntry& f : frames)
+    json["frames"].push_back(
+        {{"step", f.step}, {"time", f.time}, {"image", f.image}, {"particles", f.table}});
+  return json_text(json);
 }
 
 std::string centres_csv(const Projection& projection, const std::vector<TrajectoryRow>& rows,

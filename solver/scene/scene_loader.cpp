@@ -1,6 +1,8 @@
 // The top level of a scene file: reading it, its scalar settings, and the sections in order.
 #include "solver/scene/scene_loader.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -44,12 +46,12 @@ void resolve_auto_step(Scene& scene) {
                          advice.limit + "; write the time step in s");
   scene.time_step = advice.recommended_step;
   if (scene.time_step > scene.end_time) {
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "auto gives %.3g s (%.2g of the critical step %.3g s), longer than time.end "
-                  "%.3g s; write a longer end or the time step in s",
-                  scene.time_step, kAutoStepFraction, advice.critical_step, scene.end_time);
-    throw SceneError(at.file, at.line, at.column, at.key, text);
+    throw SceneError(
+        at.file, at.line, at.column, at.key,
+        fmt::format("auto gives {:.3g} s ({:.2g} of the critical step {:.3g} s), "
+                    "longer than time.end {:.3g} s; write a longer end or the time "
+                    "step in s",
+                    scene.time_step, kAutoStepFraction, advice.critical_step, scene.end_time));
   }
 }
 

@@ -15,8 +15,8 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/json_test_util.hpp"
 #include "tests/support/test_files.hpp"
 
 namespace {
@@ -60,11 +60,11 @@ Json overlap(const std::string& pose_a, const std::string& pose_b) {
 }
 
 void expect_vec(const Json& v, double x, double y, double z, double tol, const char* what) {
-  ASSERT_EQ(v.kind, Json::array) << what;
-  ASSERT_EQ(v.items.size(), 3u) << what;
-  EXPECT_NEAR(v.x(0), x, tol) << what;
-  EXPECT_NEAR(v.x(1), y, tol) << what;
-  EXPECT_NEAR(v.x(2), z, tol) << what;
+  ASSERT_TRUE(v.is_array()) << what;
+  ASSERT_EQ(v.size(), 3u) << what;
+  EXPECT_NEAR(v[0].get<double>(), x, tol) << what;
+  EXPECT_NEAR(v[1].get<double>(), y, tol) << what;
+  EXPECT_NEAR(v[2].get<double>(), z, tol) << what;
 }
 
 // ---- Overlap of two cubes: closed forms
@@ -77,19 +77,19 @@ TEST(TalusOverlap, CubesOffsetAlongEachAxis) {
     for (const double sign : {1.0, -1.0}) {
       double d[3] = {0, 0, 0};
       d[axis] = sign * 0.3 * kSide;
-      const Json r = overlap(kAtOrigin, pose_text(d[0], d[1], d[2]));
-      EXPECT_EQ(r["status"].text, "overlapping");
+      Json r = overlap(kAtOrigin, pose_text(d[0], d[1], d[2]));
+      EXPECT_EQ(r["status"].get<std::string>(), "overlapping");
       const double volume = kSide * kSide * (kSide - std::abs(d[axis]));
-      EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume) << "axis " << axis;
+      EXPECT_NEAR(r["volume"].get<double>(), volume, kRelTol * volume) << "axis " << axis;
       expect_vec(r["normal"], axis == 0 ? sign : 0, axis == 1 ? sign : 0, axis == 2 ? sign : 0,
                  kRelTol, "normal");
-      EXPECT_NEAR(r["area"].value, kSide * kSide, kRelTol * kSide * kSide);
+      EXPECT_NEAR(r["area"].get<double>(), kSide * kSide, kRelTol * kSide * kSide);
       expect_vec(r["point"], d[0] / 2, d[1] / 2, d[2] / 2, kRelTol * kSide, "point");
-      EXPECT_TRUE(r["gjk_intersecting"].flag);
+      EXPECT_TRUE(r["gjk_intersecting"].get<bool>());
       // The simple model's penetration depth along the axis is s - |d|.
-      EXPECT_NEAR(r["depth"].value, kSide - std::abs(d[axis]), kRelTol * kSide);
-      EXPECT_EQ(r["a"].text, kCube);
-      EXPECT_EQ(r["b"].text, kCube);
+      EXPECT_NEAR(r["depth"].get<double>(), kSide - std::abs(d[axis]), kRelTol * kSide);
+      EXPECT_EQ(r["a"].get<std::string>(), kCube);
+      EXPECT_EQ(r["b"].get<std::string>(), kCube);
     }
   }
 }
@@ -99,21 +99,21 @@ TEST(TalusOverlap, CubesOffsetAlongEachAxis) {
 TEST(TalusOverlap, CubesOffsetOnThreeAxesGiveBoxVolumeAndVectorArea) {
   const double d[3] = {0.2 * kSide, -0.35 * kSide, 0.5 * kSide};
   const double e[3] = {kSide - 0.2 * kSide, kSide - 0.35 * kSide, kSide - 0.5 * kSide};
-  const Json r = overlap(kAtOrigin, pose_text(d[0], d[1], d[2]));
-  EXPECT_EQ(r["status"].text, "overlapping");
+  Json r = overlap(kAtOrigin, pose_text(d[0], d[1], d[2]));
+  EXPECT_EQ(r["status"].get<std::string>(), "overlapping");
   const double volume = e[0] * e[1] * e[2];
-  EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume);
+  EXPECT_NEAR(r["volume"].get<double>(), volume, kRelTol * volume);
   const double s[3] = {e[1] * e[2], -e[0] * e[2], e[0] * e[1]};
   const double area = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
   expect_vec(r["vector_area"], s[0], s[1], s[2], kRelTol * area, "vector_area");
-  EXPECT_NEAR(r["area"].value, area, kRelTol * area);
+  EXPECT_NEAR(r["area"].get<double>(), area, kRelTol * area);
   expect_vec(r["normal"], s[0] / area, s[1] / area, s[2] / area, kRelTol, "normal");
   expect_vec(r["point"], d[0] / 2, d[1] / 2, d[2] / 2, kRelTol * kSide, "point");
   // Six planes meeting three at each corner: the vertex enumeration's case; the inradius (the
   // LP's, run again for this key) is half the box's shortest side.
-  EXPECT_EQ(r["enumerated"].kind, Json::boolean);
-  EXPECT_TRUE(r["enumerated"].flag);
-  EXPECT_NEAR(r["chebyshev_depth"].value, e[2] / 2, kRelTol * kSide);
+  EXPECT_TRUE(r["enumerated"].is_boolean());
+  EXPECT_TRUE(r["enumerated"].get<bool>());
+  EXPECT_NEAR(r["chebyshev_depth"].get<double>(), e[2] / 2, kRelTol * kSide);
 }
 
 // B turned 45 degrees about z with a vertical edge pushed a depth p into A's +x face: the overlap
@@ -125,22 +125,21 @@ TEST(TalusOverlap, RotatedCubeEdgeIntoFace) {
   const double half_diagonal = kSide / std::sqrt(2.0);
   const double x = kSide / 2 + half_diagonal - p;
   const double angle = M_PI / 4;
-  const Json r =
-      overlap(kAtOrigin, pose_text(x, 0, 0, std::cos(angle / 2), 0, 0, std::sin(angle / 2)));
-  EXPECT_EQ(r["status"].text, "overlapping");
-  EXPECT_NEAR(r["volume"].value, p * p * kSide, kRelTol * p * p * kSide);
+  Json r = overlap(kAtOrigin, pose_text(x, 0, 0, std::cos(angle / 2), 0, 0, std::sin(angle / 2)));
+  EXPECT_EQ(r["status"].get<std::string>(), "overlapping");
+  EXPECT_NEAR(r["volume"].get<double>(), p * p * kSide, kRelTol * p * p * kSide);
   expect_vec(r["normal"], 1, 0, 0, kRelTol, "normal");
-  EXPECT_NEAR(r["area"].value, 2 * p * kSide, kRelTol * p * kSide);
+  EXPECT_NEAR(r["area"].get<double>(), 2 * p * kSide, kRelTol * p * kSide);
   expect_vec(r["point"], kSide / 2 - p / 3, 0, 0, kRelTol * kSide, "point");
-  EXPECT_NEAR(r["depth"].value, p, kRelTol * kSide);
+  EXPECT_NEAR(r["depth"].get<double>(), p, kRelTol * kSide);
   expect_vec(r["simple_normal"], 1, 0, 0, kRelTol, "simple_normal");
   expect_vec(r["simple_point"], kSide / 2 - p / 2, 0, 0, kRelTol * kSide, "simple_point");
   // The z faces are twins (coplanar faces of A and B): the enumeration declines, the hull
   // answers. The inradius is the prism's triangle's: legs p sqrt(2), hypotenuse 2p, so
   // (2 p sqrt(2) - 2p) / 2.
-  EXPECT_EQ(r["enumerated"].kind, Json::boolean);
-  EXPECT_FALSE(r["enumerated"].flag);
-  EXPECT_NEAR(r["chebyshev_depth"].value, p * (std::sqrt(2.0) - 1), kRelTol * kSide);
+  EXPECT_TRUE(r["enumerated"].is_boolean());
+  EXPECT_FALSE(r["enumerated"].get<bool>());
+  EXPECT_NEAR(r["chebyshev_depth"].get<double>(), p * (std::sqrt(2.0) - 1), kRelTol * kSide);
 }
 
 // The same box overlap far from the world origin: talus works relative to A, so only the
@@ -148,11 +147,11 @@ TEST(TalusOverlap, RotatedCubeEdgeIntoFace) {
 TEST(TalusOverlap, TranslationOfBothCubesChangesNothing) {
   const double origin[3] = {1.25, -2.5, 0.75};
   const double d = 0.3 * kSide;
-  const Json r = overlap(pose_text(origin[0], origin[1], origin[2]),
-                         pose_text(origin[0] + d, origin[1], origin[2]));
+  Json r = overlap(pose_text(origin[0], origin[1], origin[2]),
+                   pose_text(origin[0] + d, origin[1], origin[2]));
   const double actual_d = (origin[0] + d) - origin[0];
   const double volume = kSide * kSide * (kSide - actual_d);
-  EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume);
+  EXPECT_NEAR(r["volume"].get<double>(), volume, kRelTol * volume);
   expect_vec(r["point"], origin[0] + actual_d / 2, origin[1], origin[2], 1e-12, "point");
 }
 
@@ -162,22 +161,22 @@ TEST(TalusOverlap, SeparateCubesReportNothing) {
   const std::vector<std::string> poses = {pose_text(1.5 * kSide, 0, 0),
                                           pose_text(1.05 * kSide, 0.5 * kSide, 0)};
   for (const std::string& pose : poses) {
-    const Json r = overlap(kAtOrigin, pose);
-    EXPECT_EQ(r["status"].text, "separate") << pose;
-    EXPECT_EQ(r["volume"].value, 0);
+    Json r = overlap(kAtOrigin, pose);
+    EXPECT_EQ(r["status"].get<std::string>(), "separate") << pose;
+    EXPECT_EQ(r["volume"].get<double>(), 0);
     expect_vec(r["normal"], 0, 0, 0, 0, "normal");
-    EXPECT_EQ(r["area"].value, 0);
-    EXPECT_FALSE(r["gjk_intersecting"].flag);
-    EXPECT_EQ(r["depth"].value, 0);
-    EXPECT_FALSE(r["simple_touching"].flag);
+    EXPECT_EQ(r["area"].get<double>(), 0);
+    EXPECT_FALSE(r["gjk_intersecting"].get<bool>());
+    EXPECT_EQ(r["depth"].get<double>(), 0);
+    EXPECT_FALSE(r["simple_touching"].get<bool>());
   }
 }
 
 // Positions whose difference overflows make the simple model's normal non-finite; the output must
 // stay valid JSON (null in place of the number).
 TEST(TalusOverlap, NonFiniteIntermediatesStillGiveValidJson) {
-  const Json r = overlap(pose_text(-1e308, 0, 0), pose_text(1e308, 0, 0));
-  EXPECT_EQ(r["status"].text, "separate");
+  Json r = overlap(pose_text(-1e308, 0, 0), pose_text(1e308, 0, 0));
+  EXPECT_EQ(r["status"].get<std::string>(), "separate");
 }
 
 // ---- talus shape
@@ -185,25 +184,26 @@ TEST(TalusOverlap, NonFiniteIntermediatesStillGiveValidJson) {
 TEST(TalusShape, CubeTemplate) {
   const ProcessResult run = run_talus({"shape", kCube});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json r = parse_or_fail(run.out);
+  Json r = parse_or_fail(run.out);
   const double volume = kSide * kSide * kSide;
-  EXPECT_NEAR(r["volume"].value, volume, kRelTol * volume);
-  EXPECT_NEAR(r["bounding_radius"].value, kCubeDiameter / 2, kRelTol * kCubeDiameter);
+  EXPECT_NEAR(r["volume"].get<double>(), volume, kRelTol * volume);
+  EXPECT_NEAR(r["bounding_radius"].get<double>(), kCubeDiameter / 2, kRelTol * kCubeDiameter);
   // Per unit density a cube's moments are all s^5 / 6.
   const double moment = std::pow(kSide, 5) / 6;
   expect_vec(r["principal_moments"], moment, moment, moment, kRelTol * moment, "moments");
-  EXPECT_EQ(r["vertex_count"].value, 8);
-  EXPECT_EQ(r["face_count"].value, 6);
-  EXPECT_EQ(r["triangle_count"].value, 12);
-  EXPECT_EQ(r["edge_count"].value, 12);
-  ASSERT_EQ(r["vertices"].items.size(), 8u);
-  ASSERT_EQ(r["faces"].items.size(), 6u);
-  for (const Json& v : r["vertices"].items) {
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(std::abs(v.x(i)), kSide / 2, kRelTol * kSide);
+  EXPECT_EQ(r["vertex_count"].get<double>(), 8);
+  EXPECT_EQ(r["face_count"].get<double>(), 6);
+  EXPECT_EQ(r["triangle_count"].get<double>(), 12);
+  EXPECT_EQ(r["edge_count"].get<double>(), 12);
+  ASSERT_EQ(r["vertices"].size(), 8u);
+  ASSERT_EQ(r["faces"].size(), 6u);
+  for (const Json& v : r["vertices"]) {
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(std::abs(v[i].get<double>()), kSide / 2, kRelTol * kSide);
   }
-  for (const Json& face : r["faces"].items) {
-    EXPECT_NEAR(face["offset"].value, kSide / 2, kRelTol * kSide);
-    EXPECT_EQ(face["loop"].items.size(), 4u);
+  for (const Json& face : r["faces"]) {
+    EXPECT_NEAR(face["offset"].get<double>(), kSide / 2, kRelTol * kSide);
+    EXPECT_EQ(face["loop"].size(), 4u);
   }
 }
 
@@ -215,14 +215,14 @@ TEST(TalusBuiltinScene, RunWithoutSceneRunsThePackingAndReportsTheBedHeight) {
   const std::string dir = talus_test::fresh_test_directory("cli", "builtin");
   const ProcessResult run = run_talus({"run", "--end", "0.002", "--output", dir});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json r = parse_or_fail(run.out);
-  EXPECT_EQ(r["particles"].value, 63);
-  EXPECT_EQ(r["steps"].value, 50);  // 2 ms at the scene's time step of 40 us
-  EXPECT_EQ(r["paper_bed_height"].value, 0.16);
+  Json r = parse_or_fail(run.out);
+  EXPECT_EQ(r["particles"].get<double>(), 63);
+  EXPECT_EQ(r["steps"].get<double>(), 50);  // 2 ms at the scene's time step of 40 us
+  EXPECT_EQ(r["paper_bed_height"].get<double>(), 0.16);
   // At 2 ms the particles still sit where the random fill put them, bounding spheres inside the
   // fill region (0 to 0.4 m): the highest vertex lies between the particles' size and the top.
-  EXPECT_GT(r["bed_height"].value, 0.03);
-  EXPECT_LE(r["bed_height"].value, 0.4);
+  EXPECT_GT(r["bed_height"].get<double>(), 0.03);
+  EXPECT_LE(r["bed_height"].get<double>(), 0.4);
   EXPECT_TRUE(std::filesystem::exists(dir + "/scene.yaml"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/frames/run.json"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/probes.csv"));
@@ -230,10 +230,11 @@ TEST(TalusBuiltinScene, RunWithoutSceneRunsThePackingAndReportsTheBedHeight) {
   EXPECT_NE(run.err.find("final bed height"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("reports about 16 cm"), std::string::npos) << run.err;
 #if TALUS_HAVE_OPENCV
-  EXPECT_TRUE(std::filesystem::exists(r["picture"].text)) << r["picture"].text;
+  EXPECT_TRUE(std::filesystem::exists(r["picture"].get<std::string>()))
+      << r["picture"].get<std::string>();
   EXPECT_TRUE(std::filesystem::exists(dir + "/frames/render/render.json"));
 #else
-  EXPECT_NE(r["picture"].text.find("without OpenCV"), std::string::npos);
+  EXPECT_NE(r["picture"].get<std::string>().find("without OpenCV"), std::string::npos);
 #endif
 }
 
@@ -255,9 +256,9 @@ TEST(TalusHelp, HelpPrintsUsageAndSucceeds) {
   for (const char* flag : {"--help", "help", "-h"}) {
     const ProcessResult run = run_talus({flag});
     EXPECT_EQ(run.exit_code, 0) << flag;
-    EXPECT_NE(run.out.find("usage:"), std::string::npos);
-    EXPECT_NE(run.out.find("talus overlap A POSE_A B POSE_B"), std::string::npos);
-    EXPECT_TRUE(run.err.empty());
+    EXPECT_NE(run.out.find("usage:"), std::string::npos) << flag << "\n" << run.out;
+    EXPECT_NE(run.out.find("talus overlap A POSE_A B POSE_B"), std::string::npos) << flag;
+    EXPECT_TRUE(run.err.empty()) << flag;
   }
 }
 

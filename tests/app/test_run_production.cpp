@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
-#include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/json_test_util.hpp"
 #include "tests/support/test_files.hpp"
 
 namespace {
@@ -48,19 +48,19 @@ TEST(TalusRunProduction, CpuBackendRunsAndSummarises) {
   const std::string scene = write_scene(dir, kTwoBalls);
   const ProcessResult run = run_talus({"run", "--backend", "cpu", "--output", dir + "/out", scene});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json summary = parse_or_fail(run.out);
-  EXPECT_EQ(summary["solver"].text, "talus");
-  EXPECT_EQ(summary["backend"].text, "cpu");
-  EXPECT_GE(summary["host_threads"].value, 1);  // OpenMP's default: this machine's cores
-  EXPECT_EQ(summary["steps"].value, 2000);
-  EXPECT_EQ(summary["particles"].value, 2);
+  Json summary = parse_or_fail(run.out);
+  EXPECT_EQ(summary["solver"].get<std::string>(), "talus");
+  EXPECT_EQ(summary["backend"].get<std::string>(), "cpu");
+  EXPECT_GE(summary["host_threads"].get<double>(), 1);  // OpenMP's default: this machine's cores
+  EXPECT_EQ(summary["steps"].get<double>(), 2000);
+  EXPECT_EQ(summary["particles"].get<double>(), 2);
   // The contact lasts pi sqrt(m_eff / K_N) = 0.8 ms of the 20 ms: about 80 of 2000 steps with one
   // contact, a mean of about 0.04 per step.
-  EXPECT_GT(summary["mean_contacts_per_step"].value, 0.02);
-  EXPECT_LT(summary["mean_contacts_per_step"].value, 0.08);
-  EXPECT_EQ(summary["stage_seconds"]["pair_contacts"].kind, Json::number);
-  EXPECT_EQ(summary["stage_seconds"].members.count("gravity"), 0u);  // not in the scene
-  EXPECT_GT(summary["peak_memory_bytes"].value, 0);
+  EXPECT_GT(summary["mean_contacts_per_step"].get<double>(), 0.02);
+  EXPECT_LT(summary["mean_contacts_per_step"].get<double>(), 0.08);
+  EXPECT_TRUE(summary["stage_seconds"]["pair_contacts"].is_number());
+  EXPECT_FALSE(summary["stage_seconds"].contains("gravity"));  // not in the scene
+  EXPECT_GT(summary["peak_memory_bytes"].get<double>(), 0);
   EXPECT_EQ(run.err.find("running on the host"), std::string::npos) << run.err;
   // Elastic head-on collision of equal balls: they swap velocities (1e-3 of 0.5 m/s: above the
   // integrator's O(dt^2) energy error at 80 steps per contact, far below a wrong sign).
@@ -77,18 +77,19 @@ TEST(TalusRunProduction, AutoBackendUsesTheGpuOrFallsBackWithANotice) {
   const std::string scene = write_scene(dir, kTwoBalls);
   const ProcessResult run = run_talus({"run", "--output", dir + "/out", scene});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json summary = parse_or_fail(run.out);
+  Json summary = parse_or_fail(run.out);
   const std::string notice = "talus run: no usable GPU backend (";
-  if (summary["backend"].text == "cuda") {
+  if (summary["backend"].get<std::string>() == "cuda") {
     EXPECT_EQ(run.err.find(notice), std::string::npos) << run.err;
   } else {
-    EXPECT_EQ(summary["backend"].text, "cpu");
+    EXPECT_EQ(summary["backend"].get<std::string>(), "cpu");
     const std::size_t at = run.err.find(notice);
     ASSERT_NE(at, std::string::npos) << run.err;
     const std::size_t line_end = run.err.find('\n', at);
     ASSERT_NE(line_end, std::string::npos);
     // The notice names the host's thread count, as the summary does.
-    const std::string threads = std::to_string(static_cast<int>(summary["host_threads"].value));
+    const std::string threads =
+        std::to_string(static_cast<int>(summary["host_threads"].get<double>()));
     EXPECT_NE(run.err.substr(at, line_end - at).find("); running on the host (cpu, " + threads),
               std::string::npos)
         << run.err;
@@ -107,9 +108,9 @@ TEST(TalusRunProduction, ThreadsOptionSetsTheHostThreads) {
                                          "--output", dir + "/t" + threads, scene});
     ASSERT_EQ(run.exit_code, 0) << run.err;
 #ifdef _OPENMP
-    EXPECT_EQ(parse_or_fail(run.out)["host_threads"].value, std::stoi(threads));
+    EXPECT_EQ(parse_or_fail(run.out)["host_threads"].get<double>(), std::stoi(threads));
 #else
-    EXPECT_EQ(parse_or_fail(run.out)["host_threads"].value, 1);  // a build without OpenMP
+    EXPECT_EQ(parse_or_fail(run.out)["host_threads"].get<double>(), 1);  // a build without OpenMP
 #endif
     frames.push_back(talus::read_trajectory(dir + "/t" + threads + "/frames"));
   }
@@ -139,7 +140,7 @@ TEST(TalusRunProduction, CudaBackendRunsLikeTheHostOrIsRefused) {
     return;
   }
   ASSERT_EQ(cuda.exit_code, 0) << cuda.err;
-  EXPECT_EQ(parse_or_fail(cuda.out)["backend"].text, "cuda");
+  EXPECT_EQ(parse_or_fail(cuda.out)["backend"].get<std::string>(), "cuda");
   const ProcessResult cpu = run_talus({"run", "--backend", "cpu", "--output", dir + "/cpu", scene});
   ASSERT_EQ(cpu.exit_code, 0) << cpu.err;
   const std::vector<talus::TrajectoryFrame> g = talus::read_trajectory(dir + "/gpu/frames");
@@ -164,9 +165,9 @@ TEST(TalusRunProduction, WritesParaViewFramesBesideTheTrajectories) {
       write_scene(dir, std::string(kTwoBalls) + "  vtk: {every: 500, directory: pv}\n");
   const ProcessResult run = run_talus({"run", "--quiet", "--output", dir + "/out", scene});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json outputs = parse_or_fail(run.out)["outputs"];
-  ASSERT_EQ(outputs.items.size(), 2u);
-  EXPECT_EQ(outputs.items[1].text, dir + "/out/pv");
+  Json outputs = parse_or_fail(run.out)["outputs"];
+  ASSERT_EQ(outputs.size(), 2u);
+  EXPECT_EQ(outputs[1].get<std::string>(), dir + "/out/pv");
   EXPECT_EQ(talus_test::file_names(dir + "/out/pv"),
             (std::vector<std::string>{"particles.pvd", "particles_000000000.vtp",
                                       "particles_000000500.vtp", "particles_000001000.vtp",
@@ -198,7 +199,7 @@ TEST(TalusRunProduction, HostStepRunsFeeds) {
   const ProcessResult fed = run_talus({"run", "--backend", "cpu", "--output", dir + "/out", feed});
   ASSERT_EQ(fed.exit_code, 0) << fed.err;
   // 100 per second from 0 until the last step's start, 0.01999 s: floor(1.999) = 1 more.
-  EXPECT_EQ(parse_or_fail(fed.out)["particles"].value, 3);
+  EXPECT_EQ(parse_or_fail(fed.out)["particles"].get<double>(), 3);
 }
 
 }  // namespace

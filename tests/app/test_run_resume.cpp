@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "solver/io/checkpoint.hpp"
-#include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
 #include "tests/step/restart_scene.hpp"
+#include "tests/support/json_test_util.hpp"
 
 namespace {
 
@@ -59,10 +59,10 @@ TEST(TalusRunResume, ResumesACopyFromItsMiddleCheckpoint) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.err.find("resuming " + scene + " from step 40"), std::string::npos)
       << resumed.err;
-  const Json summary = parse_or_fail(resumed.out);
-  EXPECT_EQ(summary["resumed_from_step"].value, 40);
-  EXPECT_EQ(summary["steps"].value, 120);
-  EXPECT_EQ(summary["backend"].text, "cpu");
+  Json summary = parse_or_fail(resumed.out);
+  EXPECT_EQ(summary["resumed_from_step"].get<double>(), 40);
+  EXPECT_EQ(summary["steps"].get<double>(), 120);
+  EXPECT_EQ(summary["backend"].get<std::string>(), "cpu");
   for (const char* file :
        {"/frames/trajectory_000000060.csv", "/frames/trajectory_000000120.csv", "/probes.csv",
         "/paraview/particles.pvd", "/paraview/walls.pvd", "/paraview/particles_000000120.vtp"}) {
@@ -119,7 +119,7 @@ TEST(TalusRunResume, SigtermStopsAtAStepWithACheckpointAndResumes) {
 
   const ProcessResult resumed = run_talus({"run", "--resume", dir + "/cut/checkpoints", "--quiet"});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  EXPECT_EQ(parse_or_fail(resumed.out)["steps"].value, 3000);
+  EXPECT_EQ(parse_or_fail(resumed.out)["steps"].get<double>(), 3000);
   for (const char* file : {"/frames/trajectory_000003000.csv", "/probes.csv"}) {
     const std::string a = read_file(dir + "/whole" + file), b = read_file(dir + "/cut" + file);
     EXPECT_FALSE(a.empty()) << file;

@@ -8,8 +8,8 @@
 
 #include "solver/contact/time_step_advisor.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/json_test_util.hpp"
 
 namespace {
 
@@ -105,12 +105,12 @@ TEST(TalusRunTimeStep, AllowUnstableStepRunsWithAWarning) {
                          "(--allow-unstable-step)\n"),
             std::string::npos)
       << run.err;
-  const Json summary = parse_or_fail(run.out);
-  EXPECT_EQ(summary["steps"].value, 3);
+  Json summary = parse_or_fail(run.out);
+  EXPECT_EQ(summary["steps"].get<double>(), 3);
   // 17 digits carry the doubles exactly.
-  EXPECT_EQ(summary["critical_time_step"].value, advice.critical_step);
-  EXPECT_EQ(summary["time_step_ratio"].value, 1.0e-5 / advice.critical_step);
-  EXPECT_GT(summary["time_step_ratio"].value, 1e3);
+  EXPECT_EQ(summary["critical_time_step"].get<double>(), advice.critical_step);
+  EXPECT_EQ(summary["time_step_ratio"].get<double>(), 1.0e-5 / advice.critical_step);
+  EXPECT_GT(summary["time_step_ratio"].get<double>(), 1e3);
 }
 
 // The default law accepts 10 us for these cubes (dt_crit 1.4e-5 s) and says so in one line.
@@ -127,10 +127,10 @@ TEST(TalusRunTimeStep, AcceptedStepIsReportedAgainstTheCriticalStep) {
       "cube-cube contacts, contact: volume; Rayleigh time " + format("%.1e", advice.rayleigh_time) +
       " s)\n";
   EXPECT_NE(run.err.find(line), std::string::npos) << line << "\n" << run.err;
-  const Json summary = parse_or_fail(run.out);
-  EXPECT_EQ(summary["time_step"].value, 1.0e-5);
-  EXPECT_EQ(summary["critical_time_step"].value, advice.critical_step);
-  EXPECT_EQ(summary["time_step_ratio"].value, 1.0e-5 / advice.critical_step);
+  Json summary = parse_or_fail(run.out);
+  EXPECT_EQ(summary["time_step"].get<double>(), 1.0e-5);
+  EXPECT_EQ(summary["critical_time_step"].get<double>(), advice.critical_step);
+  EXPECT_EQ(summary["time_step_ratio"].get<double>(), 1.0e-5 / advice.critical_step);
   // --quiet drops the line.
   const ProcessResult quiet =
       run_talus({"run", "--backend", "cpu", "--quiet", "--output", dir, scene});
@@ -151,10 +151,10 @@ TEST(TalusRunTimeStep, AutoStepRunsAtAFifthOfTheCriticalStep) {
                                 advice.recommended_step, advice.critical_step)),
             std::string::npos)
       << run.err;
-  const Json summary = parse_or_fail(run.out);
-  EXPECT_EQ(summary["time_step"].value, advice.recommended_step);
-  EXPECT_EQ(summary["time_step"].value, 0.2 * advice.critical_step);
-  EXPECT_EQ(summary["critical_time_step"].value, advice.critical_step);
+  Json summary = parse_or_fail(run.out);
+  EXPECT_EQ(summary["time_step"].get<double>(), advice.recommended_step);
+  EXPECT_EQ(summary["time_step"].get<double>(), 0.2 * advice.critical_step);
+  EXPECT_EQ(summary["critical_time_step"].get<double>(), advice.critical_step);
 }
 
 // Without contacts nothing limits the step: the line says why, the summary has null.
@@ -172,9 +172,9 @@ TEST(TalusRunTimeStep, NoContactsNoCriticalStep) {
                          "(effects.contact is absent); Rayleigh time "),
             std::string::npos)
       << run.err;
-  const Json summary = parse_or_fail(run.out);
-  EXPECT_EQ(summary["critical_time_step"].kind, Json::null);
-  EXPECT_EQ(summary["time_step_ratio"].value, 0.0);
+  Json summary = parse_or_fail(run.out);
+  EXPECT_TRUE(summary["critical_time_step"].is_null());
+  EXPECT_EQ(summary["time_step_ratio"].get<double>(), 0.0);
 }
 
 }  // namespace

@@ -9,10 +9,14 @@
 #include <limits>
 #include <random>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "solver/io/output_files.hpp"
 #include "solver/io/trajectory.hpp"
-#include "tests/app/json_reader.hpp"
+#include "tests/support/json_test_util.hpp"
 #include "tests/support/test_files.hpp"
 
 namespace talus {
@@ -140,15 +144,73 @@ TEST(Trajectory, RunJsonRecordsTheRun) {
   info.time_step = 2.0e-6;
   info.templates = {"grain", "pebble", "ball"};
   write_run_info(dir, info);
-  const talus_test::Json json = talus_test::parse_or_fail(read_text(dir + "/run.json"));
-  EXPECT_EQ(json["scene"].text, info.scene_file);
-  EXPECT_EQ(json["solver"].text, "reference");
-  EXPECT_EQ(json["precision"].text, "float");
-  EXPECT_EQ(json["time_step"].value, 2.0e-6);  // printed with 17 digits: exact
-  ASSERT_EQ(json["templates"].items.size(), 3u);
+  talus_test::Json json = talus_test::parse_or_fail(read_text(dir + "/run.json"));
+  EXPECT_EQ(json["scene"].get<std::string>(), info.scene_file);
+  EXPECT_EQ(json["solver"].get<std::string>(), "reference");
+  EXPECT_EQ(json["precision"].get<std::string>(), "float");
+  EXPECT_EQ(json["time_step"].get<double>(), 2.0e-6);  // the shortest text that reads back: exact
+  ASSERT_EQ(json["templates"].size(), 3u);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_EQ(json["templates"].items[i]["id"].value, i);
-    EXPECT_EQ(json["templates"].items[i]["name"].text, info.templates[i]);
+    EXPECT_EQ(json["templates"][i]["id"].get<double>(), i);
+    EXPECT_EQ(json["templates"][i]["name"].get<std::string>(), info.templates[i]);
+  }
+}
+
+// run.json reads back what was written, \u escapes of any code point included (the regular
+// expressions that read it before kept one byte of each), and a file that is not what talus
+// writes is refused naming the file and the member.
+TEST(Trajectory, RunJsonReadsBack) {
+  const std::string dir = test_directory("run_json_read");
+  RunInfo info;
+  info.scene_file = "sc\u00e8nes/\"drum\" \xe4\xb8\xad.yaml";
+  info.solver = "talus";
+  info.precision = "double";
+  info.time_step = 1.0 / 3.0 * 1e-5;
+  info.templates = {"grain",
+                    "\xc3\xa9"
+                    "clat"};
+  write_run_info(dir, info);
+  const RunInfo back = read_run_info(dir);
+  EXPECT_EQ(back.scene_file, info.scene_file);
+  EXPECT_EQ(back.solver, info.solver);
+  EXPECT_EQ(back.precision, info.precision);
+  EXPECT_EQ(back.time_step, info.time_step);
+  EXPECT_EQ(back.templates, info.templates);
+  // The same file written by another tool, with escapes for the non-ASCII letters.
+  write_file_atomically(dir + "/run.json",
+                        "{\"templates\": [{\"id\": 0, \"name\": \"\\u00e9clat\"}], "
+                        "\"time_step\": 2e-6, \"precision\": \"float\", \"solver\": "
+                        "\"reference\", \"scene\": \"s\\u4e2d.yaml\"}");
+  const RunInfo escaped = read_run_info(dir);
+  EXPECT_EQ(escaped.templates, std::vector<std::string>{"\xc3\xa9"
+                                                        "clat"});
+  EXPECT_EQ(escaped.scene_file, "s\xe4\xb8\xad.yaml");
+}
+
+TEST(Trajectory, BadRunJsonNamesTheFileAndTheMember) {
+  const std::string dir = test_directory("run_json_bad");
+  const std::string good =
+      "\"scene\": \"s.yaml\", \"solver\": \"talus\", \"precision\": \"double\"";
+  const std::pair<std::string, std::string> cases[] = {
+      {"{" + good + ", \"time_step\": 1e-5, \"templates\": [}", "not valid JSON"},
+      {"[1, 2]", "expected an object"},
+      {"{\"solver\": \"talus\"}", "\"scene\" (missing)"},
+      {"{" + good + ", \"time_step\": -1, \"templates\": []}", "\"time_step\" (s), got -1"},
+      {"{" + good + ", \"time_step\": \"1e-5\", \"templates\": []}", "positive number"},
+      {"{" + good + ", \"time_step\": 1e-5}", "\"templates\" (missing)"},
+      {"{" + good + ", \"time_step\": 1e-5, \"templates\": [{\"id\": 1, \"name\": \"g\"}]}",
+       "templates[0].id = 0"},
+      {"{\"scene\": 3}", "a string member \"scene\", got 3"}};
+  for (const auto& [text, expected] : cases) {
+    write_file_atomically(dir + "/run.json", text);
+    try {
+      read_run_info(dir);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(dir + "/run.json: ", 0), 0u) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what << "\n  expected: " << expected;
+    }
   }
 }
 

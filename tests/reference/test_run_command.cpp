@@ -9,8 +9,8 @@
 #include <string>
 
 #include "solver/io/trajectory.hpp"
-#include "tests/app/json_reader.hpp"
 #include "tests/app/run_talus.hpp"
+#include "tests/support/json_test_util.hpp"
 #include "tests/support/test_files.hpp"
 
 namespace {
@@ -52,11 +52,11 @@ TEST(TalusRunReference, RunsTheSceneWritesFramesAndSummarises) {
   const ProcessResult run =
       run_talus({"run", "--solver", "reference", "--output", dir + "/out", scene});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json summary = parse_or_fail(run.out);
-  EXPECT_EQ(summary["solver"].text, "reference");
-  EXPECT_EQ(summary["steps"].value, 2000);
-  EXPECT_NEAR(summary["simulated_time"].value, 0.02, 1e-12);  // 2000 sums of dt: ~1e-15 s
-  EXPECT_EQ(summary["particles"].value, 2);
+  Json summary = parse_or_fail(run.out);
+  EXPECT_EQ(summary["solver"].get<std::string>(), "reference");
+  EXPECT_EQ(summary["steps"].get<double>(), 2000);
+  EXPECT_NEAR(summary["simulated_time"].get<double>(), 0.02, 1e-12);  // 2000 sums of dt: ~1e-15 s
+  EXPECT_EQ(summary["particles"].get<double>(), 2);
   // Progress goes to stderr, at least the final line at 100%.
   EXPECT_NE(run.err.find("100.0%"), std::string::npos) << run.err;
 

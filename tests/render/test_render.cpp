@@ -12,6 +12,7 @@
 #include "solver/render/frame_drawing.hpp"
 #include "solver/render/projection.hpp"
 #include "solver/render/render_run.hpp"
+#include "tests/support/json_test_util.hpp"
 #include "tests/support/test_files.hpp"
 
 namespace talus {
@@ -157,11 +158,11 @@ TEST(RenderRun, ParticleTableMatchesTheIdColouredPixels) {
     EXPECT_NEAR((table[k].column - report.projection.origin_column) / s, x.x, 1e-12);
     EXPECT_NEAR((report.projection.origin_row - table[k].row) / s, x.z, 1e-12);
   }
-  const std::string json = read_text(run.dir + "/render/render.json");
-  EXPECT_NE(json.find("\"pixels_per_metre\": " + exact_decimal(report.projection.pixels_per_metre)),
-            std::string::npos)
-      << json;
-  EXPECT_NE(json.find("\"image\": \"frame_000000040.png\""), std::string::npos) << json;
+  talus_test::Json json = talus_test::parse_or_fail(read_text(run.dir + "/render/render.json"));
+  EXPECT_EQ(json["pixels_per_metre"].get<double>(), report.projection.pixels_per_metre);
+  EXPECT_EQ(json["origin_pixel"][0].get<double>(), report.projection.origin_column);
+  ASSERT_EQ(json["frames"].size(), 1u);
+  EXPECT_EQ(json["frames"][0]["image"].get<std::string>(), "frame_000000040.png");
   EXPECT_FALSE(std::filesystem::exists(run.dir + "/render/frame_000000040.png.tmp"));
 }
 
