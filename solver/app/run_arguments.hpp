@@ -1,5 +1,4 @@
-// `talus run`'s options. Parsing is separate from running so that every bad option is a
-// UsageError naming the option and what was expected, before any scene is read.
+// `talus run`'s options, as the command line (command_line.hpp) gives them to run_json.
 #pragma once
 
 #include <optional>
@@ -35,11 +34,6 @@ struct RunArguments {
   // names the scene, the output root and the precision). Empty: a new run.
   std::string resume_directory;
 };
-
-// The operands after `run`: options in any order (`--name value` or `--name=value`) and at most
-// one scene path (none: the built-in scene), or --resume DIR and no scene path (with --backend,
-// --threads, --quiet, --allow-unstable-step only; not --end). Throws UsageError.
-RunArguments parse_run_arguments(const std::vector<std::string>& operands);
 
 const char* to_string(SolverKind solver);
 

@@ -1,0 +1,350 @@
+#include "solver/app/command_line.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <utility>
+
+#include "solver/app/arguments.hpp"
+
+namespace talus {
+
+namespace {
+
+const char* const kDescription =
+    "talus: discrete element simulation of convex polyhedral and spherical particles on the GPU "
+    "or the host, with a serial reference solver beside it.";
+
+const char* const kShapes =
+    "A, B     a built-in shape 'name:size' or an .obj/.stl file ('path' or 'path:scale')\n"
+    "         name: tetrahedron, cube, octahedron, dodecahedron, icosahedron, corn, mineral\n"
+    "               (size = circumscribed-sphere diameter, m); cuboid:a,b,c (sides, m);\n"
+    "               cylinder:D,L[,N] (diameter, length, N sides; m)\n";
+
+const char* const kPoses =
+    "POSE     x,y,z,qw,qx,qy,qz: centroid position (m) and orientation quaternion\n"
+    "         (body -> world, normalised by talus), e.g. 0,0,0,1,0,0,0\n";
+
+const char* const kOverlapPrints =
+    "overlap prints: status, volume (m^3), normal (S/|S|, from A to B), area (|S|, m^2),\n"
+    "vector_area (S), point (overlap centroid), chebyshev_depth (inradius of the overlap),\n"
+    "depth, simple_normal, simple_point (BLAZE-DEM simple contact), gjk_intersecting.\n";
+
+// The synopsis of each command, for the top-level help and the usage line of an error.
+const std::pair<const char*, const char*> kSynopses[] = {
+    {"run", "talus run [options] [SCENE.yaml]"},
+    {"resume", "talus run --resume DIR [options]"},
+    {"render", "talus render [options] DIR"},
+    {"overlap", "talus overlap A POSE_A B POSE_B"},
+    {"shape", "talus shape A"},
+    {"help", "talus help | --help | -h | COMMAND --help"}};
+
+// Every option is read as text and checked here, so that one message style covers them all:
+// "--threads '0': expected a whole number of at least 1".
+struct RunText {
+  std::vector<std::string> scenes;
+  std::string solver, backend, precision, output, threads, end, resume;
+  bool quiet = false, allow_unstable_step = false;
+};
+
+struct RenderText {
+  std::vector<std::string> directories;
+  std::string view, color, width, height, every, output, scene, fit, max_speed;
+  bool last = false, no_label = false, quiet = false;
+};
+
+// Adds a text option whose value is checked after parsing.
+CLI::Option* text_option(CLI::App* app, const char* name, std::string& value, const char* what,
+                         const char* help) {
+  return app->add_option(name, value, help)->type_name(what);
+}
+
+double positive_number(const std::string& option, const std::string& text, const char* unit) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value <= 0)
+    throw UsageError(option + " '" + text + "': expected a positive " + unit);
+  return value;
+}
+
+// Options given on the command line that are not the command's: CLI11 leaves them in
+// remaining() when extras are allowed, and the message is ours.
+void refuse_extras(const CLI::App* app, const std::string& command, const char* expected) {
+  const std::vector<std::string> extras = app->remaining();
+  if (!extras.empty())
+    throw UsageError("unknown option '" + extras.front() + "' for " + command + "; expected " +
+                     expected);
+}
+
+RunArguments run_arguments(const CLI::App* app, const RunText& t) {
+  static const std::pair<const char*, SolverKind> kSolvers[] = {
+      {"production", SolverKind::production}, {"reference", SolverKind::reference}};
+  static const std::pair<const char*, Backend> kBackends[] = {
+      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
+  static const std::pair<const char*, Precision> kPrecisions[] = {{"double", Precision::float64},
+                                                                  {"float", Precision::float32}};
+  refuse_extras(app, "run",
+                "--solver, --backend, --precision, --output, --threads, --end, --resume, "
+                "--quiet, --allow-unstable-step");
+  const auto given = [&](const char* name) { return app->count(name) > 0; };
+  RunArguments parsed;
+  if (t.scenes.size() > 1)
+    throw UsageError("run expects one scene file, got '" + t.scenes[0] + "' and '" + t.scenes[1] +
+                     "'");
+  if (!t.scenes.empty()) parsed.scene_path = t.scenes[0];
+  if (given("--solver")) parsed.solver = choose("--solver", t.solver, kSolvers);
+  if (given("--backend")) parsed.backend = choose("--backend", t.backend, kBackends);
+  if (given("--precision")) parsed.precision = choose("--precision", t.precision, kPrecisions);
+  if (given("--output")) {
+    if (t.output.empty()) throw UsageError("--output expects a directory");
+    parsed.output_root = t.output;
+  }
+  if (given("--threads")) parsed.threads = parse_positive_count("--threads", t.threads);
+  if (given("--end")) parsed.end_time = positive_number("--end", t.end, "time in s");
+  if (given("--resume")) {
+    if (t.resume.empty()) throw UsageError("--resume expects a checkpoint directory");
+    parsed.resume_directory = t.resume;
+  }
+  parsed.quiet = t.quiet;
+  parsed.allow_unstable_step = t.allow_unstable_step;
+  if (!parsed.resume_directory.empty()) {
+    if (!t.scenes.empty())
+      throw UsageError("--resume continues the run its checkpoint names; drop the scene file '" +
+                       parsed.scene_path + "'");
+    for (const char* fixed : {"--solver", "--precision", "--output"}) {
+      if (given(fixed))
+        throw UsageError(std::string("--resume continues the run as it was set up; drop ") + fixed +
+                         " (the checkpoint fixes the solver, precision and output " + "directory)");
+    }
+    if (parsed.end_time)
+      throw UsageError(
+          "--resume runs to the end time of the scene its checkpoint names; drop --end");
+  }
+  return parsed;
+}
+
+RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
+  static const std::pair<const char*, ColorMode> kColors[] = {
+      {"normal", ColorMode::normal}, {"velocity", ColorMode::velocity}, {"id", ColorMode::id}};
+  static const std::pair<const char*, std::string> kViews[] = {
+      {"x", "x"}, {"-x", "-x"}, {"y", "y"}, {"-y", "-y"}, {"z", "z"}, {"-z", "-z"}};
+  static const std::pair<const char*, bool> kFits[] = {{"all", true}, {"particles", false}};
+  refuse_extras(app, "render",
+                "--view, --color, --width, --height, --every, --last, --output, --scene, --fit, "
+                "--max-speed, --no-label, --quiet");
+  const auto given = [&](const char* name) { return app->count(name) > 0; };
+  RenderArguments parsed;
+  RenderSettings& s = parsed.settings;
+  if (t.directories.empty())
+    throw UsageError("render expects a run directory (the trajectory directory talus run wrote)");
+  if (t.directories.size() > 1)
+    throw UsageError("render expects one run directory, got '" + t.directories[0] + "' and '" +
+                     t.directories[1] + "'");
+  s.run_directory = t.directories[0];
+  if (given("--view")) s.view = choose("--view", t.view, kViews);
+  if (given("--color")) s.color = choose("--color", t.color, kColors);
+  if (given("--width")) s.width = parse_positive_count("--width", t.width);
+  if (given("--height")) s.height = parse_positive_count("--height", t.height);
+  if (given("--every")) s.every = parse_positive_count("--every", t.every);
+  if (given("--fit")) s.fit_walls = choose("--fit", t.fit, kFits);
+  if (given("--output")) {
+    if (t.output.empty()) throw UsageError("--output expects a path");
+    s.output_directory = t.output;
+  }
+  if (given("--scene")) {
+    if (t.scene.empty()) throw UsageError("--scene expects a path");
+    s.scene_file = t.scene;
+  }
+  if (given("--max-speed"))
+    s.max_speed = positive_number("--max-speed", t.max_speed, "speed in m/s");
+  s.last_only = t.last;
+  s.label = !t.no_label;
+  parsed.quiet = t.quiet;
+  constexpr int kMaxSide = 16384;  // px: 16384^2 RGB is 800 MB, beyond what a frame needs
+  if (s.width > kMaxSide || s.height > kMaxSide)
+    throw UsageError("--width and --height: expected at most " + std::to_string(kMaxSide) + " px");
+  if (s.width <= 2 * s.margin || s.height <= 2 * s.margin)
+    throw UsageError("--width and --height: expected more than " + std::to_string(2 * s.margin) +
+                     " px (twice the margin)");
+  return parsed;
+}
+
+// The operands of overlap and shape, which may begin with '-' (a negative coordinate): CLI11
+// leaves every word it does not know in remaining(), in order.
+std::vector<std::string> operands(const CLI::App* app, const std::string& command,
+                                  std::size_t count, const char* names) {
+  std::vector<std::string> words = app->remaining();
+  if (words.size() != count)
+    throw UsageError(command + " expects " + std::to_string(count) + " argument" +
+                     (count > 1 ? "s " : " ") + names + ", got " + std::to_string(words.size()));
+  return words;
+}
+
+// The synopses, one a line under "usage:".
+std::string synopses() {
+  std::string text = "usage:\n";
+  for (const auto& [name, synopsis] : kSynopses) {
+    (void)name;
+    text += std::string("  ") + synopsis + "\n";
+  }
+  return text;
+}
+
+std::string top_footer() {
+  return synopses() +
+         "With no command, talus runs the built-in scene: 63 dodecahedra poured into a 10 cm\n"
+         "cylinder (the method paper's section 3.3), outputs in talus-default/.\n"
+         "'talus COMMAND --help' describes a command's options. Scenes: docs/scenes.md.\n\n" +
+         kShapes + kPoses;
+}
+
+}  // namespace
+
+ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
+  ParsedCommand command;
+  if (arguments.empty()) {
+    command.bare = true;
+    return command;
+  }
+  CLI::App app(kDescription, "talus");
+  app.require_subcommand(0, 1);
+  app.allow_extras();
+
+  CLI::App* help = app.add_subcommand("help", "this text; 'talus help COMMAND': a command's");
+  help->allow_extras();
+
+  RunText r;
+  CLI::App* run = app.add_subcommand("run", "run a scene; its summary as JSON");
+  run->footer(
+      "Runs SCENE.yaml (docs/scenes.md) and prints its summary as JSON, progress on stderr.\n"
+      "Without SCENE.yaml: the built-in scene, 63 dodecahedra poured into a 10 cm cylinder\n"
+      "(paper section 3.3), outputs in talus-default/, its final bed height and a picture.");
+  run->allow_extras();
+  run->add_option("SCENE.yaml", r.scenes, "the scene file (none: the built-in scene)")
+      ->type_name("");
+  text_option(run, "--solver", r.solver, "production|reference",
+              "which solver steps the scene (default production; reference: the serial "
+              "CGAL/Eigen oracle)");
+  text_option(run, "--backend", r.backend, "auto|cpu|cuda", "overrides the scene's backend");
+  text_option(run, "--precision", r.precision, "double|float", "overrides the scene's precision");
+  text_option(run, "--output", r.output, "DIR", "relative output paths of the scene go inside DIR");
+  text_option(run, "--threads", r.threads, "N",
+              "the host backend's threads (N >= 1; default: all cores, or OMP_NUM_THREADS)");
+  text_option(run, "--end", r.end, "T", "stop at T seconds instead of the scene's end time");
+  text_option(run, "--resume", r.resume, "DIR",
+              "continue the run from the newest checkpoint in DIR (outputs.checkpoint) instead "
+              "of a scene file; takes --backend, --threads, --quiet and --allow-unstable-step "
+              "only");
+  run->add_flag("--quiet", r.quiet, "no progress lines on stderr");
+  run->add_flag("--allow-unstable-step", r.allow_unstable_step,
+                "run a time step above the critical step that talus estimates (refused "
+                "otherwise; docs/contact.md)");
+
+  RenderText d;
+  CLI::App* render = app.add_subcommand("render", "draw a run's frames to PNG");
+  render->footer(
+      "DIR: the run's trajectory directory, with run.json. The pictures, their projection and\n"
+      "each particle's pixel position go to DIR/render/ unless --output says otherwise\n"
+      "(docs/scenes.md, \"Pictures\").");
+  render->allow_extras();
+  render->add_option("DIR", d.directories, "the run's trajectory directory")->type_name("");
+  text_option(render, "--view", d.view, "x|-x|y|-y|z|-z",
+              "the direction the camera looks along (default y)");
+  text_option(render, "--color", d.color, "normal|velocity|id",
+              "faces shaded by normal, speed colours, or one flat colour per particle id "
+              "(default normal)");
+  text_option(render, "--width", d.width, "N", "image width in pixels (default 800)");
+  text_option(render, "--height", d.height, "N", "image height in pixels (default 800)");
+  text_option(render, "--every", d.every, "K", "every K-th frame (the last always)");
+  render->add_flag("--last", d.last, "only the last frame");
+  text_option(render, "--fit", d.fit, "all|particles",
+              "scale to fit particles and walls (default) or particles only");
+  text_option(render, "--max-speed", d.max_speed, "V",
+              "m/s drawn red with --color velocity (default: the fastest particle of the "
+              "frames)");
+  text_option(render, "--scene", d.scene, "FILE",
+              "the scene, when run.json's path does not lead to it");
+  text_option(render, "--output", d.output, "DIR", "where the pictures go");
+  render->add_flag("--no-label", d.no_label, "no time label on the pictures");
+  render->add_flag("--quiet", d.quiet, "no line per picture on stderr");
+
+  CLI::App* overlap = app.add_subcommand("overlap", "the overlap of two posed polyhedra, as JSON");
+  overlap->allow_extras();
+  overlap->footer(
+      "talus overlap A POSE_A B POSE_B: the exact overlap (paper section 2.3), the BLAZE-DEM\n"
+      "simple contact and the GJK verdict (paper Algorithm I) side by side.\n\n" +
+      std::string(kShapes) + kPoses + "\n" + kOverlapPrints);
+  CLI::App* shape = app.add_subcommand("shape", "a shape template in its body frame, as JSON");
+  shape->allow_extras();
+  shape->footer("talus shape A: the template (paper section 2.1) built from A.\n\n" +
+                std::string(kShapes));
+  // Set last: a subcommand takes its parent's footer when it is added.
+  app.footer(top_footer());
+
+  std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    command.kind = ParsedCommand::help;
+    command.help_text = app.help();
+    return command;
+  } catch (const CLI::ArgumentMismatch& error) {
+    // An option without its value: CLI11 says "--output: 1 required DIR missing".
+    const std::string what = error.what();
+    const std::size_t colon = what.find(": ");
+    if (colon != std::string::npos && what.find(" required ", colon) != std::string::npos &&
+        what.size() >= 8 && what.compare(what.size() - 8, 8, " missing") == 0)
+      throw UsageError(what.substr(0, colon) + " expects a value");
+    throw UsageError(what);
+  } catch (const CLI::ParseError& error) {
+    throw UsageError(error.what());  // CLI11's words, which name the argument
+  }
+  if (*help) {
+    command.kind = ParsedCommand::help;
+    const std::vector<std::string> topic = help->remaining();
+    CLI::App* about = nullptr;
+    if (!topic.empty() && topic.front() != "help") {
+      try {
+        about = app.get_subcommand(topic.front());
+      } catch (const CLI::OptionNotFound&) {
+        throw UsageError("help '" + topic.front() +
+                         "': expected one of run, render, overlap, shape");
+      }
+    }
+    // app.help() would describe the `help` command itself, the one parsed.
+    command.help_text =
+        about ? about->help("talus")
+              : app.get_formatter()->make_help(&app, "talus", CLI::AppFormatMode::Normal);
+  } else if (*run) {
+    command.kind = ParsedCommand::run;
+    command.run_arguments = run_arguments(run, r);
+  } else if (*render) {
+    command.kind = ParsedCommand::render;
+    command.render_arguments = render_arguments(render, d);
+  } else if (*overlap) {
+    command.kind = ParsedCommand::overlap;
+    command.operands = operands(overlap, "overlap", 4, "A POSE_A B POSE_B");
+  } else if (*shape) {
+    command.kind = ParsedCommand::shape;
+    command.operands = operands(shape, "shape", 1, "A");
+  } else {
+    const std::vector<std::string> words = app.remaining();
+    throw UsageError("unknown command '" + (words.empty() ? arguments.front() : words.front()) +
+                     "'; expected run, render, overlap, shape or help");
+  }
+  return command;
+}
+
+std::string usage_line(const std::vector<std::string>& arguments) {
+  const std::string first = arguments.empty() ? "" : arguments.front();
+  for (const auto& [name, synopsis] : kSynopses) {
+    if (first == name && first != "help")
+      return std::string("usage: ") + synopsis + " ('talus " + first +
+             " --help' lists the options)\n";
+  }
+  return synopses();
+}
+
+}  // namespace talus
