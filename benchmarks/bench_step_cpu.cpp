@@ -1,7 +1,8 @@
 // The production step on the host backend (solver/step/host_step): the same bed of dodecahedra
-// with each effect taken away in turn, so that what an effect costs is the difference (DESIGN.md:
-// an absent effect has no stage), each on 1 and 2 threads (the argument `threads`; wall-clock
-// time, as the step's threads run beside the timing one). The bed: a 10 x 10 x 10 cubic lattice
+// with each effect taken away in turn, so that what an effect costs is the difference
+// (docs/design.md, "Simulate only the effects a scene calls for": an absent effect has no
+// stage), each on 1 and 2 threads (the argument `threads`; wall-clock time, as the step's threads
+// run beside the timing one). The bed: a 10 x 10 x 10 cubic lattice
 // of 10 mm dodecahedra at a spacing of 8.2 mm with random orientations (particles overlap
 // neighbours from the first step), in a closed box wall. And the wall stage on a rotating drum of
 // many facets, with the facet grid and by brute force.

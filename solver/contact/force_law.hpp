@@ -133,7 +133,7 @@ TALUS_HD inline Real normal_dissipation(const Vec3<Real>& normal_force, const Ve
 // would change the stored force whenever the area changes at a fixed Delta-s, i.e. make elastic
 // energy out of nothing: a polyhedron rocking from an edge onto a face multiplies its area, and
 // with rotation that pumped a dodecahedron on a floor from 1.8 mJ to 130 mJ in 0.4 s at any time
-// step, and blew a 63-particle pour up to 1 kJ (tests/contact/test_friction_energy.cpp).
+// step, and blew a 63-particle pour up to 1 kJ (tests/step/test_friction_energy.cpp).
 template <class Real>
 TALUS_HD inline ContactForceData<Real> volume_contact_force(const NormalContactData<Real>& c,
                                                             const VolumeLawData<Real>& law,

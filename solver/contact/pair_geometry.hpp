@@ -84,7 +84,7 @@ TALUS_HD inline PairGeometryData<Real> volume_geometry_from(const OverlapResult<
 
 // Two polyhedra in the volume model: GJK decides touching (never calls an overlapping pair
 // separate), then the overlap in the caller's workspace (capacity from overlap_capacity_for).
-// n = S / |S|, A_n = |S|, point = the overlap's centroid (DESIGN.md, Physics).
+// n = S / |S|, A_n = |S|, point = the overlap's centroid (docs/design.md, "Contact laws").
 template <class Real, class Workspace>
 TALUS_HD inline PairGeometryData<Real> polyhedra_volume_geometry(const ConvexView<Real>& a,
                                                                  const Pose<Real>& pose_a,

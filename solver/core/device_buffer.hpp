@@ -1,4 +1,5 @@
-// One explicit owning device array with explicit copies (STYLE.md: no mirrored arrays).
+// One explicit owning device array with explicit copies, no mirrored host copy (docs/design.md,
+// "Code conventions").
 #pragma once
 
 #include <cstddef>

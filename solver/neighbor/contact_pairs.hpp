@@ -1,5 +1,5 @@
-// The broad phase (DESIGN.md "The step", 1-2; paper §2.2 and Fig. 3c; BLAZE-DEM's spatial hashing
-// with sorting): particles binned in a uniform grid whose cells are at least one bounding
+// The broad phase (docs/design.md, "The step", 3; paper §2.2 and Fig. 3c; BLAZE-DEM's spatial
+// hashing with sorting): particles binned in a uniform grid whose cells are at least one bounding
 // diameter (plus the skin) wide, the cells hashed into a table, particles sorted by bucket; then
 // per particle the candidates in its 27 neighbour cells are counted, the counts exclusive-scanned,
 // and every pair whose bounding spheres overlap written into one 1-D array of ContactPair {a, b},

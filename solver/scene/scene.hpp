@@ -213,7 +213,8 @@ struct LinearContactParameters {
   double tangential_damping = 0;  // gamma, N s/m (with friction)
 };
 
-// The physics a scene calls for; anything absent is not simulated (DESIGN.md, steer 3).
+// The physics a scene calls for; anything absent is not simulated (docs/design.md, "Simulate
+// only the effects a scene calls for").
 struct Effects {
   std::optional<Vec3d> gravity;  // m/s^2
   std::optional<ContactModel> contact;

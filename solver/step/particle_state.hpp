@@ -1,6 +1,6 @@
-// The particles as the step holds them: a structure of arrays (DESIGN.md "The step"; BLAZE-DEM
-// §2.1 measured AoS 3x slower), one array per component, with global ids that key the pair
-// histories and survive reordering. ParticleView is the POD view of raw pointers that the
+// The particles as the step holds them: a structure of arrays (docs/design.md, "The step";
+// BLAZE-DEM §2.1 measured AoS 3x slower), one array per component, with global ids that key the
+// pair histories and survive reordering. ParticleView is the POD view of raw pointers that the
 // per-particle and per-pair functions take (host memory here, device memory in the CUDA
 // backend); an array the scene's effects do not need is absent (null) and never allocated.
 #pragma once

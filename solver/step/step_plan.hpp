@@ -1,6 +1,7 @@
-// The step assembled from the scene's effects (DESIGN.md steer 3): the ordered list of stages
-// that run and the particle arrays they need. An effect the scene does not name has no stage and
-// no array; the tests read the plan (and the host step's allocations) to show it.
+// The step assembled from the scene's effects (docs/design.md, "Simulate only the effects a
+// scene calls for"): the ordered list of stages that run and the particle arrays they need. An
+// effect the scene does not name has no stage and no array; the tests read the plan (and the host
+// step's allocations) to show it.
 #pragma once
 
 #include <stdexcept>

@@ -1,4 +1,4 @@
-// The named hard cases of the overlap (DESIGN.md, "hard cases stay numerically stable"): each
+// The named hard cases of the overlap (docs/design.md, "Hard cases stay numerically stable"): each
 // must give finite numbers, a sensible status and no workspace overrun, and the right volume.
 #include <gtest/gtest.h>
 
