@@ -70,7 +70,7 @@ std::string overlap_json(const std::string& spec_a, const std::string& pose_a_te
   const SimpleContact<double> simple = polyhedron_polyhedron_contact(a, pose_a, b, pose_b);
   const GjkResult<double> gjk = gjk_intersect(a, pose_a, b, pose_b);
 
-  // n = S/|S|, A_n = |S| (DESIGN.md, Feng's construction). No direction without an overlap, nor
+  // n = S/|S|, A_n = |S| (docs/design.md, "Contact laws"). No direction without an overlap, nor
   // when S is round-off: two coincident bodies have S = 0 exactly, and each face's share of S is
   // exact to ~eps times its area, at most ~(r_A + r_B)^2.
   const double area = norm(exact.vector_area);

@@ -42,7 +42,6 @@ ALLOWED = {
     r"README\.md: free_fall_drag/(frames|probes\.csv)": "the example run's outputs, as printed",
     r"docs/scenes\.md: \.\./meshes/plate\.obj": "relative to the scene file it shows, "
         "tests/scene/data/walls/mesh.yaml",
-    r"solver/app/overlap_command\.cpp: DESIGN\.md": "fixed in the JSON/CLI change",
 }
 PATH_RUN = re.compile(r"[A-Za-z0-9_.\-/+$<>{}*?~…]+")
 URL = re.compile(r"\b[a-z][a-z0-9+.\-]*://\S+|\bwww\.\S+")
