@@ -12,7 +12,7 @@
 
 #include "solver/neighbor/contact_pairs.hpp"
 #if TALUS_HAVE_CUDA
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/core/cuda_device.hpp"
 #include "solver/neighbor/contact_pairs_gpu.hpp"
 #endif
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "benchmarks/pose_sets.hpp"
+#include "solver/core/cuda_device.hpp"
 #include "solver/geometry/overlap_batch.hpp"
 #include "solver/shape/builtins.hpp"
 #include "solver/shape/shape_arrays.hpp"

@@ -1,4 +1,4 @@
-// The production step on the host backend (solver/step/host_step): the same bed of dodecahedra
+// The production step on the host backend (solver/step/host/host_step): the same bed of dodecahedra
 // with each effect taken away in turn, so that what an effect costs is the difference
 // (docs/design.md, "Simulate only the effects a scene calls for": an absent effect has no
 // stage), each on 1 and 2 threads (the argument `threads`; wall-clock time, as the step's threads
@@ -13,7 +13,7 @@
 
 #include "benchmarks/dodecahedron_bed.hpp"
 #include "benchmarks/drum_bed.hpp"
-#include "solver/step/host_step.hpp"
+#include "solver/step/host/host_step.hpp"
 
 namespace {
 
@@ -21,7 +21,7 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
   const talus::Scene scene = talus_bench::dodecahedron_bed(10, effects, walls);
   talus::HostStep<double> step(scene, static_cast<int>(state.range(0)));
   step.step();  // the first step evaluates the forces at t = 0 too
-  const std::array<double, 9> before = step.stage_seconds();
+  const talus::StageSeconds before = step.stage_seconds();
   double contacts = 0;
   long long steps = 0;
   for (auto _ : state) {

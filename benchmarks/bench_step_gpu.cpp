@@ -1,4 +1,4 @@
-// The production step on the GPU (solver/step/cuda_step): the dodecahedron bed of
+// The production step on the GPU (solver/step/cuda/cuda_step): the dodecahedron bed of
 // dodecahedron_bed.hpp (about 3 pair contacts per particle, i.e. 6 contacts per particle, in a
 // box wall, gravity, volume model, friction, rotation, double) at 1e5, 1e6 and 4e6 particles
 // (side 46, 100 and 159): polyhedron-steps per second, contacts, time per stage, pair-list builds
@@ -17,8 +17,8 @@
 
 #include "benchmarks/dodecahedron_bed.hpp"
 #include "benchmarks/drum_bed.hpp"
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
-#include "solver/step/cuda_step.hpp"
+#include "solver/core/cuda_device.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
 
 namespace {
 
@@ -38,7 +38,7 @@ void gpu_step(benchmark::State& state) {
   options.gjk_filter = mode != 4;
   talus::CudaStep<double> step(scene, options);
   step.step();  // the first step evaluates the forces at t = 0 too
-  const std::array<double, 9> before = step.stage_seconds();
+  const talus::StageSeconds before = step.stage_seconds();
   const long long builds_before = step.pair_list_builds();
   long long steps = 0;
   double contacts = 0;
@@ -60,7 +60,7 @@ void gpu_step(benchmark::State& state) {
   state.counters["candidates"] = double(step.candidate_pair_count());
   state.counters["list_builds_per_step"] =
       steps > 0 ? double(step.pair_list_builds() - builds_before) / double(steps) : 0;
-  const std::array<double, 9>& after = step.stage_seconds();
+  const talus::StageSeconds& after = step.stage_seconds();
   for (int k = 0; k < 9; ++k) {
     if (after[k] > before[k] && steps > 0) {
       state.counters[std::string("ms_") + talus::to_string(static_cast<talus::Stage>(k))] =

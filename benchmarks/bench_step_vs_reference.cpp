@@ -20,7 +20,7 @@
 
 #include "benchmarks/dodecahedron_bed.hpp"
 #include "reference/run/scene_run.hpp"
-#include "solver/step/host_step.hpp"
+#include "solver/step/host/host_step.hpp"
 
 namespace {
 

@@ -1,8 +1,8 @@
 // `talus run [options] scene.yaml`: loads the scene and runs it with the chosen solver. The
 // reference solver is linked in where CMake found CGAL and Eigen (TALUS_HAVE_REFERENCE); the
-// production solver runs on the host backend (solver/step/host_step.hpp) or, in CUDA builds
-// (TALUS_HAVE_CUDA), on the CUDA backend (solver/step/cuda_step.hpp): `--backend cuda` asks for
-// it, `auto` takes it where a device is usable. `--threads N` sets the host backend's threads
+// production solver runs on the host backend (solver/step/host/host_step.hpp) or, in CUDA builds
+// (TALUS_HAVE_CUDA), on the CUDA backend (solver/step/cuda/cuda_step.hpp): `--backend cuda` asks
+// for it, `auto` takes it where a device is usable. `--threads N` sets the host backend's threads
 // (default: OpenMP's, all cores or OMP_NUM_THREADS); the summary and the notice of `auto` name
 // the count when the host runs the scene. `--resume DIR` continues a production run from the
 // newest checkpoint in DIR (solver/io/checkpoint.hpp); SIGINT and SIGTERM stop a production run
@@ -27,9 +27,9 @@
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
+#include "solver/run/production_run.hpp"
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/production_run.hpp"
 
 #if TALUS_HAVE_REFERENCE
 #include "reference/run/scene_run.hpp"
@@ -38,8 +38,8 @@
 #include "solver/render/render_run.hpp"
 #endif
 #if TALUS_HAVE_CUDA
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
-#include "solver/step/cuda_step.hpp"
+#include "solver/core/cuda_device.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
 #endif
 
 namespace talus {

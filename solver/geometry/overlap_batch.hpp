@@ -15,9 +15,6 @@
 
 namespace talus {
 
-// True when a CUDA device can be used; otherwise `reason` (if given) says why not.
-bool cuda_device_available(std::string* reason = nullptr);
-
 // How the batch kernel runs (one thread per pair in all three). Each builds the same polytope
 // with the same arithmetic, so the results are identical; they differ only in where the data
 // lives, and are kept selectable so that the benchmark shows what each step gains.

@@ -4,6 +4,7 @@
 // step's allocations) to show it.
 #pragma once
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,6 +31,11 @@ enum class Stage {
   accumulate,       // contact forces summed per particle in pair order (deterministic)
   integrate_end,    // v_{k+1} (and w_{k+1})
 };
+
+constexpr int kStageCount = static_cast<int>(Stage::integrate_end) + 1;
+
+// Wall time per stage (s), indexed by Stage, as both backends keep it.
+using StageSeconds = std::array<double, kStageCount>;
 
 const char* to_string(Stage stage);
 

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/core/cuda_device.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/cuda_step.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
 #include "tests/support/degenerate_pair.hpp"
 
 namespace talus {

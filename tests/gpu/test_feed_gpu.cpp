@@ -1,6 +1,6 @@
-// Feeds on the CUDA step (solver/step/cuda_step.hpp): before a step's integrate_begin the scene's
-// feed entries insert particles through the same Feeder calls, with the same inputs, as on the
-// host step (host_step.hpp, itself compared with the reference solver in
+// Feeds on the CUDA step (solver/step/cuda/cuda_step.hpp): before a step's integrate_begin the
+// scene's feed entries insert particles through the same Feeder calls, with the same inputs, as on
+// the host step (host_step.hpp, itself compared with the reference solver in
 // tests/reference/test_production_vs_reference.cpp, FeedIntoABoxLinear). In double and
 // deterministic mode, stepped side by side with the host step: the same particle count after
 // every step (and the count the feeds have due), the same contact counts, positions and
@@ -26,14 +26,14 @@
 #include <string>
 #include <vector>
 
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/core/cuda_device.hpp"
 #include "solver/io/checkpoint.hpp"
+#include "solver/run/production_run.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/initial_particles.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/cuda_step.hpp"
-#include "solver/step/host_step.hpp"
-#include "solver/step/production_run.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"  // expect_same_state
 #include "tests/support/feed_scenes.hpp"
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/core/cuda_device.hpp"
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/device_shape.cuh"
 #include "solver/geometry/gjk.hpp"

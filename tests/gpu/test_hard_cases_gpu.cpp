@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
-#include "solver/step/cuda_step.hpp"
+#include "solver/core/cuda_device.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
 #include "tests/support/hard_cases.hpp"
 
 namespace talus {

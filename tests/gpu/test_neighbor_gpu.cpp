@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/core/cuda_device.hpp"
 #include "solver/neighbor/contact_pairs_gpu.hpp"
 
 namespace talus {

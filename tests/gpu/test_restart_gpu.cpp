@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/core/cuda_device.hpp"
 #include "solver/io/checkpoint.hpp"
-#include "solver/step/cuda_step.hpp"
-#include "solver/step/host_step.hpp"
-#include "solver/step/production_run.hpp"
+#include "solver/run/production_run.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"
 
 namespace talus {

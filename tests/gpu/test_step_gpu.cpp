@@ -1,4 +1,4 @@
-// The production step on the GPU (solver/step/cuda_step.hpp) against the host step
+// The production step on the GPU (solver/step/cuda/cuda_step.hpp) against the host step
 // (host_step.hpp, itself tested against the reference solver in
 // tests/reference/test_production_vs_reference.cpp) on that file's 2- and 20-particle scenes,
 // stepped side by side over the same horizons: the same number of pair and wall contacts at every
@@ -22,10 +22,10 @@
 #include <string>
 #include <vector>
 
-#include "solver/geometry/overlap_batch.hpp"  // cuda_device_available
+#include "solver/core/cuda_device.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/cuda_step.hpp"
-#include "solver/step/host_step.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "solver/step/template_table.hpp"
 #include "tests/support/walled_scene.hpp"
 

@@ -16,9 +16,9 @@
 #include "reference/run/scene_run.hpp"
 #include "solver/io/probes.hpp"
 #include "solver/io/trajectory.hpp"
+#include "solver/run/production_run.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/production_run.hpp"
 #include "tests/step/step_test_util.hpp"
 #include "tests/support/feed_scenes.hpp"
 

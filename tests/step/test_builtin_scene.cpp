@@ -6,9 +6,9 @@
 #include <cmath>
 #include <string>
 
+#include "solver/run/production_run.hpp"
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/production_run.hpp"
 #include "solver/step/step_plan.hpp"
 #include "tests/support/test_files.hpp"
 

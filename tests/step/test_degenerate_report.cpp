@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "solver/step/host_step.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "tests/step/step_test_util.hpp"
 #include "tests/support/degenerate_pair.hpp"
 

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "solver/step/contact_stage.hpp"
-#include "solver/step/host_step.hpp"
-#include "solver/step/wall_stage.hpp"
+#include "solver/step/host/contact_stage.hpp"
+#include "solver/step/host/host_step.hpp"
+#include "solver/step/host/wall_stage.hpp"
 #include "tests/step/step_test_util.hpp"
 
 namespace talus {

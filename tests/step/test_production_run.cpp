@@ -1,4 +1,4 @@
-// Scenes run by the production solver's host step (solver/step/production_run): the free fall
+// Scenes run by the production solver's host step (solver/run/production_run): the free fall
 // with drag of BLAZE-DEM §5.1 against its closed form, in double and float, and the outputs.
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 
 #include "solver/io/probes.hpp"
 #include "solver/io/trajectory.hpp"
+#include "solver/run/production_run.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/production_run.hpp"
 #include "tests/step/step_test_util.hpp"
 
 namespace talus {

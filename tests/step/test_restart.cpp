@@ -16,9 +16,9 @@
 
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/probes.hpp"
+#include "solver/run/production_run.hpp"
 #include "solver/scene/scene_loader.hpp"
-#include "solver/step/host_step.hpp"
-#include "solver/step/production_run.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"
 #include "tests/step/step_test_util.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "solver/step/host_step.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "tests/step/step_test_util.hpp"
 
 namespace talus {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "solver/scene/wall_meshes.hpp"
-#include "solver/step/host_step.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "solver/walls/facet_grid_build.hpp"
 #include "tests/support/walled_scene.hpp"
 

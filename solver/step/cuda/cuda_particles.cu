@@ -1,6 +1,6 @@
 // The CUDA step's particle arrays (cuda_particles.cuh): allocation by the plan, appending
 // particles (the initial ones, then a feed's), growth, the state's download and upload.
-#include "solver/step/cuda_particles.cuh"
+#include "solver/step/cuda/cuda_particles.cuh"
 
 #include <algorithm>
 

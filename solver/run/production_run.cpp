@@ -1,4 +1,4 @@
-#include "solver/step/production_run.hpp"
+#include "solver/run/production_run.hpp"
 
 #include <sys/resource.h>
 
@@ -14,8 +14,8 @@
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
 #include "solver/io/vtk_output.hpp"
-#include "solver/step/any_step.hpp"
-#include "solver/step/host_step.hpp"
+#include "solver/run/any_step.hpp"
+#include "solver/step/host/host_step.hpp"
 
 namespace talus {
 

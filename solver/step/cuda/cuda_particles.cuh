@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "solver/scene/scene.hpp"
-#include "solver/step/cuda_step_common.cuh"
+#include "solver/step/cuda/cuda_step_common.cuh"
 #include "solver/step/particle_kernels.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/step_state.hpp"

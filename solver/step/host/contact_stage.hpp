@@ -25,9 +25,9 @@
 #include "solver/core/host_parallel.hpp"
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/scene.hpp"
+#include "solver/step/host/sorted_histories.hpp"
 #include "solver/step/pair_kernels.hpp"
 #include "solver/step/pair_report.hpp"
-#include "solver/step/sorted_histories.hpp"
 #include "solver/step/step_plan.hpp"
 
 namespace talus {

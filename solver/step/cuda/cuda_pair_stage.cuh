@@ -13,7 +13,7 @@
 #include <array>
 #include <vector>
 
-#include "solver/step/cuda_pair_list.cuh"
+#include "solver/step/cuda/cuda_pair_list.cuh"
 
 namespace talus {
 

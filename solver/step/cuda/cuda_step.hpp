@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
+#include "solver/run/any_step.hpp"
 #include "solver/scene/scene.hpp"
-#include "solver/step/any_step.hpp"
 #include "solver/step/energy.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/step_state.hpp"
@@ -87,7 +87,7 @@ class CudaStep {
   std::vector<std::string> allocated_arrays() const;
   std::size_t allocated_bytes() const;
   // Wall-clock seconds per stage (each stage synchronised at its end), indexed by Stage.
-  const std::array<double, 9>& stage_seconds() const;
+  const StageSeconds& stage_seconds() const;
   std::size_t pair_contact_count() const;
   std::size_t wall_contact_count() const;
   // The pair list: how many times it was built, its length, and the device bytes of the list

@@ -12,7 +12,7 @@
 #include "solver/core/cuda_check.hpp"
 #include "solver/core/device_buffer.hpp"
 #include "solver/scene/scene.hpp"
-#include "solver/step/contact_stage.hpp"
+#include "solver/step/host/contact_stage.hpp"
 #include "solver/step/pair_report.hpp"
 #include "solver/step/particle_state.hpp"
 

@@ -26,7 +26,7 @@
 #include "solver/core/host_parallel.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/scene/wall_motion.hpp"
-#include "solver/step/sorted_histories.hpp"
+#include "solver/step/host/sorted_histories.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/wall_kernels.hpp"
 #include "solver/walls/facet_grid_build.hpp"

@@ -1,6 +1,6 @@
 // The CUDA step's pair list and its slots (cuda_pair_list.cuh): the rebuild test, the rebuild
 // with the carry-over of the touching histories, and the CSR of the deterministic accumulation.
-#include "solver/step/cuda_pair_list.cuh"
+#include "solver/step/cuda/cuda_pair_list.cuh"
 
 #include <cub/cub.cuh>
 

@@ -3,9 +3,9 @@
 // Included only by cuda_step.cu.
 #pragma once
 
-#include "solver/step/cuda_step_common.cuh"
+#include "solver/step/cuda/cuda_step_common.cuh"
+#include "solver/step/host/wall_stage.hpp"
 #include "solver/step/particle_kernels.hpp"
-#include "solver/step/wall_stage.hpp"
 
 namespace talus {
 

@@ -1,6 +1,6 @@
 // The CUDA step's wall contacts (cuda_wall_stage.cuh): the kernels and their launches, the
 // walls' upload and placement, the ordering of the touching records, the history store.
-#include "solver/step/cuda_wall_stage.cuh"
+#include "solver/step/cuda/cuda_wall_stage.cuh"
 
 #include <cub/cub.cuh>
 

@@ -1,4 +1,4 @@
-#include "solver/step/host_step.hpp"
+#include "solver/step/host/host_step.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,8 +7,8 @@
 
 #include "solver/core/host_parallel.hpp"
 #include "solver/scene/initial_particles.hpp"
-#include "solver/step/contact_stage.hpp"
-#include "solver/step/wall_stage.hpp"
+#include "solver/step/host/contact_stage.hpp"
+#include "solver/step/host/wall_stage.hpp"
 
 namespace talus {
 
@@ -61,7 +61,8 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
     : scene_(scene),
       plan_(plan_step(scene)),
       dt_(Real(scene.time_step)),
-      threads_(host_thread_count(threads)) {
+      threads_(host_thread_count(threads)),
+      feeding_(scene) {
   for (const ParticleTemplate& t : scene.templates) {
     shapes_.push_back(t.kind == ParticleShapeKind::polyhedron
                           ? std::make_unique<ShapeArrays<Real>>(t.shape)
@@ -78,12 +79,6 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
   global_ids_.resize(count_);
   bind_view();
   for (int i = 0; i < count_; ++i) set_particle(i, initial[i]);
-  for (std::size_t f = 0; f < scene.feeds.size(); ++f)
-    feeders_.emplace_back(scene, static_cast<int>(f));
-  if (!feeders_.empty()) {
-    feed_walls_ = make_wall_meshes(scene);
-    for (const ParticleTemplate& t : scene.templates) feed_radii_.push_back(t.bounding_radius);
-  }
   if (plan_.contacts) {
     contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_, threads_);
   }
@@ -151,41 +146,30 @@ void HostStep<Real>::set_particle(int i, const ParticleState& p) {
 
 template <class Real>
 void HostStep<Real>::feed() {
+  if (!feeding_.due(time_)) return;
   std::vector<Vec3d> positions;
-  std::vector<double> radii;
-  bool due = false;
-  for (const Feeder& feeder : feeders_) due = due || feeder.due(time_) > feeder.inserted();
-  if (!due) return;  // the feeds' insert() would return nothing and draw nothing
   positions.reserve(count_);
-  radii.reserve(count_);
-  for (int i = 0; i < count_; ++i) {
-    positions.push_back(Vec3d(view_.position.get(i)));
-    radii.push_back(feed_radii_[template_ids_[i]]);
-  }
-  const std::vector<TriangleMesh> walls_now = walls_at(scene_, feed_walls_, time_);
-  for (Feeder& feeder : feeders_) {
-    const std::vector<ParticleState> added = feeder.insert(time_, positions, radii, walls_now);
-    if (added.empty()) continue;
-    const int first = count_;
-    grow(count_ + static_cast<int>(added.size()));
-    const ParticleView<Real> p = view_;
-    for (std::size_t k = 0; k < added.size(); ++k) {
-      const int i = first + static_cast<int>(k);
-      set_particle(i, added[k]);
-      ledger_.fed += particle_energy(
-          view_, bodies_, scene_.effects.gravity ? &*scene_.effects.gravity : nullptr, i);
-      positions.push_back(added[k].position);
-      radii.push_back(feed_radii_[added[k].template_index]);
-      // The first half-step uses the stored forces: the new particle's body forces now (it
-      // touches nothing: the feed places it clear of particles and walls), as the reference's
-      // add_body gives them.
-      if (p.force.present()) {
-        clear_forces(p, i);
-        if (plan_.gravity) add_gravity(p, bodies_.data(), i, Vec3<Real>(*scene_.effects.gravity));
-        if (plan_.drag) add_drag(p, i, Real(*scene_.effects.drag_alpha));
-      } else if (p.torque.present()) {
-        p.torque.set(i, Vec3<Real>());
-      }
+  for (int i = 0; i < count_; ++i) positions.push_back(Vec3d(view_.position.get(i)));
+  const std::vector<ParticleState> added =
+      feeding_.insert(time_, std::move(positions), template_ids_);
+  if (added.empty()) return;
+  const int first = count_;
+  grow(count_ + static_cast<int>(added.size()));
+  const ParticleView<Real> p = view_;
+  for (std::size_t k = 0; k < added.size(); ++k) {
+    const int i = first + static_cast<int>(k);
+    set_particle(i, added[k]);
+    ledger_.fed += particle_energy(view_, bodies_,
+                                   scene_.effects.gravity ? &*scene_.effects.gravity : nullptr, i);
+    // The first half-step uses the stored forces: the new particle's body forces now (it
+    // touches nothing: the feed places it clear of particles and walls), as the reference's
+    // add_body gives them.
+    if (p.force.present()) {
+      clear_forces(p, i);
+      if (plan_.gravity) add_gravity(p, bodies_.data(), i, Vec3<Real>(*scene_.effects.gravity));
+      if (plan_.drag) add_drag(p, i, Real(*scene_.effects.drag_alpha));
+    } else if (p.torque.present()) {
+      p.torque.set(i, Vec3<Real>());
     }
   }
 }
@@ -315,7 +299,7 @@ template <class Real>
 void HostStep<Real>::step() {
   if (!forces_ready_) evaluate_forces();  // F_0, T_0 for the first half-step
   if (walls_) walls_->open_outlets(time_);
-  if (!feeders_.empty()) feed();
+  if (!feeding_.empty()) feed();
   const ParticleView<Real> p = view_;
   const BodyProperties<Real>* bodies = bodies_.data();
   timed(Stage::integrate_begin, [&] {
@@ -352,7 +336,7 @@ StepState<Real> HostStep<Real>::export_state() const {
   s.global_ids = global_ids_;
   if (contacts_) s.pair_keys = contacts_->history_keys(), s.pair_histories = contacts_->histories();
   if (walls_) s.wall_keys = walls_->history_keys(), s.wall_histories = walls_->histories();
-  for (const Feeder& feeder : feeders_) s.feed_states.push_back(feeder.save());
+  s.feed_states = feeding_.save();
   s.ledger = ledger_;
   return s;
 }
@@ -361,14 +345,10 @@ template <class Real>
 void HostStep<Real>::import_state(const StepState<Real>& s) {
   std::vector<std::string> names;
   for (const auto& entry : storage_) names.push_back(entry.first);
-  if (s.feed_states.size() != feeders_.size())
-    throw CheckpointError(
-        "the checkpoint does not fit the scene: " + std::to_string(s.feed_states.size()) +
-        " feed states, the scene has " + std::to_string(feeders_.size()) + " feeds");
+  feeding_.restore(s.feed_states);  // first: it refuses a checkpoint of other feeds
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step.
-  if (!feeders_.empty() && s.count > count_) grow(s.count);
+  if (!feeding_.empty() && s.count > count_) grow(s.count);
   check_state_fits(s, count_, names, static_cast<int>(bodies_.size()));
-  for (std::size_t f = 0; f < feeders_.size(); ++f) feeders_[f].restore(s.feed_states[f]);
   // Copied into the arrays in place: view_ keeps pointing at them.
   for (std::size_t k = 0; k < storage_.size(); ++k)
     std::copy(s.arrays[k].second.begin(), s.arrays[k].second.end(), storage_[k].second.begin());

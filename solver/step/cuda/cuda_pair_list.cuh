@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "solver/neighbor/contact_pairs_gpu.hpp"
-#include "solver/step/cuda_step_common.cuh"
+#include "solver/step/cuda/cuda_step_common.cuh"
 
 namespace talus {
 

@@ -4,7 +4,7 @@
 // a parallel build). Included only from those files.
 #pragma once
 
-#include "solver/step/cuda_pair_stage.cuh"
+#include "solver/step/cuda/cuda_pair_stage.cuh"
 
 #include <cub/cub.cuh>
 

@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include "solver/step/cuda_step_common.cuh"
-#include "solver/step/wall_stage.hpp"
+#include "solver/step/cuda/cuda_step_common.cuh"
+#include "solver/step/host/wall_stage.hpp"
 
 namespace talus {
 

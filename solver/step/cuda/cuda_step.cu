@@ -4,7 +4,7 @@
 // The particle arrays, the pair list, the pair contacts and the wall contacts are parts of their
 // own (cuda_particles.cuh, cuda_pair_list.cuh, cuda_pair_stage.cuh, cuda_wall_stage.cuh) over the
 // state they share (DeviceStepShared, cuda_step_common.cuh).
-#include "solver/step/cuda_step.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
 
 #include <algorithm>
 #include <array>
@@ -18,11 +18,12 @@
 #include "solver/scene/initial_particles.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/shape_arrays.hpp"
-#include "solver/step/cuda_pair_stage.cuh"
-#include "solver/step/cuda_particle_kernels.cuh"
-#include "solver/step/cuda_particles.cuh"
-#include "solver/step/cuda_wall_stage.cuh"
-#include "solver/step/host_step.hpp"
+#include "solver/step/cuda/cuda_pair_stage.cuh"
+#include "solver/step/cuda/cuda_particle_kernels.cuh"
+#include "solver/step/cuda/cuda_particles.cuh"
+#include "solver/step/cuda/cuda_wall_stage.cuh"
+#include "solver/step/feeding.hpp"
+#include "solver/step/host/host_step.hpp"
 #include "solver/step/particle_kernels.hpp"
 
 namespace talus {
@@ -90,17 +91,13 @@ struct CudaStep<Real>::Impl {
   DeviceBuffer<BodyProperties<Real>> bodies;  // device shape views
   DeviceBuffer<Real> table_values;            // the pair-law tables' numbers
   std::unique_ptr<DeviceParticles<Real>> particles;
-  // The feeds, as HostStep's: per scene feed, the walls' meshes at t = 0, per template its
-  // bounding radius in double.
-  std::vector<Feeder> feeders;
-  std::vector<WallMesh> feed_walls;
-  std::vector<double> feed_radii;
+  Feeding feeding;  // the scene's feeds, as HostStep's (step/feeding.hpp)
   // The stages the plan names (null when absent).
   std::unique_ptr<DevicePairList<Real>> list;
   std::unique_ptr<DevicePairStage<Real>> pairs;
   std::unique_ptr<DeviceWallStage<Real>> walls;
 
-  std::array<double, 9> stage_seconds{};
+  StageSeconds stage_seconds{};
   double time = 0;
   long long steps = 0;
   bool forces_ready = false;
@@ -129,7 +126,8 @@ struct CudaStep<Real>::Impl {
     }
   }
 
-  explicit Impl(const Scene& s) : plan(plan_step(s)), dt(Real(s.time_step)), shared(s), scene(s) {}
+  explicit Impl(const Scene& s)
+      : plan(plan_step(s)), dt(Real(s.time_step)), shared(s), scene(s), feeding(s) {}
   ~Impl() { release_template_region(shared.constant_region); }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
@@ -226,30 +224,15 @@ void CudaStep<Real>::Impl::upload_templates(const CudaStepOptions& options) {
   }
 }
 
-// As HostStep::feed: the same Feeder calls with the same inputs (the positions in double, each
-// particle's template bounding radius, the walls at the step's start), in the same order; the
+// As HostStep::feed, through the same Feeding with the same inputs (the positions in double); the
 // positions are downloaded only at a step where some feed has a particle due. The inserted
 // particles are appended with their body forces, and the pair list is rebuilt at the next
 // evaluation (the new particles have no candidates yet).
 template <class Real>
 void CudaStep<Real>::Impl::feed() {
-  bool due = false;
-  for (const Feeder& feeder : feeders) due = due || feeder.due(time) > feeder.inserted();
-  if (!due) return;  // the feeds' insert() would return nothing and draw nothing
-  std::vector<Vec3d> positions = particles->positions();
-  std::vector<double> radii;
-  radii.reserve(positions.size());
-  for (const int t : particles->template_ids()) radii.push_back(feed_radii[t]);
-  const std::vector<TriangleMesh> walls_now = walls_at(scene, feed_walls, time);
-  std::vector<ParticleState> added;
-  for (Feeder& feeder : feeders) {
-    const std::vector<ParticleState> more = feeder.insert(time, positions, radii, walls_now);
-    for (const ParticleState& p : more) {  // the next feed keeps off these too
-      positions.push_back(p.position);
-      radii.push_back(feed_radii[p.template_index]);
-    }
-    added.insert(added.end(), more.begin(), more.end());
-  }
+  if (!feeding.due(time)) return;
+  const std::vector<ParticleState> added =
+      feeding.insert(time, particles->positions(), particles->template_ids());
   if (added.empty()) return;
   // The energy the new particles bring (the energy probe's `fed`), from their states in double.
   const Vec3d* gravity = scene.effects.gravity ? &*scene.effects.gravity : nullptr;
@@ -311,12 +294,6 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
   m.shared.flags.allocate();
   m.particles = std::make_unique<DeviceParticles<Real>>(m.shared, m.plan);
   m.particles->append(initial_particles(scene), m.host_bodies, false);
-  for (std::size_t f = 0; f < scene.feeds.size(); ++f)
-    m.feeders.emplace_back(scene, static_cast<int>(f));
-  if (!m.feeders.empty()) {
-    m.feed_walls = make_wall_meshes(scene);
-    for (const ParticleTemplate& t : scene.templates) m.feed_radii.push_back(t.bounding_radius);
-  }
   if (host_pairs) m.set_up_pairs(host_pairs->tables());
   if (host_walls) {
     m.walls = std::make_unique<DeviceWallStage<Real>>(m.shared, std::move(host_walls), m.time);
@@ -339,7 +316,7 @@ void CudaStep<Real>::step() {
   Impl& m = *impl_;
   if (!m.forces_ready) evaluate_forces();  // F_0, T_0 for the first half-step
   if (m.walls) m.walls->open_outlets(m.time);
-  if (!m.feeders.empty()) m.feed();
+  if (!m.feeding.empty()) m.feed();
   m.shared.flags.reset();
   if (m.count() > 0) {
     m.timed(Stage::integrate_begin, [&] {
@@ -375,7 +352,7 @@ StepState<Real> CudaStep<Real>::export_state() const {
   m.particles->export_to(s);
   if (m.list) m.list->export_histories(s.pair_keys, s.pair_histories);
   if (m.walls) m.walls->export_histories(s.wall_keys, s.wall_histories);
-  for (const Feeder& feeder : m.feeders) s.feed_states.push_back(feeder.save());
+  s.feed_states = m.feeding.save();
   s.ledger = m.ledger;
   return s;
 }
@@ -383,15 +360,11 @@ StepState<Real> CudaStep<Real>::export_state() const {
 template <class Real>
 void CudaStep<Real>::import_state(const StepState<Real>& s) {
   Impl& m = *impl_;
-  if (s.feed_states.size() != m.feeders.size())
-    throw CheckpointError(
-        "the checkpoint does not fit the scene: " + std::to_string(s.feed_states.size()) +
-        " feed states, the scene has " + std::to_string(m.feeders.size()) + " feeds");
+  m.feeding.restore(s.feed_states);  // first: it refuses a checkpoint of other feeds
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step.
-  const bool grown = !m.feeders.empty() && s.count > m.count();
+  const bool grown = !m.feeding.empty() && s.count > m.count();
   if (grown) m.particles->resize(s.count);
   check_state_fits(s, m.count(), m.particles->names(), static_cast<int>(m.host_bodies.size()));
-  for (std::size_t f = 0; f < m.feeders.size(); ++f) m.feeders[f].restore(s.feed_states[f]);
   m.particles->import_from(s);
   if (m.list && grown) m.list->particles_changed();
   if (m.list) m.list->import_histories(s.pair_keys, s.pair_histories);
@@ -419,7 +392,7 @@ int CudaStep<Real>::particle_count() const {
   return impl_->count();
 }
 template <class Real>
-const std::array<double, 9>& CudaStep<Real>::stage_seconds() const {
+const StageSeconds& CudaStep<Real>::stage_seconds() const {
   return impl_->stage_seconds;
 }
 template <class Real>

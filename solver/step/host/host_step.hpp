@@ -16,6 +16,7 @@
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/energy.hpp"
+#include "solver/step/feeding.hpp"
 #include "solver/step/particle_kernels.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/step_state.hpp"
@@ -101,7 +102,7 @@ class HostStep {
   std::vector<std::string> allocated_arrays() const;
   std::size_t allocated_bytes() const;
   // Wall-clock seconds spent in each stage so far, indexed by Stage.
-  const std::array<double, 9>& stage_seconds() const { return stage_seconds_; }
+  const StageSeconds& stage_seconds() const { return stage_seconds_; }
   // Touching particle pairs at the last force evaluation (0 without contacts).
   std::size_t pair_contact_count() const;
   // Particle-wall contacts (one per particle and wall at most) at the last force evaluation.
@@ -144,10 +145,8 @@ class HostStep {
   ParticleView<Real> view_;
   std::unique_ptr<PairContactStage<Real>> contacts_;
   std::unique_ptr<WallContactStage<Real>> walls_;
-  std::vector<Feeder> feeders_;       // per scene feed
-  std::vector<WallMesh> feed_walls_;  // the walls' meshes at t = 0, for the feeds
-  std::vector<double> feed_radii_;    // per template: its bounding radius in double
-  std::array<double, 9> stage_seconds_{};
+  Feeding feeding_;  // the scene's feeds (step/feeding.hpp)
+  StageSeconds stage_seconds_{};
   double time_ = 0;
   long long steps_ = 0;
   bool forces_ready_ = false;

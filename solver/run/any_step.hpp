@@ -31,7 +31,7 @@ class AnyStep {
   virtual double kinetic_energy() const = 0;
   virtual EnergyTerms energy() const = 0;
   virtual double bed_height(const Vec3d& gravity) const = 0;
-  virtual const std::array<double, 9>& stage_seconds() const = 0;
+  virtual const StageSeconds& stage_seconds() const = 0;
   virtual std::size_t bytes() const = 0;
   // The step's state as checkpoint sections (step_state.hpp), and the state set back from them
   // on a step made from the same scene (CheckpointError when they do not fit it).
@@ -61,7 +61,7 @@ class StepAdapter : public AnyStep {
   double kinetic_energy() const override { return step_.kinetic_energy(); }
   EnergyTerms energy() const override { return step_.energy(); }
   double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
-  const std::array<double, 9>& stage_seconds() const override { return step_.stage_seconds(); }
+  const StageSeconds& stage_seconds() const override { return step_.stage_seconds(); }
   std::size_t bytes() const override { return step_.allocated_bytes(); }
   void save_state(Checkpoint& checkpoint) const override {
     put_step_state(checkpoint, step_.export_state());

@@ -1,0 +1,54 @@
+#include "solver/step/feeding.hpp"
+
+#include "solver/io/checkpoint.hpp"
+
+namespace talus {
+
+Feeding::Feeding(const Scene& scene) : scene_(scene) {
+  for (std::size_t f = 0; f < scene.feeds.size(); ++f)
+    feeders_.emplace_back(scene, static_cast<int>(f));
+  if (feeders_.empty()) return;
+  walls_ = make_wall_meshes(scene);
+  for (const ParticleTemplate& t : scene.templates) radii_.push_back(t.bounding_radius);
+}
+
+bool Feeding::due(double time) const {
+  for (const Feeder& feeder : feeders_)
+    if (feeder.due(time) > feeder.inserted()) return true;
+  return false;
+}
+
+std::vector<ParticleState> Feeding::insert(double time, std::vector<Vec3d> positions,
+                                           const std::vector<int>& template_ids) {
+  std::vector<ParticleState> added;
+  if (!due(time)) return added;  // the feeds' insert() would return nothing and draw nothing
+  std::vector<double> radii;
+  radii.reserve(positions.size());
+  for (const int t : template_ids) radii.push_back(radii_[t]);
+  const std::vector<TriangleMesh> walls_now = walls_at(scene_, walls_, time);
+  for (Feeder& feeder : feeders_) {
+    const std::vector<ParticleState> more = feeder.insert(time, positions, radii, walls_now);
+    for (const ParticleState& p : more) {  // the next feed keeps off these too
+      positions.push_back(p.position);
+      radii.push_back(radii_[p.template_index]);
+    }
+    added.insert(added.end(), more.begin(), more.end());
+  }
+  return added;
+}
+
+std::vector<std::string> Feeding::save() const {
+  std::vector<std::string> states;
+  for (const Feeder& feeder : feeders_) states.push_back(feeder.save());
+  return states;
+}
+
+void Feeding::restore(const std::vector<std::string>& states) {
+  if (states.size() != feeders_.size())
+    throw CheckpointError(
+        "the checkpoint does not fit the scene: " + std::to_string(states.size()) +
+        " feed states, the scene has " + std::to_string(feeders_.size()) + " feeds");
+  for (std::size_t f = 0; f < feeders_.size(); ++f) feeders_[f].restore(states[f]);
+}
+
+}  // namespace talus

@@ -1,0 +1,44 @@
+// The scene's feeds as both backends run them (scene/feeder.hpp): one Feeder per feed, the walls'
+// meshes at t = 0 and each template's bounding radius, asked in turn at the start of a step so
+// that each feed keeps off the particles there and off what the feeds before it inserted. The
+// backends only append what insert() returns; the checkpoint's feed states go through save() and
+// restore().
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "solver/core/vec3.hpp"
+#include "solver/scene/feeder.hpp"
+#include "solver/scene/scene.hpp"
+#include "solver/scene/wall_meshes.hpp"
+
+namespace talus {
+
+class Feeding {
+ public:
+  explicit Feeding(const Scene& scene);
+
+  bool empty() const { return feeders_.empty(); }
+
+  // Whether some feed has a particle due at `time`; when none has, insert() would return nothing
+  // and the caller need not gather the positions.
+  bool due(double time) const;
+
+  // The particles the feeds insert at `time` (feed by feed, in order) among the particles now at
+  // `positions` (world, m) with templates `template_ids`.
+  std::vector<ParticleState> insert(double time, std::vector<Vec3d> positions,
+                                    const std::vector<int>& template_ids);
+
+  std::vector<std::string> save() const;
+  // Throws CheckpointError when the number of states is not the scene's number of feeds.
+  void restore(const std::vector<std::string>& states);
+
+ private:
+  const Scene& scene_;
+  std::vector<Feeder> feeders_;
+  std::vector<WallMesh> walls_;  // at t = 0, moved to the step's time by walls_at
+  std::vector<double> radii_;    // per template: its bounding radius in double
+};
+
+}  // namespace talus
