@@ -93,11 +93,6 @@ constexpr const char* kNoEnergyProbe =
     "reference solver: the energy probe is not written by the reference solver (its energies "
     "held are RefWorld's kinetic_energy, contact_elastic_energy and contact_tangential_energy)";
 
-std::string joined(const std::string& root, const std::string& path) {
-  if (root.empty() || path.empty() || path.front() == '/') return path;
-  return root + (root.back() == '/' ? "" : "/") + path;
-}
-
 std::vector<TrajectoryRow> trajectory_rows(const RefWorld& world,
                                            const std::vector<int>& template_of_body) {
   std::vector<TrajectoryRow> rows;
@@ -254,24 +249,8 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
   for (const WallMesh& mesh : meshes) plate_triangles_.push_back(mesh.plate_triangles);
   total_steps_ = std::llround(scene.end_time / scene.time_step);
 
-  if (scene.outputs.trajectories) {
-    trajectory_dir_ = joined(settings_.output_root, scene.outputs.trajectories->directory);
-    create_output_directory(trajectory_dir_);
-    write_run_info(trajectory_dir_, run_info(scene, "reference"));
-    outputs_.push_back(trajectory_dir_);
-  }
-  if (scene.outputs.probes) {
-    probes_ =
-        std::make_unique<ProbeWriter>(joined(settings_.output_root, scene.outputs.probes->file),
-                                      probe_columns(*scene.outputs.probes, scene.walls));
-    outputs_.push_back(probes_->path());
-  }
-  if (scene.outputs.vtk) {
-    vtk_ = std::make_unique<VtkSeriesWriter>(
-        scene, joined(settings_.output_root, scene.outputs.vtk->directory),
-        vtk_particles_for(scene, world_.bodies().size()));
-    outputs_.push_back(vtk_->directory());
-  }
+  outputs_ = std::make_unique<OutputSchedule>(scene, settings_.output_root, "reference",
+                                              world_.bodies().size());
   // Step 0's outputs need the forces at t = 0 (contacts, wall forces).
   world_.evaluate_forces(0.0);
   write_outputs(done());
@@ -280,17 +259,19 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
 SceneRunner::~SceneRunner() = default;
 
 void SceneRunner::write_outputs(bool last) {
-  const auto due = [&](long long every) { return step_ % every == 0 || last; };
-  const bool frame = scene_.outputs.trajectories && due(scene_.outputs.trajectories->every);
-  const bool vtk_frame = vtk_ && due(scene_.outputs.vtk->every);
-  const std::vector<TrajectoryRow> rows = frame || vtk_frame
-                                              ? trajectory_rows(world_, template_of_body_)
-                                              : std::vector<TrajectoryRow>();
-  if (frame) write_trajectory_frame(trajectory_dir_, step_, rows);
-  if (vtk_frame) vtk_->write_frame(step_, world_.time(), rows);
-  if (probes_ && due(scene_.outputs.probes->every)) {
-    probes_->write_row(world_.time(), step_, probe_values(scene_, world_));
-  }
+  // The schedule's view of the world (solver/io/output_schedule.hpp).
+  struct Source : OutputSource {
+    const SceneRunner& r;
+    explicit Source(const SceneRunner& runner) : r(runner) {}
+    double time() const override { return r.world_.time(); }
+    std::vector<TrajectoryRow> rows() const override {
+      return trajectory_rows(r.world_, r.template_of_body_);
+    }
+    std::vector<double> probe_values() const override {
+      return talus::reference::probe_values(r.scene_, r.world_);
+    }
+  };
+  outputs_->write(step_, last, Source(*this));
 }
 
 void SceneRunner::report_progress() {
@@ -350,7 +331,7 @@ SceneRunReport SceneRunner::report() const {
   report.wall_seconds = clock_seconds() - started_;
   report.particles = world_.bodies().size();
   report.mean_contacts = step_ > 0 ? contacts_sum_ / static_cast<double>(step_) : 0;
-  report.outputs = outputs_;
+  report.outputs = outputs_->paths();
   return report;
 }
 

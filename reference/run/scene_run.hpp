@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "reference/world/world.hpp"
+#include "solver/io/output_schedule.hpp"
 #include "solver/io/probes.hpp"
-#include "solver/io/vtk_output.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
 
@@ -94,10 +94,7 @@ class SceneRunner {
   long long next_id_ = 0;
   std::vector<int> plate_triangles_;  // per wall: the closed plate still present, else 0
   long long step_ = 0, total_steps_ = 0;
-  std::string trajectory_dir_;
-  std::unique_ptr<ProbeWriter> probes_;
-  std::unique_ptr<VtkSeriesWriter> vtk_;
-  std::vector<std::string> outputs_;
+  std::unique_ptr<OutputSchedule> outputs_;  // trajectories, probes, ParaView
   double contacts_sum_ = 0;
   double started_ = 0, last_progress_ = 0;  // steady-clock seconds
 };

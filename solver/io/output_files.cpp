@@ -44,6 +44,11 @@ std::string numbered_file_name(const std::string& prefix, long long step,
   return prefix + digits + extension;
 }
 
+std::string joined_path(const std::string& root, const std::string& path) {
+  if (root.empty() || path.empty() || path.front() == '/') return path;
+  return root + (root.back() == '/' ? "" : "/") + path;
+}
+
 std::string exact_decimal(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.17g", value);

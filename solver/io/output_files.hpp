@@ -12,6 +12,9 @@ namespace talus {
 // output directory '<dir>': <reason>".
 void create_output_directory(const std::string& directory);
 
+// `path` under the run's output root: unchanged when it is absolute or the root is empty.
+std::string joined_path(const std::string& root, const std::string& path);
+
 // Writes `text` to `path` through "<path>.tmp" and a rename. Throws std::runtime_error
 // "cannot write '<path>': <reason>" (and removes the temporary file) on any failure.
 void write_file_atomically(const std::string& path, const std::string& text);

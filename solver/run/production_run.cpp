@@ -12,8 +12,7 @@
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/output_files.hpp"
-#include "solver/io/probes.hpp"
-#include "solver/io/vtk_output.hpp"
+#include "solver/io/output_schedule.hpp"
 #include "solver/run/any_step.hpp"
 #include "solver/step/host/host_step.hpp"
 
@@ -33,11 +32,6 @@ namespace {
 
 double clock_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-std::string joined(const std::string& root, const std::string& path) {
-  if (root.empty() || path.empty() || path.front() == '/') return path;
-  return root + (root.back() == '/' ? "" : "/") + path;
 }
 
 std::string absolute_path(const std::string& path) {
@@ -65,9 +59,7 @@ struct ProductionRunner::Impl {
   std::unique_ptr<AnyStep> step;
   int host_threads = 0;  // the host step's, 0 for another backend
   long long step_index = 0, total_steps = 0;
-  std::string trajectory_dir;
-  std::unique_ptr<ProbeWriter> probes;
-  std::unique_ptr<VtkSeriesWriter> vtk;
+  std::unique_ptr<OutputSchedule> schedule;
   std::vector<std::string> outputs;
   double contacts_sum = 0, output_seconds = 0;
   double started = 0, last_progress = 0;
@@ -161,19 +153,19 @@ struct ProductionRunner::Impl {
     return values;
   }
 
+  // The schedule's view of the step (output_schedule.hpp).
+  struct Source : OutputSource {
+    const Impl& m;
+    explicit Source(const Impl& impl) : m(impl) {}
+    double time() const override { return m.step->time(); }
+    std::vector<TrajectoryRow> rows() const override { return m.step->rows(); }
+    std::vector<double> probe_values() const override { return m.probe_values(); }
+  };
+
   void write_outputs(bool last) {
+    if (!schedule->due(step_index, last)) return;
     const double start = clock_seconds();
-    const auto due = [&](long long every) { return step_index % every == 0 || last; };
-    const bool frame = scene.outputs.trajectories && due(scene.outputs.trajectories->every);
-    const bool vtk_frame = vtk && due(scene.outputs.vtk->every);
-    // One download of the particles (the CUDA step's) for both.
-    const std::vector<TrajectoryRow> rows =
-        frame || vtk_frame ? step->rows() : std::vector<TrajectoryRow>();
-    if (frame) write_trajectory_frame(trajectory_dir, step_index, rows);
-    if (vtk_frame) vtk->write_frame(step_index, step->time(), rows);
-    if (probes && due(scene.outputs.probes->every)) {
-      probes->write_row(step->time(), step_index, probe_values());
-    }
+    schedule->write(step_index, last, Source(*this));
     output_seconds += clock_seconds() - start;
   }
 
@@ -191,7 +183,7 @@ struct ProductionRunner::Impl {
     c.put_text("run.precision", to_string(scene.precision));
     c.put_value("run.total_steps", total_steps);
     c.put_value("run.contacts_sum", contacts_sum);
-    if (vtk) c.put_text("outputs.vtk", vtk->save());
+    schedule->save(c);
     step->save_state(c);
     const std::string path = checkpoint_dir + "/" + checkpoint_file_name(step_index);
     write_checkpoint(path, c);
@@ -234,31 +226,15 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.resumed_from = m.step_index;
   }
   if (scene.outputs.checkpoint) {
-    m.checkpoint_dir = joined(m.settings.output_root, scene.outputs.checkpoint->directory);
+    m.checkpoint_dir = joined_path(m.settings.output_root, scene.outputs.checkpoint->directory);
     create_output_directory(m.checkpoint_dir);
     m.scene_hash = file_hash(scene.file);  // resuming checks that the scene is unchanged
     m.outputs.push_back(m.checkpoint_dir);
   }
-  if (scene.outputs.trajectories) {
-    m.trajectory_dir = joined(m.settings.output_root, scene.outputs.trajectories->directory);
-    create_output_directory(m.trajectory_dir);
-    write_run_info(m.trajectory_dir, run_info(scene, "talus"));
-    m.outputs.push_back(m.trajectory_dir);
-  }
-  if (scene.outputs.probes) {
-    const std::string path = joined(m.settings.output_root, scene.outputs.probes->file);
-    std::vector<std::string> columns = probe_columns(*scene.outputs.probes, scene.walls);
-    m.probes = resume ? std::make_unique<ProbeWriter>(path, std::move(columns), m.step_index)
-                      : std::make_unique<ProbeWriter>(path, std::move(columns));
-    m.outputs.push_back(m.probes->path());
-  }
-  if (scene.outputs.vtk) {
-    m.vtk = std::make_unique<VtkSeriesWriter>(
-        scene, joined(m.settings.output_root, scene.outputs.vtk->directory),
-        vtk_particles_for(scene, m.step->particles()));
-    if (resume) m.vtk->restore(resume->text("outputs.vtk"));
-    m.outputs.push_back(m.vtk->directory());
-  }
+  m.schedule = std::make_unique<OutputSchedule>(scene, m.settings.output_root, "talus",
+                                                m.step->particles(), resume ? m.step_index : -1);
+  if (resume) m.schedule->restore(*resume);
+  for (const std::string& path : m.schedule->paths()) m.outputs.push_back(path);
   if (resume) {  // the checkpoint's step has its outputs already
     m.watch_energy();
     return;
