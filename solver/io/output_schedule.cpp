@@ -3,27 +3,47 @@
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
 #include "solver/io/vtk_output.hpp"
+#include "solver/scene/feeder.hpp"
 
 namespace talus {
 
 namespace {
 
+// The scene's trajectory format, or by the run's size: its particles at the start and all that
+// its feeds insert by the end.
+TrajectoryFormat trajectory_format(const Scene& scene, std::size_t particles) {
+  if (scene.outputs.trajectories->format) return *scene.outputs.trajectories->format;
+  long long total = static_cast<long long>(particles);
+  for (std::size_t f = 0; f < scene.feeds.size(); ++f)
+    total += Feeder(scene, static_cast<int>(f)).due(scene.end_time);
+  return total >= static_cast<long long>(kHdf5TrajectoryParticles) ? TrajectoryFormat::hdf5
+                                                                   : TrajectoryFormat::csv;
+}
+
 // Trajectory frames (trajectory.hpp) and run.json beside them.
 class TrajectoryWriter : public OutputWriter {
  public:
-  TrajectoryWriter(const Scene& scene, const std::string& root, const std::string& solver)
+  TrajectoryWriter(const Scene& scene, const std::string& root, const std::string& solver,
+                   std::size_t particles)
       : OutputWriter(scene.outputs.trajectories->every),
-        directory_(joined_path(root, scene.outputs.trajectories->directory)) {
+        directory_(joined_path(root, scene.outputs.trajectories->directory)),
+        format_(trajectory_format(scene, particles)) {
     create_output_directory(directory_);
-    write_run_info(directory_, run_info(scene, solver));
+    RunInfo info = run_info(scene, solver);
+    info.trajectory_format = format_ == TrajectoryFormat::hdf5 ? "hdf5" : "csv";
+    write_run_info(directory_, info);
   }
   void write(long long step, OutputFrame& frame) override {
-    write_trajectory_frame(directory_, step, frame.rows());
+    if (format_ == TrajectoryFormat::hdf5)
+      write_trajectory_frame_hdf5(directory_, step, frame.time(), frame.rows());
+    else
+      write_trajectory_frame(directory_, step, frame.rows());
   }
   std::string path() const override { return directory_; }
 
  private:
   std::string directory_;
+  TrajectoryFormat format_;
 };
 
 // The probe file (probes.hpp): one row per due step.
@@ -77,7 +97,7 @@ OutputSchedule::OutputSchedule(const Scene& scene, const std::string& output_roo
                                long long resume_step) {
   const Outputs& o = scene.outputs;
   if (o.trajectories)
-    writers_.push_back(std::make_unique<TrajectoryWriter>(scene, output_root, solver));
+    writers_.push_back(std::make_unique<TrajectoryWriter>(scene, output_root, solver, particles));
   if (o.probes)
     writers_.push_back(std::make_unique<ProbeFileWriter>(scene, output_root, resume_step));
   if (o.vtk) writers_.push_back(std::make_unique<VtkWriter>(scene, output_root, particles));

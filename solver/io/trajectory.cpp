@@ -25,7 +25,7 @@ bool parse_integer(const std::string& text, long long& value) {
 }
 
 const std::regex& frame_name_pattern() {
-  static const std::regex pattern("trajectory_([0-9]+)\\.csv");
+  static const std::regex pattern("trajectory_([0-9]+)\\.(csv|h5)");
   return pattern;
 }
 
@@ -56,7 +56,8 @@ TrajectoryFrame read_trajectory_frame(const std::string& path) {
   const std::string name = std::filesystem::path(path).filename().string();
   std::smatch match;
   if (!std::regex_match(name, match, frame_name_pattern()))
-    throw std::runtime_error(path + ": expected a file named trajectory_<step>.csv");
+    throw std::runtime_error(path + ": expected a file named trajectory_<step>.csv or .h5");
+  if (match[2].str() == "h5") return read_trajectory_frame_hdf5(path, std::stoll(match[1].str()));
   TrajectoryFrame frame;
   frame.step = std::stoll(match[1].str());
   std::ifstream in(path, std::ios::binary);
@@ -125,6 +126,7 @@ void write_run_info(const std::string& directory, const RunInfo& info) {
   json["solver"] = info.solver;
   json["precision"] = info.precision;
   json["time_step"] = info.time_step;
+  json["trajectory_format"] = info.trajectory_format;
   json["templates"] = Json::array();
   for (std::size_t i = 0; i < info.templates.size(); ++i)
     json["templates"].push_back({{"id", i}, {"name", info.templates[i]}});
@@ -163,6 +165,12 @@ RunInfo read_run_info(const std::string& directory) {
   if (!time_step.is_number() || !(time_step.get<double>() > 0))
     fail("a positive number \"time_step\" (s), got " + time_step.dump());
   info.time_step = time_step.get<double>();
+  if (json.contains("trajectory_format")) {  // absent in run.json of talus before HDF5 frames
+    const Json& format = json["trajectory_format"];
+    if (!format.is_string() || (format != "csv" && format != "hdf5"))
+      fail("\"trajectory_format\" \"csv\" or \"hdf5\", got " + format.dump());
+    info.trajectory_format = format.get<std::string>();
+  }
   const Json& templates = member("templates", "an array");
   if (!templates.is_array()) fail("an array \"templates\", got " + templates.dump());
   for (std::size_t i = 0; i < templates.size(); ++i) {

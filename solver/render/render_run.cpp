@@ -125,7 +125,8 @@ RenderReport render_run(const RenderSettings& settings,
   const std::vector<TrajectoryFrame> all = read_trajectory(report.trajectory_directory);
   if (all.empty())
     throw std::runtime_error(report.trajectory_directory +
-                             ": no trajectory_<step>.csv files (the run wrote no frame yet)");
+                             ": no trajectory_<step>.csv or .h5 files (the run wrote no frame "
+                             "yet)");
   std::vector<const TrajectoryFrame*> frames;
   for (std::size_t k = 0; k < all.size(); ++k)
     if ((!settings.last_only && k % settings.every == 0) || k + 1 == all.size())
@@ -134,10 +135,13 @@ RenderReport render_run(const RenderSettings& settings,
     for (const TrajectoryRow& row : frame->rows)
       if (row.template_index >= static_cast<int>(scene.templates.size()))
         throw std::runtime_error(report.trajectory_directory + "/" +
-                                 trajectory_file_name(frame->step) + ": template id " +
-                                 std::to_string(row.template_index) + " of particle " +
-                                 std::to_string(row.id) + ", but the scene '" + report.scene_file +
-                                 "' has " + std::to_string(scene.templates.size()) + " templates");
+                                 trajectory_file_name(frame->step, info.trajectory_format == "hdf5"
+                                                                       ? TrajectoryFormat::hdf5
+                                                                       : TrajectoryFormat::csv) +
+                                 ": template id " + std::to_string(row.template_index) +
+                                 " of particle " + std::to_string(row.id) + ", but the scene '" +
+                                 report.scene_file + "' has " +
+                                 std::to_string(scene.templates.size()) + " templates");
 
   const ViewAxes axes = view_axes(settings.view);
   const std::vector<WallMesh> meshes = make_wall_meshes(scene);

@@ -3,6 +3,7 @@
 // docs/scenes.md documents the file format key by key. SI units throughout.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -231,9 +232,16 @@ struct Effects {
 enum class VtkParticles { surfaces, points };
 enum class Probe { kinetic_energy, wall_forces, contact_count, bed_height, energy };
 
+// The file format of trajectory frames (solver/io/trajectory.hpp): CSV text with 17 digits, or
+// HDF5 (one file a frame, one compound dataset; docs/scenes.md, "Output files").
+enum class TrajectoryFormat { csv, hdf5 };
+// Runs of at least this many particles (at the start and from every feed) write HDF5 frames
+// unless the scene names the format: a CSV frame of 1e6 particles is about 0.35 GB.
+constexpr std::size_t kHdf5TrajectoryParticles = 10000;
 struct TrajectoryOutput {
   long long every = 0;    // steps
   std::string directory;  // as written (relative: to the working directory of the run)
+  std::optional<TrajectoryFormat> format;  // not given: by the run's size (above)
 };
 // ParaView files (solver/io/vtk_output.hpp): particles as their posed polyhedral surfaces or as
 // points with orientation, the walls where they are, and a .pvd time series of each.

@@ -91,15 +91,23 @@ namespace {
 const std::string kEvery = "a positive integer number of steps";
 
 TrajectoryOutput parse_trajectories(const SceneNode& node) {
-  // The key that once chose VTK here: ParaView files are an output of their own now.
-  if (auto format = node.find("format"))
-    format->fail("trajectories are CSV files; for ParaView's VTK files write outputs.vtk");
-  node.keys({"every", "directory"}, "trajectories: a map with keys every, directory");
+  node.keys({"every", "directory", "format"},
+            "trajectories: a map with keys every, directory, format");
   TrajectoryOutput output;
   output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
   output.directory = "trajectories";
   if (auto directory = node.find("directory"))
     output.directory = directory->text("a directory path");
+  if (auto format = node.find("format")) {
+    // The value that once chose VTK here: ParaView files are an output of their own now.
+    if (format->text("a trajectory format") == "vtk")
+      format->fail(
+          "trajectories are CSV or HDF5 files; for ParaView's VTK files write "
+          "outputs.vtk");
+    output.format = format->choice({"csv", "hdf5"}, "a trajectory format") == "csv"
+                        ? TrajectoryFormat::csv
+                        : TrajectoryFormat::hdf5;
+  }
   return output;
 }
 

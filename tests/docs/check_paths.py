@@ -31,7 +31,7 @@ OUTPUT_ROOTS = re.compile(r"^(build[^/]*|talus-default|gpu-out|scratch|frames|vt
 # against the whole token, or against "referring/file: token" for one file's use of it.
 ALLOWED = {
     r"probes\.csv": "a run's probe file (the default of outputs.probes.file)",
-    r"(trajectory|frame)_\d+\.(csv|png)": "a frame that a run or talus render writes",
+    r"(trajectory|frame)_\d+\.(csv|png|h5)": "a frame that a run or talus render writes",
     r"(run|summary|render)\.json": "what a run, run_beds.sh or talus render writes",
     r"runs\.csv|cases\.txt": "experiments/beds: what run_beds.sh and make_scenes.py write",
     r"environment\.txt|profile\.txt|bench_\w+\.json|ncu_\w+\.(csv|txt)":

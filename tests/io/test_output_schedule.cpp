@@ -103,5 +103,44 @@ TEST(OutputSchedule, VtkSeriesContinuesThroughACheckpoint) {
   EXPECT_NE(pvd.find("particles_000000006.vtp"), std::string::npos) << pvd;
 }
 
+// The trajectory format: as the scene names it, else HDF5 from kHdf5TrajectoryParticles particles
+// on (those at the start and all that the feeds insert by the end); run.json says which.
+TEST(OutputSchedule, TrajectoryFormatFollowsTheSceneOrTheRunsSize) {
+  const std::string dir = talus_test::fresh_test_directory("test-io", "schedule_format");
+  struct Case {
+    std::string name, format, feed;
+    std::size_t particles;
+    const char* expected;
+  };
+  const std::string feed =
+      "  - feed: {template: g, region: {box: {min: [0, 0, 0], max: [1, 1, 1]}}, rate: ";
+  const Case cases[] = {{"small", "", "", 2, "csv"},
+                        {"named", ", format: hdf5", "", 2, "hdf5"},
+                        {"named_csv", ", format: csv", "", 20000, "csv"},
+                        {"large", "", "", kHdf5TrajectoryParticles, "hdf5"},
+                        {"fed", "", feed + "9998}\n", 2, "hdf5"},
+                        {"fed_less", "", feed + "9997}\n", 2, "csv"}};
+  for (const Case& c : cases) {
+    const std::string out = dir + "/" + c.name;
+    const std::string yaml =
+        "time: {step: 1.0e-4, end: 1}\n"
+        "materials:\n  m: {density: 1000, youngs_modulus: 1e6, poisson_ratio: 0.3, friction: 0,"
+        " restitution: 0.5}\n"
+        "templates:\n  g: {shape: \"cube:0.01\", material: m}\n"
+        "particles:\n  - explicit:\n      - {template: g, position: [0, 0, 0]}\n" +
+        c.feed + "outputs:\n  trajectories: {every: 1, directory: " + out + c.format + "}\n";
+    const Scene scene = parse_scene(yaml, "test.yaml", ".");
+    OutputSchedule schedule(scene, "", "talus", c.particles);
+    CountingSource source;
+    schedule.write(0, false, source);
+    EXPECT_EQ(read_run_info(out).trajectory_format, c.expected) << c.name;
+    const std::string frame =
+        out + "/trajectory_000000000." + (std::string(c.expected) == "hdf5" ? "h5" : "csv");
+    EXPECT_TRUE(std::filesystem::exists(frame)) << c.name;
+    ASSERT_EQ(read_trajectory(out).size(), 1u) << c.name;
+    EXPECT_EQ(read_trajectory(out)[0].rows.size(), 2u) << c.name;
+  }
+}
+
 }  // namespace
 }  // namespace talus

@@ -102,6 +102,67 @@ TEST(Trajectory, RoundTripIsBitExact) {
               std::signbit(first[0].position.z));  // -0 stays -0 (memcmp checked it too)
 }
 
+// HDF5 frames (trajectory_hdf5.cpp): ids, templates and positions read back to the bit, the
+// orientation and velocities to the float each was rounded to (the format's choice: 76 bytes a
+// particle), frames of both formats in one directory read in step order, no temporary file left.
+TEST(Trajectory, Hdf5FramesReadBack) {
+  const std::string dir = test_directory("hdf5");
+  const std::vector<TrajectoryRow> rows = awkward_rows(400, 3);
+  write_trajectory_frame_hdf5(dir, 7, 0.25, rows);
+  write_trajectory_frame_hdf5(dir, 9, 0.5, {});
+  write_trajectory_frame(dir, 8, awkward_rows(3, 4));
+  const std::vector<TrajectoryFrame> frames = read_trajectory(dir);
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0].step, 7);
+  EXPECT_EQ(frames[1].step, 8);
+  EXPECT_EQ(frames[2].step, 9);
+  EXPECT_TRUE(frames[2].rows.empty());
+  ASSERT_EQ(frames[0].rows.size(), rows.size());
+  const auto as_float = [](double v) { return double(static_cast<float>(v)); };
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const TrajectoryRow& a = frames[0].rows[i];
+    const TrajectoryRow& b = rows[i];
+    EXPECT_EQ(a.id, b.id);
+    EXPECT_EQ(a.template_index, b.template_index);
+    EXPECT_EQ(std::memcmp(&a.position, &b.position, sizeof(Vec3d)), 0) << "row " << i;
+    const double got[] = {a.orientation.w,     a.orientation.x,      a.orientation.y,
+                          a.orientation.z,     a.velocity.x,         a.velocity.y,
+                          a.velocity.z,        a.angular_velocity.x, a.angular_velocity.y,
+                          a.angular_velocity.z};
+    const double put[] = {b.orientation.w,     b.orientation.x,      b.orientation.y,
+                          b.orientation.z,     b.velocity.x,         b.velocity.y,
+                          b.velocity.z,        b.angular_velocity.x, b.angular_velocity.y,
+                          b.angular_velocity.z};
+    for (int k = 0; k < 10; ++k)
+      if (std::isfinite(put[k])) EXPECT_EQ(got[k], as_float(put[k])) << "row " << i << " " << k;
+  }
+  EXPECT_EQ(file_names(dir),
+            (std::vector<std::string>{"trajectory_000000007.h5", "trajectory_000000008.csv",
+                                      "trajectory_000000009.h5"}));
+  // A file that is not HDF5 under a frame's name is refused, naming it.
+  write_file_atomically(dir + "/trajectory_000000010.h5", "id,template\n");
+  try {
+    read_trajectory(dir);
+    ADD_FAILURE() << "read a text file as HDF5";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("trajectory_000000010.h5: cannot open the file as HDF5"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Trajectory, Hdf5FrameIntoAMissingDirectoryNamesThePath) {
+  const std::string dir = test_directory("hdf5_missing") + "/missing";
+  try {
+    write_trajectory_frame_hdf5(dir, 3, 0.0, awkward_rows(2, 5));
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write '" + dir + "/trajectory_000000003.h5'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Trajectory, FileNameHeaderAndColumns) {
   const std::string dir = test_directory("columns");
   EXPECT_EQ(trajectory_file_name(1200), "trajectory_000001200.csv");

@@ -213,7 +213,8 @@ TEST(RenderRun, BadInputNamesTheFileAndWhatWasExpected) {
     render_run(settings);
     ADD_FAILURE() << "expected an error";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("no trajectory_<step>.csv files"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("no trajectory_<step>.csv or .h5 files"),
+              std::string::npos)
         << e.what();
   }
   settings.scene_file = run.dir + "/missing.yaml";

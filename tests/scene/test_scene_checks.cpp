@@ -184,8 +184,12 @@ TEST(SceneChecks, OutputsNeedWhatTheyMeasure) {
       {"the trajectory format that VTK output replaced",
        {{"  friction: true",
          "  friction: true\noutputs:\n  trajectories: {every: 5, format: vtk}"}},
-       "errors.yaml:22:36: outputs.trajectories.format: trajectories are CSV files; for "
-       "ParaView's VTK files write outputs.vtk"},
+       "errors.yaml:22:36: outputs.trajectories.format: trajectories are CSV or HDF5 files; "
+       "for ParaView's VTK files write outputs.vtk"},
+      {"an unknown trajectory format",
+       {{"  friction: true", "  friction: true\noutputs:\n  trajectories: {every: 5, format: h5}"}},
+       "errors.yaml:22:36: outputs.trajectories.format: expected a trajectory format, one of "
+       "csv, hdf5, got 'h5'"},
       {"checkpoints every zero steps",
        {{"  friction: true", "  friction: true\noutputs:\n  checkpoint: {every: 0}"}},
        "errors.yaml:22:23: outputs.checkpoint.every: expected a positive integer number of "
