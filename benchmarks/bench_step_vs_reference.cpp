@@ -8,9 +8,10 @@
 // evaluation at t = 0 and one step, i.e. two force evaluations at configurations 1 us apart, the
 // same work in both solvers. The ratio of these first steps is the figure (counters
 // `ratio_1_thread`, `ratio_2_threads` of the reference case); the reference costs milliseconds
-// per contact (exact arithmetic), so its first step at 2e4 particles takes over ten minutes and
-// is taken once. The production host step then also takes 3 more steps (its time per step, the
-// benchmark's time), on 1 and 2 threads. TALUS_BENCH_SIDE=n changes the size.
+// per contact (exact arithmetic), so its first step at 2e4 particles is long (its time:
+// benchmarks/history/README.md) and is taken once. The production host step then also takes 3
+// more steps (its time per step, the benchmark's time), on 1 and 2 threads. TALUS_BENCH_SIDE=n
+// changes the size.
 #include <benchmark/benchmark.h>
 
 #include <chrono>

@@ -4,7 +4,7 @@
 // setting up), and what it passes on is templated on the law: the pair and wall functions
 // (step/pair_kernels.hpp, step/wall_kernels.hpp), the CUDA kernels and the history stores. Host
 // code only. Adding a law: its file in contact/laws/, its case here (docs/ARCHITECTURE.md,
-// "Adding a contact law").
+// "Extending talus", "A contact law").
 #pragma once
 
 #include "solver/contact/laws/linear_law.hpp"

@@ -16,7 +16,8 @@ namespace talus {
 // Below this many indices a loop of cheap per-index work (a few to a hundred nanoseconds each)
 // runs on the calling thread alone: starting and joining the threads costs microseconds when the
 // cores are idle, and a whole time slice (milliseconds) when another process holds one of them,
-// which made a two-particle scene a hundred times slower on two busy cores.
+// which made a two-particle scene many times slower on two busy cores
+// (benchmarks/history/README.md).
 constexpr long long kParallelMinIndices = 1024;
 
 // The threads a host loop uses when the caller asks for `requested` (<= 0: OpenMP's default, all

@@ -2,7 +2,8 @@
 // compile them: overlap_batch.cu (the class, no kernel of its own) and one generated file per
 // precision and workspace capacity (solver/CMakeLists.txt), each instantiating
 // launch_overlap_batch for its pair, so that a parallel build compiles them side by side (one file
-// held every kernel and took 4.5 minutes alone). Included only from .cu files.
+// that held every kernel took minutes to compile alone: benchmarks/history/README.md). Included
+// only from .cu files.
 #pragma once
 
 #include <stdexcept>
@@ -85,18 +86,13 @@ constexpr int kSharedTemplateLimit = 48 * 1024;
 // Threads per block of every batch kernel.
 constexpr int kBatchBlock = 128;
 // Blocks per SM that the culling and the enumeration kernels are compiled for (at most 96 and
-// 128 registers a thread; 96 for the enumeration in float, at 5 blocks). Without the caps they
-// took 102 and 196 registers (the enumeration then shared its kernel with the hull), which left
-// 4 and 2 warps per scheduler, and both were latency-bound (Nsight Compute on the H100, 2^20
-// shallow dodecahedron pairs: issue slots 64% and 26% busy). Tried on the whole batch (2^22
-// pairs): enumeration 4, 5, 6 blocks: 7.48, 7.95, 9.51 ms (spills); culling 4, 5, 6 blocks: 7.63,
-// 7.48, 7.57 ms. Again after the enumeration's sums over vertices and the culling's CullFrame
-// (session 7): culling 4, 5, 6 blocks 4.88, 4.77, 4.73-4.77 ms; asking for the largest L1 (the
-// least shared memory, cudaSharedmemCarveoutMaxL1) made the batch 5.86 ms. Session 8: with the
-// vertex records, culling at 5 and 6 blocks took 4.07-4.08 and 4.11-4.14 ms in double
-// (3.25-3.27 and 3.22-3.24 ms in float), and with the float pass 3.77-3.79 and 3.83-3.84 ms;
-// with nothing of a pair in local memory, the enumeration at 3, 4, 5 blocks took 4.31-4.34,
-// 4.09-4.14, 4.59-4.64 ms in double and 3.64-3.67, 3.62-3.67, 3.55 ms in float.
+// 128 registers a thread; 96 for the enumeration in float, at 5 blocks). Without the caps both
+// kernels took so many registers that few warps ran per scheduler, and both were latency-bound
+// (Nsight Compute). The counts are those that ran the whole batch fastest, or within the noise of
+// the fastest, each time the kernels changed (more blocks made the enumeration spill); asking for
+// the largest L1 (the least shared memory, cudaSharedmemCarveoutMaxL1) made the batch slower. The
+// registers, the warps and the times of every count tried, by session:
+// benchmarks/history/README.md.
 constexpr int kCullBlocks = 5;
 template <class Real>
 constexpr int kEnumerateBlocks = sizeof(Real) == 4 ? 5 : 4;
@@ -161,9 +157,8 @@ __device__ void stage_both(ConvexView<Real>& a, ConvexView<Real>& b, const Kerne
 // stage_both, then both views kept once per block in shared memory: a view that a thread passes
 // by reference to a function the compiler does not inline (the overlap's steps are large) would
 // otherwise be copied into that thread's local memory (two views: 208 bytes a thread in double,
-// which with the rest of a thread's frame overflowed the L1 cache into L2 and DRAM: the batch took
-// 5.81 instead of 5.18 ms on the H100; the culling kernel gained 1.5% more). Every thread of the
-// block must call it.
+// which with the rest of a thread's frame overflowed the L1 cache into L2 and DRAM; what keeping
+// them here gained: benchmarks/history/README.md). Every thread of the block must call it.
 template <class Real, bool Staged>
 __device__ const ConvexView<Real>* stage_views(ConvexView<Real>& a, ConvexView<Real>& b,
                                                const KernelArgs& args) {

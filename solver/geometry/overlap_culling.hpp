@@ -271,8 +271,8 @@ TALUS_HD inline PlanePass plane_pass_from(const ConvexView<Real>& other, unsigne
 }
 
 // `faces` where `take`, else none. A GPU predicates the branch (one instruction); a CPU would
-// mispredict it about every other vertex (the culling of one pair on one core took 2.8 instead of
-// 1.8 us with it), so there it is arithmetic.
+// mispredict it about every other vertex, which made the host's culling much slower
+// (benchmarks/history/README.md), so there it is arithmetic.
 template <class FaceMask>
 TALUS_HD inline FaceMask faces_if(bool take, FaceMask faces) {
 #ifdef __CUDA_ARCH__
@@ -348,9 +348,8 @@ template <class Real>
 TALUS_HD inline PlanePass plane_pass(const ConvexView<Real>& other, const Vec3<Real>& n_body,
                                      Real h_body, Real round_off) {
 #ifdef __CUDA_ARCH__
-  // The float pass pays on the GPU only: a CPU core computes double as fast as float, and the
-  // pass cost it 11% (a shallow dodecahedron pair's overlap 1.69-1.73 us without it, 1.87-1.94
-  // with it, benchmarks/README.md).
+  // The float pass pays on the GPU only: a CPU core computes double as fast as float, so there
+  // the pass is extra work that made the overlap slower (benchmarks/history/README.md).
   PlanePass pass;
   if (other.filter_vertices && filtered_pass(other, n_body, h_body, round_off, pass)) return pass;
 #endif

@@ -133,8 +133,8 @@ TEST(ExactOverlap, AgreesWithProduction_RandomPairsOfBuiltins) {
   for (const auto& spec : specs) shapes.emplace_back(spec);
   std::mt19937_64 rng(20240611);
   // 9 x 9 ordered pairs x 16 draws = 1296, of which about half overlap (bounding spheres overlap,
-  // the polyhedra often do not). The reference costs about 3 ms per pair with the exact kernel
-  // (Release), so this takes about 5 s: sized for well under 60 s on 2 cores.
+  // the polyhedra often do not). The reference is slow per pair with the exact kernel (its time
+  // in Release: benchmarks/history/README.md): sized for well under 60 s on 2 cores.
   const int draws_per_pair = 16;
   int compared = 0, separate_both = 0;
   double worst_volume = 0, worst_vector_area = 0, worst_centroid = 0;

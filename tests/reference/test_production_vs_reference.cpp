@@ -255,7 +255,8 @@ effects:
 }
 
 // 20 polyhedra, volume model, cubes and octahedra, friction and rotation: 3 ms at dt = 2e-6 s
-// (the reference's exact overlap costs about 5 ms per touching pair and step).
+// (short, since the reference's exact overlap is slow for every touching pair and step:
+// benchmarks/history/README.md).
 TEST(ProductionVsReference, TwentyPolyhedraVolume) {
   const Scene scene = scene_from(std::string("time: {step: 2.0e-6, end: 3.0e-3}\n") + kGlass + R"(
 templates:

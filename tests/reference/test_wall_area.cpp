@@ -107,7 +107,8 @@ TEST(WallArea, AgreesWithProduction_RandomPoses) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   int compared = 0, with_overlap_area = 0, above = 0, with_offset = 0;
   double worst_area = 0, worst_volume = 0, worst_centroid = 0, worst_depth = 0, worst_offset = 0;
-  // 9 shapes x 64 draws = 576 poses; a few ms each with the exact kernel (a few seconds).
+  // 9 shapes x 64 draws = 576 poses, each slow with the exact kernel (its time:
+  // benchmarks/history/README.md).
   for (const std::string& spec : specs) {
     const talus::testing::TestShape shape(spec);
     const double radius = shape.shape.bounding_radius;

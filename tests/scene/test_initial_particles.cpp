@@ -302,7 +302,7 @@ walls:
 TEST(InitialParticles, HundredThousandSpheresFillQuickly) {
   // 1e5 balls of radius 2 mm at a sphere fraction of 0.2 in a cylinder with a drum around it
   // (random sequential addition slows sharply towards its jamming fraction 0.38: at 0.3 the
-  // same fill takes about 20 times longer, most of it in the last fifth).
+  // same fill takes far longer, most of it in the last fifth; benchmarks/history/README.md).
   const Scene scene = scene_of(R"(particles:
   - random:
       template: ball

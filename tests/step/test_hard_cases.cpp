@@ -49,8 +49,9 @@ TEST_P(HardCases, ComesToRestAtTenMicroseconds) {
 }
 
 // At the advised step (0.2 of the critical step: 1.6 to 6.4 times more steps than 1e-5 s): the
-// column's 26 s take minutes there (4.1e6 steps: 241 s on one core of the 2-core CI-like machine),
-// so CI runs it at 1e-5 s only and this one with TALUS_LONG_TESTS=1 in the environment.
+// column's 26 s take minutes there (4.1e6 steps; the time on one core of a 2-core machine:
+// benchmarks/history/README.md), so CI runs it at 1e-5 s only and this one with
+// TALUS_LONG_TESTS=1 in the environment.
 TEST_P(HardCases, ComesToRestAtTheAdvisedStep) {
   const HardCase& c = GetParam();
   const char* long_tests = std::getenv("TALUS_LONG_TESTS");

@@ -147,9 +147,9 @@ constexpr unsigned char kOtherPath = 255;  // a slot phase 1 leaves to pair_kern
 // Phase 1. key[k]: 0 when the slot is settled here (GJK or the culling decides it apart),
 // m + 1 with m kept planes, kOtherPath when the pair is not a phased one (a sphere, the linear
 // model, more than 64 faces). `histogram` counts the keys 0 .. 65 (one atomic per block and key).
-// Register-bound: 164 registers a thread left 6 warps per SM; capped for 4 blocks (16 warps)
-// the kernel ran 1.2x faster in the step (H100, the 1e6 bed: pair stage 23.4 -> 21.5 ms), while
-// the polytope kernel's caps (6 or 8 blocks) spilled and lost 1.2-1.5x. Law: a law of volume
+// Register-bound: uncapped, its registers left few warps per SM; capped for 4 blocks (16 warps)
+// it ran faster in the step, while caps on the polytope kernel (6 or 8 blocks) spilled and made
+// it slower (the registers, warps and times: benchmarks/history/README.md). Law: a law of volume
 // geometry (the phased path is only theirs).
 template <class Law, class Real>
 __global__ void __launch_bounds__(kBlock, 4)
