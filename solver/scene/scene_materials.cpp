@@ -1,5 +1,4 @@
 // The `materials`, `material_pairs` and `templates` sections, and the name references into them.
-#include <cctype>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -65,13 +64,6 @@ std::string resolve_path(const std::string& path, const std::string& directory) 
   const std::filesystem::path p(path);
   if (p.is_absolute() || directory.empty()) return p.lexically_normal().string();
   return (std::filesystem::path(directory) / p).lexically_normal().string();
-}
-
-bool is_mesh_path(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string extension = path.substr(path.size() - 4);
-  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".obj" || extension == ".stl";
 }
 
 void check_mesh_file_exists(const SceneNode& node, const std::string& resolved_path) {

@@ -23,8 +23,6 @@ int template_reference(const SceneNode& node, const Scene& scene);
 
 // `path` as given when absolute, else relative to `directory`.
 std::string resolve_path(const std::string& path, const std::string& directory);
-// Ends in .obj or .stl (any case).
-bool is_mesh_path(const std::string& path);
 // A mesh file that exists, or "mesh file '<resolved>' not found ..." at the node.
 void check_mesh_file_exists(const SceneNode& node, const std::string& resolved_path);
 

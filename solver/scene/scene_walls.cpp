@@ -2,6 +2,7 @@
 #include <exception>
 
 #include "solver/scene/scene_sections.hpp"
+#include "solver/shape/mesh_io.hpp"
 
 namespace talus {
 namespace {

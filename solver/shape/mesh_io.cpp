@@ -182,12 +182,12 @@ bool is_convex(const std::vector<Vec3d>& points, const TriangleMesh& mesh,
   return true;
 }
 
+}  // namespace
+
 bool is_mesh_path(const std::string& path) {
   const std::string l = lower(path);
   return ends_with(l, ".obj") || ends_with(l, ".stl");
 }
-
-}  // namespace
 
 TriangleMesh read_obj(const std::string& path) {
   std::ifstream in(path);

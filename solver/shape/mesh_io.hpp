@@ -35,6 +35,9 @@ void write_stl(const std::string& path, const TriangleMesh& mesh, bool binary);
 // ("<file>: mesh is not convex; using its convex hull") and its hull is used.
 ShapeTemplate load_shape_file(const std::string& path, double scale = 1);
 
+// Ends in .obj or .stl (any case): a mesh file rather than a built-in spec.
+bool is_mesh_path(const std::string& path);
+
 // A built-in spec (see builtins.hpp) or a mesh file, optionally "path:scale".
 ShapeTemplate make_shape(const std::string& spec);
 

@@ -133,8 +133,11 @@ TEST(Trajectory, Hdf5FramesReadBack) {
                           b.orientation.z,     b.velocity.x,         b.velocity.y,
                           b.velocity.z,        b.angular_velocity.x, b.angular_velocity.y,
                           b.angular_velocity.z};
-    for (int k = 0; k < 10; ++k)
-      if (std::isfinite(put[k])) EXPECT_EQ(got[k], as_float(put[k])) << "row " << i << " " << k;
+    for (int k = 0; k < 10; ++k) {
+      if (std::isfinite(put[k])) {
+        EXPECT_EQ(got[k], as_float(put[k])) << "row " << i << " " << k;
+      }
+    }
   }
   EXPECT_EQ(file_names(dir),
             (std::vector<std::string>{"trajectory_000000007.h5", "trajectory_000000008.csv",
