@@ -31,8 +31,12 @@ const std::regex& frame_name_pattern() {
 
 }  // namespace
 
+std::string trajectory_file_name(long long step, TrajectoryFormat format) {
+  return numbered_file_name("trajectory_", step, format == TrajectoryFormat::hdf5 ? ".h5" : ".csv");
+}
+
 std::string trajectory_file_name(long long step) {
-  return numbered_file_name("trajectory_", step, ".csv");
+  return trajectory_file_name(step, TrajectoryFormat::csv);
 }
 
 void write_trajectory_frame(const std::string& directory, long long step,

@@ -93,10 +93,6 @@ void put_attribute(hid_t object, const char* name, hid_t type, const void* value
 
 }  // namespace
 
-std::string trajectory_file_name(long long step, TrajectoryFormat format) {
-  return numbered_file_name("trajectory_", step, format == TrajectoryFormat::hdf5 ? ".h5" : ".csv");
-}
-
 void write_trajectory_frame_hdf5(const std::string& directory, long long step, double time,
                                  const std::vector<TrajectoryRow>& rows) {
   silence_hdf5();

@@ -21,7 +21,6 @@ bool Feeding::due(double time) const {
 std::vector<ParticleState> Feeding::insert(double time, std::vector<Vec3d> positions,
                                            const std::vector<int>& template_ids) {
   std::vector<ParticleState> added;
-  if (!due(time)) return added;  // the feeds' insert() would return nothing and draw nothing
   std::vector<double> radii;
   radii.reserve(positions.size());
   for (const int t : template_ids) radii.push_back(radii_[t]);

@@ -26,7 +26,8 @@ class Feeding {
   bool due(double time) const;
 
   // The particles the feeds insert at `time` (feed by feed, in order) among the particles now at
-  // `positions` (world, m) with templates `template_ids`.
+  // `positions` (world, m) with templates `template_ids`. Both steps ask due() first, so that a
+  // step with nothing due gathers no positions.
   std::vector<ParticleState> insert(double time, std::vector<Vec3d> positions,
                                     const std::vector<int>& template_ids);
 
