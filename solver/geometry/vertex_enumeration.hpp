@@ -102,11 +102,14 @@ struct EnumerationSums {
 
 // The share of a vertex v (relative to o) at one end of the edge on the line of planes f and g
 // (offsets h_f, h_g: their heights above o; f_on_a: plane f is A's), with d = n_f x n_g and
-// t = +-(d . v), + where v is the edge's far end along d.
+// t = +-(d . v), + where v is the edge's far end along d. `vertex_area`: the end's part of S (A's
+// faces' n dA), summed over the vertex's three ends for its term v x S_v of the surface moment
+// (enumerate_fixed adds it, once a vertex instead of once an end).
 template <class Real>
 TALUS_HD inline void add_line_end(const Vec3<Real>& n_f, Real h_f, bool f_on_a,
                                   const Vec3<Real>& n_g, Real h_g, bool g_on_a, const Vec3<Real>& d,
-                                  Real t, const Vec3<Real>& v, EnumerationSums<Real>& sums) {
+                                  Real t, const Vec3<Real>& v, EnumerationSums<Real>& sums,
+                                  Vec3<Real>& vertex_area) {
   // Face f's area is the sum over its edges of length * (distance from q_f, the foot of the
   // reference point o on plane f, to the edge's line) / 2: signed, so that any q_f gives the
   // area of the convex polygon. With c = n_f . n_g and s^2 = |d|^2 the distance is
@@ -122,17 +125,19 @@ TALUS_HD inline void add_line_end(const Vec3<Real>& n_f, Real h_f, bool f_on_a,
   sums.area_sum += a_f + a_g;
   const Vec3<Real> area_f = n_f * a_f, area_g = n_g * a_g;
   sums.closure += area_f + area_g;
-  if (f_on_a) sums.vector_area += area_f;
-  if (g_on_a) sums.vector_area += area_g;
+  // A's part of this end's areas (selected, not branched on: one instruction each on a GPU).
+  const Real a_f_on_a = f_on_a ? a_f : Real(0), a_g_on_a = g_on_a ? a_g : Real(0);
+  vertex_area += n_f * a_f_on_a + n_g * a_g_on_a;
   // ... and its first moment is h_f / 4 times the face's, whose fan triangle (q_f, u, w) over
   // the edge (u, w) has its centroid at (q_f + u + w) / 3: with x0 the line's point nearest o,
   // u + w = 2 x0 + (t_u + t_w) d / s^2, and each end adds t (q_f + x0 + v).
   const Vec3<Real> x0 = (n_f * k_g + n_g * k_f) * Real(2);
   sums.moment12 += (x0 + v) * (cone_f + cone_g) + n_f * (cone_f * h_f) + n_g * (cone_g * h_g);
   // The same triangles' area moments, a_f (q_f + x0 + v) / 3 per end, crossed with n_f for the
-  // surface moment (q_f = h_f n_f drops out).
-  if (f_on_a) sums.surface_moment3 += cross(x0 + v, area_f);
-  if (g_on_a) sums.surface_moment3 += cross(x0 + v, area_g);
+  // surface moment (q_f = h_f n_f drops out): (x0 + v) x (n_f a_f) over A's faces. The v part is
+  // the vertex's (v x vertex_area); the x0 part needs no cross product, as x0 x n_f = -2 k_f d
+  // and x0 x n_g = 2 k_g d.
+  sums.surface_moment3 += d * (Real(2) * (k_g * a_g_on_a - k_f * a_f_on_a));
 }
 
 // The vertices kept by step 1, in the order found, each as the indices of its three planes
@@ -305,9 +310,15 @@ TALUS_HD inline bool enumerate_fixed(const EnumerationBodies<Real>& bodies,
     const Real signed_inverse = abs_of(inverse);  // sign(det) / det: each end's sign
     const bool on_a_i = !((b_planes >> i) & 1u), on_a_j = !((b_planes >> j) & 1u),
                on_a_k = !((b_planes >> k) & 1u);
-    add_line_end(pi.n, hi, on_a_i, pj.n, hj, on_a_j, d_ij, dot(d_ij, w) * signed_inverse, x, sums);
-    add_line_end(pj.n, hj, on_a_j, pk.n, hk, on_a_k, d_jk, dot(d_jk, w) * signed_inverse, x, sums);
-    add_line_end(pk.n, hk, on_a_k, pi.n, hi, on_a_i, d_ki, dot(d_ki, w) * signed_inverse, x, sums);
+    Vec3<Real> vertex_area;
+    add_line_end(pi.n, hi, on_a_i, pj.n, hj, on_a_j, d_ij, dot(d_ij, w) * signed_inverse, x, sums,
+                 vertex_area);
+    add_line_end(pj.n, hj, on_a_j, pk.n, hk, on_a_k, d_jk, dot(d_jk, w) * signed_inverse, x, sums,
+                 vertex_area);
+    add_line_end(pk.n, hk, on_a_k, pi.n, hi, on_a_i, d_ki, dot(d_ki, w) * signed_inverse, x, sums,
+                 vertex_area);
+    sums.vector_area += vertex_area;
+    sums.surface_moment3 += cross(x, vertex_area);
   }
   const Real volume = sums.volume3 * (Real(1) / Real(3));
   if (!(norm(sums.closure) <= SqrtEps<Real>::value * sums.area_sum) || !(volume > Real(0)))

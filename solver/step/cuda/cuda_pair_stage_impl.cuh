@@ -203,8 +203,12 @@ __global__ void __launch_bounds__(kBlock, 4)
 // in a workspace of Cap planes (by the vertex enumeration alone for 8), then the force. A pair
 // the workspace cannot hold (the hull needs more room than its planes suggest; rare) or the
 // enumeration declines is appended to `deferred` for pair_kernel.
+// The enumeration's kernel (Cap 8) at least 3 blocks an SM (12 warps, 168 registers, as ptxas
+// chooses for its other variants): left free, with the default law's atomic sums it took 224
+// (8 warps) and ran slower on the 1e6 bed (benchmarks/history/README.md, session 13). The
+// workspace kernels keep no such bound: under it they spill.
 template <class Law, class Real, int Cap, bool Atomic>
-__global__ void __launch_bounds__(kBlock)
+__global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
     polytope_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s,
                          const int* __restrict__ order, int begin, int count,
                          const unsigned long long* __restrict__ masks, int* deferred,
@@ -225,7 +229,19 @@ __global__ void __launch_bounds__(kBlock)
       // The fewest planes: the vertex enumeration alone, no workspace and no hull in the
       // thread; a pair it declines (a vertex of four planes, twins, ...) is deferred to
       // pair_kernel, whose overlap_polyhedra gives the host's result (it declines there too).
-      if (!overlap_enumerate_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], overlap))
+      // The planes in shared memory, as the overlap batch's enumerate_kernel keeps them (thread
+      // t's plane q at planes[q * kBlock + t]: a warp reads one plane of 32 threads from
+      // consecutive addresses), not in the thread's local memory. Raw bytes: a __shared__
+      // array may not have a constructor, which EnumerationPlane's Vec3 has.
+      using Plane = overlap_detail::EnumerationPlane<Real>;
+      __shared__ __align__(
+          alignof(Plane)) unsigned char plane_bytes[kEnumerationPlanes * kBlock * sizeof(Plane)];
+      Plane* planes = reinterpret_cast<Plane*>(plane_bytes);
+      const overlap_detail::EnumerationBodies<Real> bodies{a.shape,         b.shape,
+                                                           pose_a.position, pose_a.orientation,
+                                                           pose_b.position, pose_b.orientation,
+                                                           Real(0)};
+      if (!overlap_enumerate_from_mask(bodies, masks[k], planes + threadIdx.x, kBlock, overlap))
         overlap.workspace_overrun = true;
     } else {
       OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
