@@ -11,9 +11,9 @@
 #include <memory>
 #include <string>
 
+#include "benchmarks/overlap_batch/overlap_batch.hpp"
 #include "benchmarks/pose_sets.hpp"
 #include "solver/core/cuda_device.hpp"
-#include "solver/geometry/overlap_batch.hpp"
 #include "solver/shape/builtins.hpp"
 #include "solver/shape/shape_arrays.hpp"
 
@@ -75,7 +75,7 @@ CachedBatch<Real>& batch_for(const std::string& spec) {
 
 template <class Real>
 void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
-                             const std::string& variant, OverlapBatchKernel kernel) {
+                             const std::string& variant, OverlapBatchPath path) {
   std::string reason;
   if (!cuda_device_available(&reason)) {
     state.SkipWithError(reason.c_str());
@@ -84,11 +84,11 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
   CachedBatch<Real>& cached = batch_for<Real>(spec);
   OverlapBatchGpu<Real>& batch = *cached.batch;
   const OverlapOptions options = overlap_options_named(variant);
-  batch.run(options, kernel);  // warm-up: module load, first touch of the buffers
+  batch.run(options, path);  // warm-up: module load, first touch of the buffers
 
   double seconds = 0;
   for (auto _ : state) {
-    const double kernel_seconds = batch.run(options, kernel) * 1e-3;
+    const double kernel_seconds = batch.run(options, path) * 1e-3;
     state.SetIterationTime(kernel_seconds);
     seconds += kernel_seconds;
   }
@@ -101,16 +101,6 @@ void overlap_batch_benchmark(benchmark::State& state, const std::string& spec,
   state.counters["pairs"] = pairs;
   state.counters["workspace_bytes"] = double(batch.workspace_bytes());
   state.counters["capacity"] = batch.workspace_capacity();
-  // The small workspace is tried only with the face test (see overlap_batch_kernels.cuh);
-  // phased_sorted sizes its workspaces by the planes each pair keeps (8, 16, ... up to the
-  // capacity) instead.
-  if ((kernel == OverlapBatchKernel::small_workspace ||
-       kernel == OverlapBatchKernel::deferred_overflow || kernel == OverlapBatchKernel::phased) &&
-      options.cull_faces) {
-    state.counters["small_capacity"] = batch.small_workspace_capacity();
-    state.counters["small_workspace_bytes"] = double(batch.small_workspace_bytes());
-  }
-
   // Checks that the batch is what its name says.
   auto found = cached.summary.find(variant);
   if (found == cached.summary.end()) {
@@ -139,58 +129,44 @@ void register_all() {
     const char* spec;
     bool is_float;
     const char* culling;  // overlap_options_named
-    OverlapBatchKernel kernel;
+    OverlapBatchPath path;
   };
-  const OverlapBatchKernel best = OverlapBatchKernel::phased_sorted;
+  const OverlapBatchPath phased = OverlapBatchPath::phased, whole = OverlapBatchPath::whole;
   const Variant variants[] = {
       // The production default: both culls and the vertex enumeration first.
-      {"dodecahedron/shallow/double/vertices", kDodecahedron, false, "vertices", best},
-      {"dodecahedron/shallow/float/vertices", kDodecahedron, true, "vertices", best},
-      {"cylinder80/shallow/double/vertices", kCylinder, false, "vertices", best},
-      {"cylinder80/shallow/float/vertices", kCylinder, true, "vertices", best},
+      {"dodecahedron/shallow/double/vertices", kDodecahedron, false, "vertices", phased},
+      {"dodecahedron/shallow/float/vertices", kDodecahedron, true, "vertices", phased},
+      {"cylinder80/shallow/double/vertices", kCylinder, false, "vertices", phased},
+      {"cylinder80/shallow/float/vertices", kCylinder, true, "vertices", phased},
       // The dual hull for every pair, with each filter (faces: both culls).
-      {"dodecahedron/shallow/double/faces", kDodecahedron, false, "faces", best},
-      {"dodecahedron/shallow/double/planes", kDodecahedron, false, "planes", best},
-      {"dodecahedron/shallow/double/naive", kDodecahedron, false, "naive", best},
-      // What each step of the kernel gains (the default kernel is the last one).
-      {"dodecahedron/shallow/double/faces/global_templates", kDodecahedron, false, "faces",
-       OverlapBatchKernel::global_templates},
-      {"dodecahedron/shallow/double/faces/shared_templates", kDodecahedron, false, "faces",
-       OverlapBatchKernel::shared_templates},
-      {"dodecahedron/shallow/double/faces/small_workspace", kDodecahedron, false, "faces",
-       OverlapBatchKernel::small_workspace},
-      {"dodecahedron/shallow/double/faces/deferred_overflow", kDodecahedron, false, "faces",
-       OverlapBatchKernel::deferred_overflow},
-      {"dodecahedron/shallow/double/faces/phased", kDodecahedron, false, "faces",
-       OverlapBatchKernel::phased},
-      {"dodecahedron/shallow/float/faces", kDodecahedron, true, "faces", best},
-      {"dodecahedron/shallow/float/faces/small_workspace", kDodecahedron, true, "faces",
-       OverlapBatchKernel::small_workspace},
-      {"dodecahedron/shallow/float/planes", kDodecahedron, true, "planes", best},
-      {"dodecahedron/shallow/float/naive", kDodecahedron, true, "naive", best},
-      {"cylinder80/shallow/double/faces", kCylinder, false, "faces", best},
-      {"cylinder80/shallow/double/planes", kCylinder, false, "planes", best},
-      {"cylinder80/shallow/double/naive", kCylinder, false, "naive", best},
-      {"cylinder80/shallow/double/faces/global_templates", kCylinder, false, "faces",
-       OverlapBatchKernel::global_templates},
-      {"cylinder80/shallow/double/faces/small_workspace", kCylinder, false, "faces",
-       OverlapBatchKernel::small_workspace},
-      {"cylinder80/shallow/float/faces", kCylinder, true, "faces", best},
-      {"cylinder80/shallow/float/planes", kCylinder, true, "planes", best},
-      {"cylinder80/shallow/float/naive", kCylinder, true, "naive", best},
+      {"dodecahedron/shallow/double/faces", kDodecahedron, false, "faces", phased},
+      {"dodecahedron/shallow/double/planes", kDodecahedron, false, "planes", phased},
+      {"dodecahedron/shallow/double/naive", kDodecahedron, false, "naive", phased},
+      // What the phases gain over each pair's whole overlap in one thread.
+      {"dodecahedron/shallow/double/faces/whole", kDodecahedron, false, "faces", whole},
+      {"dodecahedron/shallow/float/faces", kDodecahedron, true, "faces", phased},
+      {"dodecahedron/shallow/float/planes", kDodecahedron, true, "planes", phased},
+      {"dodecahedron/shallow/float/naive", kDodecahedron, true, "naive", phased},
+      {"cylinder80/shallow/double/faces", kCylinder, false, "faces", phased},
+      {"cylinder80/shallow/double/planes", kCylinder, false, "planes", phased},
+      {"cylinder80/shallow/double/naive", kCylinder, false, "naive", phased},
+      {"cylinder80/shallow/double/faces/whole", kCylinder, false, "faces", whole},
+      {"cylinder80/shallow/float/faces", kCylinder, true, "faces", phased},
+      {"cylinder80/shallow/float/planes", kCylinder, true, "planes", phased},
+      {"cylinder80/shallow/float/naive", kCylinder, true, "naive", phased},
   };
   for (const Variant& v : variants) {
     const std::string spec = v.spec, culling = v.culling;
-    const OverlapBatchKernel kernel = v.kernel;
+    const OverlapBatchPath path = v.path;
     const std::string name = "gpu_overlap/" + std::string(v.name);
     benchmark::internal::Benchmark* b =
         v.is_float ? benchmark::RegisterBenchmark(name.c_str(),
                                                   [=](benchmark::State& st) {
                                                     overlap_batch_benchmark<float>(st, spec,
-                                                                                   culling, kernel);
+                                                                                   culling, path);
                                                   })
                    : benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
-                       overlap_batch_benchmark<double>(st, spec, culling, kernel);
+                       overlap_batch_benchmark<double>(st, spec, culling, path);
                      });
     b->UseManualTime()->Unit(benchmark::kMillisecond);
   }

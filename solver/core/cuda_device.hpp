@@ -1,5 +1,5 @@
 // Whether this process can use a CUDA device. Host-facing (no CUDA types); defined in
-// cuda_device.cu, which exists only in CUDA builds (talus_cuda_overlap, the base CUDA library).
+// cuda_device.cu, which exists only in CUDA builds (talus_cuda).
 #pragma once
 
 #include <string>

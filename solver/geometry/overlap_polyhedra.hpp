@@ -93,8 +93,8 @@ TALUS_HD inline Vec3<Real> primal_vertex_of(const Workspace& ws, int f, Real w) 
 // than `capacity`. A's planes and B's are taken in loops of their own, so that no rotation is
 // chosen at run time (on the GPU that would put the frame in the thread's local memory). Every
 // caller with a mask takes its planes from here: one code for the planes of every kernel (the
-// kernels' results agree bit for bit, GpuOverlap.KernelsGiveIdenticalResults; what had made them
-// differ was the rotation's fused products, see rounded_product in core/quat.hpp).
+// kernels' results agree bit for bit, GpuOverlap.PhasedAndWholePathsGiveIdenticalResults; what had
+// made them differ was the rotation's fused products, see rounded_product in core/quat.hpp).
 template <class Real, class Put>
 TALUS_HD inline int mask_planes(const ConvexView<Real>& a, const ConvexView<Real>& b,
                                 const OverlapFrame<Real>& frame, unsigned long long mask,

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "benchmarks/overlap_batch/overlap_batch.hpp"
 #include "solver/core/cuda_device.hpp"
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/device_shape.cuh"
 #include "solver/geometry/gjk.hpp"
-#include "solver/geometry/overlap_batch.hpp"
 #include "solver/geometry/simple_contact.hpp"
 #include "solver/geometry/wall_clip.hpp"
 #include "tests/geometry/overlap_test_util.hpp"
@@ -103,55 +103,49 @@ TEST(GpuOverlap, HardCasesAgreeWithTheHost) {
   compare_overlap(cyl, cyl, turned);
 }
 
-// The kernels of OverlapBatchKernel differ only in where the templates and the workspace live
-// (global or shared memory; a small workspace first, the full one when more planes survive the
-// culling, in the same thread or a deferred launch) and in how the work is split (culling and
-// polytope in one kernel or two, pairs in order or sorted by kept planes): every pair goes
-// through the same arithmetic, so the results must be identical, bit for bit, in every culling
-// variant. Deep pairs (depth up to 0.95 of the radii) keep more planes than the small workspace
-// holds and so exercise its fallback and the deferral, which the test asserts; random_pairs-like
-// poses include separated pairs, decided in the phased kernels' culling phase.
+// The batch's two paths (OverlapBatchPath) build each pair's polytope with the same arithmetic:
+// the phased one culls in a kernel of its own, sorts the pairs by kept planes, runs one polytope
+// kernel per workspace size and the vertex enumeration for the fewest planes, and defers what a
+// workspace cannot hold; the whole one runs overlap_polyhedra in one thread. The results must be
+// identical, bit for bit, in every culling variant. Deep pairs (depth up to 0.95 of the radii)
+// keep more planes than the smallest workspaces hold and so exercise the larger buckets and the
+// deferral; random_pairs-like poses include separated pairs, decided in the culling phase.
 template <class Real>
-void expect_identical_kernels(const ConvexView<Real>& a, const ConvexView<Real>& b,
-                              const std::vector<Pose<Real>>& pa, const std::vector<Pose<Real>>& pb,
-                              int& many_planes, int& enumerated) {
+void expect_identical_paths(const ConvexView<Real>& a, const ConvexView<Real>& b,
+                            const std::vector<Pose<Real>>& pa, const std::vector<Pose<Real>>& pb,
+                            int& many_planes, int& enumerated) {
   OverlapBatchGpu<Real> batch(a, b);
   batch.set_poses(pa, pb);
   for (const char* variant : {"faces", "planes", "naive", "vertices"}) {
     SCOPED_TRACE(variant);
     const OverlapOptions options = overlap_options_named(variant);
-    batch.run(options, OverlapBatchKernel::global_templates);
+    batch.run(options, OverlapBatchPath::whole);
     const auto reference = batch.results();
-    for (const OverlapBatchKernel kernel :
-         {OverlapBatchKernel::shared_templates, OverlapBatchKernel::small_workspace,
-          OverlapBatchKernel::deferred_overflow, OverlapBatchKernel::phased,
-          OverlapBatchKernel::phased_sorted}) {
-      SCOPED_TRACE(int(kernel));
-      batch.run(options, kernel);
-      const auto other = batch.results();
-      ASSERT_EQ(other.size(), reference.size());
-      for (std::size_t k = 0; k < other.size(); ++k) {
-        const auto &r = reference[k], &o = other[k];
-        ASSERT_EQ(int(o.status), int(r.status)) << k;
-        ASSERT_EQ(o.volume, r.volume) << k;
-        ASSERT_EQ(o.depth_hint, r.depth_hint) << k;
-        ASSERT_EQ(o.hull_points, r.hull_points) << k;
-        ASSERT_EQ(o.workspace_overrun, r.workspace_overrun) << k;
-        ASSERT_EQ(o.enumerated, r.enumerated) << k;
-        for (int c = 0; c < 3; ++c) {
-          ASSERT_EQ(o.vector_area[c], r.vector_area[c]) << k;
-          ASSERT_EQ(o.centroid[c], r.centroid[c]) << k;
-        }
+    batch.run(options, OverlapBatchPath::phased);
+    const auto other = batch.results();
+    ASSERT_EQ(other.size(), reference.size());
+    for (std::size_t k = 0; k < other.size(); ++k) {
+      const auto &r = reference[k], &o = other[k];
+      ASSERT_EQ(int(o.status), int(r.status)) << k;
+      ASSERT_EQ(o.volume, r.volume) << k;
+      ASSERT_EQ(o.depth_hint, r.depth_hint) << k;
+      ASSERT_EQ(o.hull_points, r.hull_points) << k;
+      ASSERT_EQ(o.workspace_overrun, r.workspace_overrun) << k;
+      ASSERT_EQ(o.enumerated, r.enumerated) << k;
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(o.vector_area[c], r.vector_area[c]) << k;
+        ASSERT_EQ(o.centroid[c], r.centroid[c]) << k;
+        ASSERT_EQ(o.surface_moment[c], r.surface_moment[c]) << k;
       }
     }
     for (const auto& r : reference) {
-      many_planes += r.hull_points > batch.small_workspace_capacity();
+      many_planes += r.hull_points > kEnumerationPlanes;  // a hull, not the enumeration
       enumerated += r.enumerated;
     }
   }
 }
 
-TEST(GpuOverlap, KernelsGiveIdenticalResults) {
+TEST(GpuOverlap, PhasedAndWholePathsGiveIdenticalResults) {
   REQUIRE_GPU();
   for (const char* spec : {"dodecahedron:0.01", "cylinder:0.008,0.0053"}) {
     SCOPED_TRACE(spec);
@@ -166,17 +160,17 @@ TEST(GpuOverlap, KernelsGiveIdenticalResults) {
       poses.b.push_back(pair.b);
     }
     int many_planes = 0, enumerated = 0;
-    expect_identical_kernels(shape.view(), shape.view(), poses.a, poses.b, many_planes, enumerated);
+    expect_identical_paths(shape.view(), shape.view(), poses.a, poses.b, many_planes, enumerated);
     std::vector<Pose<float>> fa, fb;
     for (std::size_t k = 0; k < poses.a.size(); ++k) {
       fa.push_back(to_float(poses.a[k]));
       fb.push_back(to_float(poses.b[k]));
     }
-    expect_identical_kernels(shape.view_f(), shape.view_f(), fa, fb, many_planes, enumerated);
-    // Pairs whose polytope has more faces than the small workspace holds took the fallback, and
-    // the "vertices" variant's shallow pairs the vertex enumeration (in the phased_sorted kernel
-    // alone, with the pairs it declines deferred): 751 of the cylinder's double and float pairs
-    // on the H100 (a third of the poses are deep, and its caps keep more than 8 planes).
+    expect_identical_paths(shape.view_f(), shape.view_f(), fa, fb, many_planes, enumerated);
+    // Pairs whose polytope has more than 8 faces went to the hull's buckets, and the
+    // "vertices" variant's shallow pairs to the vertex enumeration (with the pairs it declines
+    // deferred): 751 of the cylinder's double and float pairs on the H100 (a third of the poses
+    // are deep, and its caps keep more than 8 planes).
     EXPECT_GT(many_planes, 0);
     EXPECT_GT(enumerated, 500);
   }

@@ -1,6 +1,6 @@
 // The overlap batch's kernels and their launches (overlap_batch.hpp), shared by the files that
 // compile them: overlap_batch.cu (the class, no kernel of its own) and one generated file per
-// precision and workspace capacity (solver/CMakeLists.txt), each instantiating
+// precision and workspace capacity (benchmarks/overlap_batch/CMakeLists.txt), each instantiating
 // launch_overlap_batch for its pair, so that a parallel build compiles them side by side (one file
 // that held every kernel took minutes to compile alone: benchmarks/history/README.md). Included
 // only from .cu files.
@@ -13,9 +13,9 @@
 
 #include <cub/cub.cuh>
 
+#include "benchmarks/overlap_batch/overlap_batch.hpp"
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/device_shape.cuh"
-#include "solver/geometry/overlap_batch.hpp"
 #include "solver/geometry/overlap_polyhedra.hpp"
 
 namespace talus {
@@ -70,15 +70,6 @@ struct KernelArgs {
   int* overflow = nullptr;
   int* overflow_count = nullptr;
 };
-
-// The smaller workspace of the small_workspace kernel: 3/8 of the full one (12 planes for two
-// dodecahedra). Culling leaves few planes on shallow contacts: of 4096 shallow pairs of the
-// benchmark, no dodecahedron pair kept more than 10 planes and no cylinder80 pair more than 16.
-// A pair with more computes again with the full workspace; since its warp then waits for it,
-// the small capacity is chosen so that this stays rare.
-constexpr int small_capacity_for(int capacity) {
-  return 3 * capacity / 8;
-}
 
 // Shared memory a block may take for the staged templates without an opt-in.
 constexpr int kSharedTemplateLimit = 48 * 1024;
@@ -176,13 +167,12 @@ __device__ void defer_pair(const KernelArgs& args, int i) {
   args.overflow[atomicAdd(args.overflow_count, 1)] = i;
 }
 
-// One thread per pair. Staged: the templates are first copied into shared memory, where every
-// thread reads them without competing with the workspaces for the L1 cache. Small > 0: the pair
-// is first computed with a workspace of Small planes; when more planes than Small survive the
-// culling (the culling does not depend on the capacity) it is computed again with Capacity
-// planes, in the same thread, or (Defer) by a second launch over the deferred pairs, so that
-// this kernel holds one copy of the overlap.
-template <class Real, int Capacity, int Small, bool Staged, bool Defer>
+// The whole overlap of each pair in one thread (overlap_polyhedra) with a workspace of Capacity
+// planes: the path of templates with more than kMaxPhasedPlanes faces together, of templates too
+// large to stage, and of the pairs the phased kernels defer. Staged: the templates are first
+// copied into shared memory, where every thread reads them without competing with the
+// workspaces for the L1 cache. The pairs: args.order[0..count) when given, else 0..count.
+template <class Real, int Capacity, bool Staged>
 __global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
                                const Vec3<Real>* __restrict__ position_a,
                                const Quat<Real>* __restrict__ orientation_a,
@@ -195,25 +185,11 @@ __global__ void overlap_kernel(ConvexView<Real> a, ConvexView<Real> b,
   if (args.order) i = args.order[i];
   const Pose<Real> pose_a{position_a[i], orientation_a[i]};
   const Pose<Real> pose_b{position_b[i], orientation_b[i]};
-  if constexpr (Small > 0) {
-    OverlapWorkspace<Real, Small> small;  // per-thread local memory
-    const OverlapResult<Real> result = overlap_polyhedra(a, pose_a, b, pose_b, small, args.options);
-    if (!result.workspace_overrun) {
-      out[i] = result;
-      return;
-    }
-    if constexpr (Defer) {
-      defer_pair(args, i);
-      return;
-    }
-  }
-  if constexpr (!Defer || Small == 0) {
-    OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
-    out[i] = overlap_polyhedra(a, pose_a, b, pose_b, workspace, args.options);
-  }
+  OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
+  out[i] = overlap_polyhedra(a, pose_a, b, pose_b, workspace, args.options);
 }
 
-// Phase 1 of the phased kernel: the culling alone (overlap_cull_mask), one thread per pair. A
+// Phase 1 of the phased path: the culling alone (overlap_cull_mask), one thread per pair. A
 // pair decided here (bounding spheres apart, a separating plane) has its result written and key
 // 0; the others keep their mask of kept planes and key m + 1 (m kept planes). `histogram`
 // counts the keys (one atomic per block and key).
@@ -250,9 +226,9 @@ __global__ void __launch_bounds__(kBatchBlock, kCullBlocks)
     if (block_histogram[k] > 0) atomicAdd(&histogram[k], block_histogram[k]);
 }
 
-// Phase 2 of the phased kernel: steps 3-5 (overlap_from_mask) of the pairs order[begin..end)
-// with a workspace of Capacity planes; a pair it cannot hold is deferred. With `keys`, pairs of
-// key 0 (decided by the culling) are skipped.
+// Phase 2 of the phased path: steps 3-5 (overlap_from_mask) of the sorted pairs
+// order[begin..begin + count) with a workspace of Capacity planes; a pair it cannot hold is
+// deferred.
 template <class Real, int Capacity, bool Staged>
 __global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
                                 const Vec3<Real>* __restrict__ position_a,
@@ -260,19 +236,17 @@ __global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
                                 const Vec3<Real>* __restrict__ position_b,
                                 const Quat<Real>* __restrict__ orientation_b, KernelArgs args,
                                 int begin, const unsigned long long* __restrict__ masks,
-                                const unsigned char* __restrict__ keys,
                                 OverlapResult<Real>* __restrict__ out) {
   stage_both<Real, Staged>(a, b, args);
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= args.count) return;
-  const int i = args.order ? args.order[begin + j] : begin + j;
-  if (keys && keys[i] == 0) return;
+  const int i = args.order[begin + j];
   const Pose<Real> pose_a{position_a[i], orientation_a[i]};
   const Pose<Real> pose_b{position_b[i], orientation_b[i]};
   OverlapWorkspace<Real, Capacity> workspace;  // per-thread local memory
   const OverlapResult<Real> result =
       overlap_from_mask(a, pose_a, b, pose_b, masks[i], workspace, args.options);
-  if (result.workspace_overrun && args.overflow) {
+  if (result.workspace_overrun) {
     defer_pair(args, i);
     return;
   }
@@ -393,10 +367,15 @@ struct OverlapBatchImpl {
     TALUS_CUDA_LAUNCH_CHECK();
   }
 
-  template <int Capacity, int Small, bool Staged>
-  void launch(OverlapOptions options) {
-    launch_over(overlap_kernel<Real, Capacity, Small, Staged, false>, Staged,
-                args_for(count(), options), results.data());
+  // Every pair's whole overlap in one launch (overlap_kernel), the templates staged if they fit.
+  template <int Capacity>
+  void launch_whole(OverlapOptions options) {
+    if (can_stage())
+      launch_over(overlap_kernel<Real, Capacity, true>, true, args_for(count(), options),
+                  results.data());
+    else
+      launch_over(overlap_kernel<Real, Capacity, false>, false, args_for(count(), options),
+                  results.data());
   }
 
   void ensure_scratch() {
@@ -424,22 +403,10 @@ struct OverlapBatchImpl {
   void launch_deferred(OverlapOptions options) {
     KernelArgs args = args_for(deferred_count(), options);
     args.order = overflow.data();
-    launch_over(overlap_kernel<Real, Capacity, 0, true, false>, true, args, results.data());
+    launch_over(overlap_kernel<Real, Capacity, true>, true, args, results.data());
   }
 
-  // deferred_overflow: the small workspace, and the pairs it cannot hold in a second launch.
-  template <int Capacity>
-  void launch_split(OverlapOptions options) {
-    ensure_scratch();
-    KernelArgs args = args_for(count(), options);
-    args.overflow = overflow.data();
-    args.overflow_count = counters.data();
-    launch_over(overlap_kernel<Real, Capacity, small_capacity_for(Capacity), true, true>, true,
-                args, results.data());
-    launch_deferred<Capacity>(options);
-  }
-
-  // Phase 2 of phased_sorted: one launch per workspace size Cap = 8, 16, ..., Capacity over the
+  // Phase 2 of the phased path: one launch per workspace size Cap = 8, 16, ..., Capacity over the
   // sorted pairs whose kept planes fit it and not the size before, from Cap = First on; the
   // bucket of 8 runs the vertex enumeration alone when the options ask for it.
   template <int Cap, int Capacity>
@@ -455,96 +422,76 @@ struct OverlapBatchImpl {
       launch_over(enumerate_kernel<Real>, true, args, begin, masks.data(), results.data());
     } else
       launch_over(polytope_kernel<Real, Cap, true>, true, args, begin, masks.data(),
-                  static_cast<const unsigned char*>(nullptr), results.data());
+                  results.data());
     if constexpr (Cap < Capacity)
       if (all) launch_buckets<Cap * 2, Capacity>(options, histogram, end, Cap, true);
   }
 
+  // The phased path: the culling (cull_kernel), the pairs sorted by their number of kept planes
+  // (CUB radix sort), one polytope launch per workspace size over its range of the sorted pairs
+  // (a warp's pairs have the same number of planes), and the deferred pairs whole.
   template <int Capacity>
-  void launch_phased(OverlapOptions options, bool sorted) {
+  void launch_phased(OverlapOptions options) {
     ensure_scratch();
     const int n = count();
     launch_over(cull_kernel<Real, true>, true, args_for(n, options), masks.data(), keys.data(),
                 order.data(), counters.data() + 1, results.data());
-    if (!sorted) {
-      KernelArgs args = args_for(n, options);
-      args.overflow = overflow.data();
-      args.overflow_count = counters.data();
-      constexpr int small = small_capacity_for(Capacity);
-      launch_over(polytope_kernel<Real, small, true>, true, args, 0, masks.data(),
-                  static_cast<const unsigned char*>(keys.data()), results.data());
-    } else {
-      std::vector<int> histogram(planes() + 2);
-      TALUS_CUDA_CHECK(cudaMemcpy(histogram.data(), counters.data() + 1,
-                                  histogram.size() * sizeof(int), cudaMemcpyDeviceToHost));
-      int end_bit = 1;
-      while ((1 << end_bit) < planes() + 2) ++end_bit;
-      std::size_t temp_bytes = 0;
-      TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temp_bytes, keys.data(),
-                                                       keys_sorted.data(), order.data(),
-                                                       order_sorted.data(), n, 0, end_bit));
-      if (cub_temp.size() < temp_bytes) cub_temp.resize(temp_bytes);
-      TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(cub_temp.data(), temp_bytes, keys.data(),
-                                                       keys_sorted.data(), order.data(),
-                                                       order_sorted.data(), n, 0, end_bit));
-      // Key 0 (decided by the culling) sorts first and is skipped. The buckets of more than 8
-      // planes are few pairs whose threads run long (the hull): they go first, on the side
-      // stream, so that the enumeration's many blocks fill the GPU around them.
-      int first_large = histogram[0];
-      for (int m = 0; m <= kEnumerationPlanes && m + 1 < int(histogram.size()); ++m)
-        first_large += histogram[m + 1];
-      if constexpr (Capacity > kEnumerationPlanes) {
-        TALUS_CUDA_CHECK(cudaEventRecord(fork, stream));
-        TALUS_CUDA_CHECK(cudaStreamWaitEvent(side_stream, fork, 0));
-        std::swap(stream, side_stream);
-        launch_buckets<2 * kEnumerationPlanes, Capacity>(options, histogram, first_large,
-                                                         kEnumerationPlanes, true);
-        std::swap(stream, side_stream);
-        TALUS_CUDA_CHECK(cudaEventRecord(join, side_stream));
-      }
-      launch_buckets<kEnumerationPlanes, Capacity>(options, histogram, histogram[0], -1, false);
-      if constexpr (Capacity > kEnumerationPlanes)
-        TALUS_CUDA_CHECK(cudaStreamWaitEvent(stream, join, 0));
+    std::vector<int> histogram(planes() + 2);
+    TALUS_CUDA_CHECK(cudaMemcpy(histogram.data(), counters.data() + 1,
+                                histogram.size() * sizeof(int), cudaMemcpyDeviceToHost));
+    int end_bit = 1;
+    while ((1 << end_bit) < planes() + 2) ++end_bit;
+    std::size_t temp_bytes = 0;
+    TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temp_bytes, keys.data(),
+                                                     keys_sorted.data(), order.data(),
+                                                     order_sorted.data(), n, 0, end_bit));
+    if (cub_temp.size() < temp_bytes) cub_temp.resize(temp_bytes);
+    TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(cub_temp.data(), temp_bytes, keys.data(),
+                                                     keys_sorted.data(), order.data(),
+                                                     order_sorted.data(), n, 0, end_bit));
+    // Key 0 (decided by the culling) sorts first and is skipped. The buckets of more than 8
+    // planes are few pairs whose threads run long (the hull): they go first, on the side
+    // stream, so that the enumeration's many blocks fill the GPU around them.
+    int first_large = histogram[0];
+    for (int m = 0; m <= kEnumerationPlanes && m + 1 < int(histogram.size()); ++m)
+      first_large += histogram[m + 1];
+    if constexpr (Capacity > kEnumerationPlanes) {
+      TALUS_CUDA_CHECK(cudaEventRecord(fork, stream));
+      TALUS_CUDA_CHECK(cudaStreamWaitEvent(side_stream, fork, 0));
+      std::swap(stream, side_stream);
+      launch_buckets<2 * kEnumerationPlanes, Capacity>(options, histogram, first_large,
+                                                       kEnumerationPlanes, true);
+      std::swap(stream, side_stream);
+      TALUS_CUDA_CHECK(cudaEventRecord(join, side_stream));
     }
+    launch_buckets<kEnumerationPlanes, Capacity>(options, histogram, histogram[0], -1, false);
+    if constexpr (Capacity > kEnumerationPlanes)
+      TALUS_CUDA_CHECK(cudaStreamWaitEvent(stream, join, 0));
     launch_deferred<Capacity>(options);
   }
 
-  // The small workspace pays only when culling leaves few planes: with the face test. Without
-  // it (planes, naive) many shallow pairs keep more planes than it holds, and the warp of each
-  // such pair would wait for its second computation, so the full workspace is used at once.
-  // The phased kernels need staged templates and at most 64 planes in all (a 64-bit mask).
+  // The phased path needs staged templates and at most 64 planes in all (a 64-bit mask).
   template <int Capacity>
-  void launch_kernel(OverlapOptions options, OverlapBatchKernel kernel) {
-    const bool faces = options.cull_planes && options.cull_faces;
+  void launch_kernel(OverlapOptions options, bool whole) {
     if constexpr (Capacity <= kMaxPhasedPlanes) {
-      if (can_stage() && kernel == OverlapBatchKernel::phased_sorted)
-        return launch_phased<Capacity>(options, true);
-      if (can_stage() && faces && kernel == OverlapBatchKernel::phased)
-        return launch_phased<Capacity>(options, false);
+      if (can_stage() && !whole) return launch_phased<Capacity>(options);
     }
-    if (can_stage() && faces && kernel == OverlapBatchKernel::deferred_overflow)
-      return launch_split<Capacity>(options);
-    if (kernel == OverlapBatchKernel::global_templates || !can_stage())
-      launch<Capacity, 0, false>(options);
-    else if (kernel != OverlapBatchKernel::shared_templates && faces)
-      launch<Capacity, small_capacity_for(Capacity), true>(options);
-    else
-      launch<Capacity, 0, true>(options);
+    launch_whole<Capacity>(options);
   }
 };
 
-// Runs the batch with the workspace of Capacity planes, the kernel chosen by `kernel`. Each of
-// the eight is instantiated in a generated file of its own (solver/CMakeLists.txt); elsewhere
-// these declarations keep the kernels from being compiled again.
+// Runs the batch with the workspace of Capacity planes, by the phased path unless `whole` asks for
+// overlap_kernel alone (or the templates need it). Each of the eight is instantiated in a
+// generated file of its own (benchmarks/overlap_batch/CMakeLists.txt); elsewhere these
+// declarations keep the kernels from being compiled again.
 template <class Real, int Capacity>
-void launch_overlap_batch(OverlapBatchImpl<Real>& batch, OverlapOptions options,
-                          OverlapBatchKernel kernel) {
-  batch.template launch_kernel<Capacity>(options, kernel);
+void launch_overlap_batch(OverlapBatchImpl<Real>& batch, OverlapOptions options, bool whole) {
+  batch.template launch_kernel<Capacity>(options, whole);
 }
 
 #define TALUS_OVERLAP_BATCH_EXTERN(Real, Capacity)                                   \
   extern template void launch_overlap_batch<Real, Capacity>(OverlapBatchImpl<Real>&, \
-                                                            OverlapOptions, OverlapBatchKernel);
+                                                            OverlapOptions, bool);
 TALUS_OVERLAP_BATCH_EXTERN(float, 32)
 TALUS_OVERLAP_BATCH_EXTERN(float, 64)
 TALUS_OVERLAP_BATCH_EXTERN(float, 128)

@@ -1,28 +1,26 @@
 // GPU batch of overlap_polyhedra (see overlap_batch.hpp): the class. Its kernels and launches are
 // in overlap_batch_kernels.cuh, compiled in generated files, one per precision and capacity.
-#include "solver/geometry/overlap_batch.hpp"
+#include "benchmarks/overlap_batch/overlap_batch.hpp"
 
-#include "solver/geometry/overlap_batch_kernels.cuh"
+#include "benchmarks/overlap_batch/overlap_batch_kernels.cuh"
 
 namespace talus {
-
-using overlap_batch_detail::small_capacity_for;
 
 template <class Real>
 struct OverlapBatchGpu<Real>::Impl : overlap_batch_detail::OverlapBatchImpl<Real> {
   using overlap_batch_detail::OverlapBatchImpl<Real>::OverlapBatchImpl;
 
-  void dispatch(OverlapOptions options, OverlapBatchKernel kernel) {
+  void dispatch(OverlapOptions options, bool whole) {
     using overlap_batch_detail::launch_overlap_batch;
     switch (this->capacity) {
       case 32:
-        return launch_overlap_batch<Real, 32>(*this, options, kernel);
+        return launch_overlap_batch<Real, 32>(*this, options, whole);
       case 64:
-        return launch_overlap_batch<Real, 64>(*this, options, kernel);
+        return launch_overlap_batch<Real, 64>(*this, options, whole);
       case 128:
-        return launch_overlap_batch<Real, 128>(*this, options, kernel);
+        return launch_overlap_batch<Real, 128>(*this, options, whole);
       default:
-        return launch_overlap_batch<Real, 256>(*this, options, kernel);
+        return launch_overlap_batch<Real, 256>(*this, options, whole);
     }
   }
 };
@@ -55,13 +53,13 @@ void OverlapBatchGpu<Real>::set_poses(const std::vector<Pose<Real>>& poses_a,
 }
 
 template <class Real>
-double OverlapBatchGpu<Real>::run(OverlapOptions options, OverlapBatchKernel kernel) {
+double OverlapBatchGpu<Real>::run(OverlapOptions options, OverlapBatchPath path) {
   if (impl_->results.size() == 0) return 0.0;
   cudaEvent_t start, stop;
   TALUS_CUDA_CHECK(cudaEventCreate(&start));
   TALUS_CUDA_CHECK(cudaEventCreate(&stop));
   TALUS_CUDA_CHECK(cudaEventRecord(start));
-  impl_->dispatch(options, kernel);
+  impl_->dispatch(options, path == OverlapBatchPath::whole);
   TALUS_CUDA_CHECK(cudaEventRecord(stop));
   TALUS_CUDA_CHECK(cudaEventSynchronize(stop));
   float ms = 0;
@@ -94,25 +92,6 @@ std::size_t OverlapBatchGpu<Real>::workspace_bytes() const {
       return sizeof(OverlapWorkspace<Real, 128>);
     default:
       return sizeof(OverlapWorkspace<Real, 256>);
-  }
-}
-
-template <class Real>
-int OverlapBatchGpu<Real>::small_workspace_capacity() const {
-  return small_capacity_for(impl_->capacity);
-}
-
-template <class Real>
-std::size_t OverlapBatchGpu<Real>::small_workspace_bytes() const {
-  switch (impl_->capacity) {
-    case 32:
-      return sizeof(OverlapWorkspace<Real, small_capacity_for(32)>);
-    case 64:
-      return sizeof(OverlapWorkspace<Real, small_capacity_for(64)>);
-    case 128:
-      return sizeof(OverlapWorkspace<Real, small_capacity_for(128)>);
-    default:
-      return sizeof(OverlapWorkspace<Real, small_capacity_for(256)>);
   }
 }
 
