@@ -9,14 +9,12 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
-#include <vector>
-
-#include <cub/cub.cuh>
 
 #include "benchmarks/overlap_batch/overlap_batch.hpp"
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/device_shape.cuh"
 #include "solver/geometry/overlap_polyhedra.hpp"
+#include "solver/geometry/phased_overlap.cuh"
 
 namespace talus {
 
@@ -25,9 +23,6 @@ namespace overlap_batch_detail {
 // Where a template's arrays sit in the block's shared memory (byte offsets; -1: not staged). Only
 // what the overlap reads is staged: vertices, face planes, face loops, vertex records and the
 // float vertices.
-// The phased kernel keeps a pair's planes as the bits of a 64-bit mask.
-constexpr int kMaxPhasedPlanes = 64;
-
 struct SharedShapeLayout {
   int vertices = -1, face_normals = -1, face_offsets = -1, loop_offsets = -1, loop_vertices = -1,
       vertex_records = -1, filter_vertices = -1;
@@ -203,7 +198,7 @@ __global__ void __launch_bounds__(kBatchBlock, kCullBlocks)
                 int* __restrict__ order, int* __restrict__ histogram,
                 OverlapResult<Real>* __restrict__ out) {
   const ConvexView<Real>* views = stage_views<Real, Staged>(a, b, args);
-  __shared__ int block_histogram[kMaxPhasedPlanes + 2];
+  __shared__ int block_histogram[kPhasedKeys];
   const int bins = a.n_faces + b.n_faces + 2;
   for (int k = threadIdx.x; k < bins; k += blockDim.x) block_histogram[k] = 0;
   __syncthreads();
@@ -257,10 +252,9 @@ __global__ void polytope_kernel(ConvexView<Real> a, ConvexView<Real> b,
 // the vertex enumeration alone (overlap_enumerate_from_mask), with no workspace, in a kernel of
 // its own so that its registers are not those of the hull; what it declines is deferred to the
 // launch that runs the whole overlap (which declines there too and builds the hull). Nothing of
-// a pair goes through the thread's local memory: its planes are kept in shared memory (thread
-// t's plane p at planes[p * kBatchBlock + t], so that a warp reads one plane of 32 threads from
-// consecutive addresses), and the enumeration reads the views (shared) and the poses (global)
-// where they lie.
+// a pair goes through the thread's local memory: its planes are kept in shared memory
+// (shared_enumeration_planes), and the enumeration reads the views (shared) and the poses
+// (global) where they lie.
 template <class Real>
 __global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks<Real>)
     enumerate_kernel(ConvexView<Real> a, ConvexView<Real> b,
@@ -271,11 +265,6 @@ __global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks<Real>)
                      const unsigned long long* __restrict__ masks,
                      OverlapResult<Real>* __restrict__ out) {
   const ConvexView<Real>* views = stage_views<Real, true>(a, b, args);
-  // Raw bytes: a __shared__ array may not have a constructor, which EnumerationPlane's Vec3 has.
-  using Plane = overlap_detail::EnumerationPlane<Real>;
-  __shared__ __align__(
-      alignof(Plane)) unsigned char plane_bytes[kEnumerationPlanes * kBatchBlock * sizeof(Plane)];
-  Plane* planes = reinterpret_cast<Plane*>(plane_bytes);
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= args.count) return;
   const int i = args.order[begin + j];
@@ -284,7 +273,8 @@ __global__ void __launch_bounds__(kBatchBlock, kEnumerateBlocks<Real>)
       position_b[i], orientation_b[i], Real(0)};
   // The result goes straight to global memory: the enumeration sets every field when it answers
   // and none when it declines.
-  if (!overlap_enumerate_from_mask(bodies, masks[i], planes + threadIdx.x, kBatchBlock, out[i]))
+  if (!overlap_enumerate_from_mask(bodies, masks[i], shared_enumeration_planes<Real, kBatchBlock>(),
+                                   kBatchBlock, out[i]))
     defer_pair(args, i);
 }
 
@@ -332,11 +322,8 @@ struct OverlapBatchImpl {
   bool can_stage() const { return layout_a.bytes + layout_b.bytes <= kSharedTemplateLimit; }
 
   // Scratch of the deferred and phased kernels, sized on first use.
-  DeviceBuffer<unsigned long long> masks;
-  DeviceBuffer<unsigned char> keys, keys_sorted;
-  DeviceBuffer<int> order, order_sorted, overflow;
-  DeviceBuffer<int> counters;  // [0]: deferred pairs; [1 + k]: pairs of key k (cull_kernel)
-  DeviceBuffer<char> cub_temp;
+  PhasedOverlapScratch scratch;
+  DeviceBuffer<unsigned char> cub_temp;
 
   int planes() const { return a.view.n_faces + b.view.n_faces; }
   int count() const { return static_cast<int>(results.size()); }
@@ -378,93 +365,55 @@ struct OverlapBatchImpl {
                   results.data());
   }
 
-  void ensure_scratch() {
-    const std::size_t n = results.size();
-    if (order.size() != n) {
-      masks.resize(n);
-      keys.resize(n);
-      keys_sorted.resize(n);
-      order.resize(n);
-      order_sorted.resize(n);
-      overflow.resize(n);
-    }
-    counters.resize(kMaxPhasedPlanes + 3);
-    TALUS_CUDA_CHECK(cudaMemset(counters.data(), 0, counters.size() * sizeof(int)));
-  }
-
-  int deferred_count() const {
-    int deferred = 0;
-    TALUS_CUDA_CHECK(cudaMemcpy(&deferred, counters.data(), sizeof(int), cudaMemcpyDeviceToHost));
-    return deferred;
-  }
-
   // The pairs deferred by the launches before, computed with the full workspace.
   template <int Capacity>
   void launch_deferred(OverlapOptions options) {
-    KernelArgs args = args_for(deferred_count(), options);
-    args.order = overflow.data();
+    KernelArgs args = args_for(scratch.deferred_count(), options);
+    args.order = scratch.deferred();
     launch_over(overlap_kernel<Real, Capacity, true>, true, args, results.data());
   }
 
-  // Phase 2 of the phased path: one launch per workspace size Cap = 8, 16, ..., Capacity over the
-  // sorted pairs whose kept planes fit it and not the size before, from Cap = First on; the
+  // Phase 2 of the phased path: one launch per workspace size First, 2 First, ..., Last, each
+  // over its range of the sorted pairs (the kept planes fit it and not the size before); the
   // bucket of 8 runs the vertex enumeration alone when the options ask for it.
-  template <int Cap, int Capacity>
-  void launch_buckets(OverlapOptions options, const std::vector<int>& histogram, int begin,
-                      int below, bool all) {
-    int end = begin;
-    for (int m = below + 1; m <= Cap && m + 1 < int(histogram.size()); ++m) end += histogram[m + 1];
-    KernelArgs args = args_for(end - begin, options);
-    args.order = order_sorted.data();
-    args.overflow = overflow.data();
-    args.overflow_count = counters.data();
-    if (Cap == kEnumerationPlanes && options.enumerate) {
-      launch_over(enumerate_kernel<Real>, true, args, begin, masks.data(), results.data());
+  template <int First, int Last>
+  void launch_buckets(OverlapOptions options, const PhasedBuckets& buckets) {
+    const PhasedRange range = buckets.workspace(First);
+    KernelArgs args = args_for(range.count, options);
+    args.order = scratch.sorted_order();
+    args.overflow = scratch.deferred();
+    args.overflow_count = scratch.deferred_counter();
+    if (First == kEnumerationPlanes && options.enumerate) {
+      launch_over(enumerate_kernel<Real>, true, args, range.begin, scratch.masks(), results.data());
     } else
-      launch_over(polytope_kernel<Real, Cap, true>, true, args, begin, masks.data(),
+      launch_over(polytope_kernel<Real, First, true>, true, args, range.begin, scratch.masks(),
                   results.data());
-    if constexpr (Cap < Capacity)
-      if (all) launch_buckets<Cap * 2, Capacity>(options, histogram, end, Cap, true);
+    if constexpr (First < Last) launch_buckets<First * 2, Last>(options, buckets);
   }
 
   // The phased path: the culling (cull_kernel), the pairs sorted by their number of kept planes
-  // (CUB radix sort), one polytope launch per workspace size over its range of the sorted pairs
-  // (a warp's pairs have the same number of planes), and the deferred pairs whole.
+  // (PhasedOverlapScratch), one polytope launch per workspace size over its range of the sorted
+  // pairs (a warp's pairs have the same number of planes), and the deferred pairs whole.
   template <int Capacity>
   void launch_phased(OverlapOptions options) {
-    ensure_scratch();
     const int n = count();
-    launch_over(cull_kernel<Real, true>, true, args_for(n, options), masks.data(), keys.data(),
-                order.data(), counters.data() + 1, results.data());
-    std::vector<int> histogram(planes() + 2);
-    TALUS_CUDA_CHECK(cudaMemcpy(histogram.data(), counters.data() + 1,
-                                histogram.size() * sizeof(int), cudaMemcpyDeviceToHost));
-    int end_bit = 1;
-    while ((1 << end_bit) < planes() + 2) ++end_bit;
-    std::size_t temp_bytes = 0;
-    TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temp_bytes, keys.data(),
-                                                     keys_sorted.data(), order.data(),
-                                                     order_sorted.data(), n, 0, end_bit));
-    if (cub_temp.size() < temp_bytes) cub_temp.resize(temp_bytes);
-    TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(cub_temp.data(), temp_bytes, keys.data(),
-                                                     keys_sorted.data(), order.data(),
-                                                     order_sorted.data(), n, 0, end_bit));
+    scratch.prepare(n);
+    launch_over(cull_kernel<Real, true>, true, args_for(n, options), scratch.masks(),
+                scratch.keys(), scratch.order(), scratch.histogram(), results.data());
+    const PhasedBuckets buckets = scratch.buckets();
+    scratch.sort(n, planes() + 1, cub_temp);
     // Key 0 (decided by the culling) sorts first and is skipped. The buckets of more than 8
     // planes are few pairs whose threads run long (the hull): they go first, on the side
     // stream, so that the enumeration's many blocks fill the GPU around them.
-    int first_large = histogram[0];
-    for (int m = 0; m <= kEnumerationPlanes && m + 1 < int(histogram.size()); ++m)
-      first_large += histogram[m + 1];
     if constexpr (Capacity > kEnumerationPlanes) {
       TALUS_CUDA_CHECK(cudaEventRecord(fork, stream));
       TALUS_CUDA_CHECK(cudaStreamWaitEvent(side_stream, fork, 0));
       std::swap(stream, side_stream);
-      launch_buckets<2 * kEnumerationPlanes, Capacity>(options, histogram, first_large,
-                                                       kEnumerationPlanes, true);
+      launch_buckets<2 * kEnumerationPlanes, Capacity>(options, buckets);
       std::swap(stream, side_stream);
       TALUS_CUDA_CHECK(cudaEventRecord(join, side_stream));
     }
-    launch_buckets<kEnumerationPlanes, Capacity>(options, histogram, histogram[0], -1, false);
+    launch_buckets<kEnumerationPlanes, kEnumerationPlanes>(options, buckets);
     if constexpr (Capacity > kEnumerationPlanes)
       TALUS_CUDA_CHECK(cudaStreamWaitEvent(stream, join, 0));
     launch_deferred<Capacity>(options);

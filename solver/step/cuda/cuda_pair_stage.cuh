@@ -13,6 +13,7 @@
 #include <array>
 #include <vector>
 
+#include "solver/geometry/phased_overlap.cuh"
 #include "solver/step/cuda/cuda_pair_list.cuh"
 
 namespace talus {
@@ -46,7 +47,7 @@ class DevicePairStage {
   template <class Law, int Capacity>
   void launch_pairs(const int* slots, int n);
   template <class Law, int Cap>
-  void launch_polytopes(int begin, int n, cudaStream_t stream);
+  void launch_polytopes(const PhasedBuckets& buckets, cudaStream_t stream);
   template <class Law>
   void compute_phased();
 
@@ -57,13 +58,10 @@ class DevicePairStage {
   Real spring_dt_ = 0;
   mutable long long contact_count_ = 0;
   mutable bool contact_count_ready_ = true;
-  // The phased path: per slot a mask of kept planes and a key (its number of planes).
-  DeviceBuffer<unsigned long long> masks_;
-  DeviceBuffer<unsigned char> keys_, sorted_keys_;
-  DeviceBuffer<int> order_, sorted_order_, deferred_, histogram_;
+  // The phased path's per-slot masks, keys, orders and deferral list (phased_overlap.cuh).
+  PhasedOverlapScratch scratch_;
   // One stream per polytope workspace size (8, 16, 32, 64 planes), so the sizes run together.
-  static constexpr int kPolytopeSizes = 4;
-  std::array<cudaStream_t, kPolytopeSizes> streams_{};
+  std::array<cudaStream_t, kPhasedSizes> streams_{};
 };
 
 }  // namespace talus

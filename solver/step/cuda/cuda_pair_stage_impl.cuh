@@ -6,14 +6,11 @@
 
 #include "solver/step/cuda/cuda_pair_stage.cuh"
 
-#include <cub/cub.cuh>
-
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include "solver/contact/contact_laws.hpp"
-#include "solver/core/cub_call.cuh"
 #include "solver/step/pair_kernels.hpp"
 
 namespace talus {
@@ -140,8 +137,8 @@ __global__ void __launch_bounds__(kBlock)
 // then sorted by their number of kept planes, and phase 2 builds the polytope with a workspace
 // of 8, 16, 32 or 64 planes, one launch per size over its range of the sorted slots, so a warp's
 // pairs do similar work in little local memory (the overlap batch's phased_sorted kernel,
-// benchmarks/README.md). The result is overlap_polyhedra's bit for bit (overlap_from_mask).
-constexpr int kMaxMaskPlanes = 64;
+// benchmarks/README.md). The result is overlap_polyhedra's bit for bit (overlap_from_mask). The
+// sort, the ranges and the deferral list are the overlap batch's too (phased_overlap.cuh).
 constexpr unsigned char kOtherPath = 255;  // a slot phase 1 leaves to pair_kernel
 
 // Phase 1. key[k]: 0 when the slot is settled here (GJK or the culling decides it apart),
@@ -156,8 +153,8 @@ __global__ void __launch_bounds__(kBlock, 4)
     cull_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, int count,
                      unsigned long long* __restrict__ masks, unsigned char* __restrict__ keys,
                      int* __restrict__ order, int* __restrict__ histogram) {
-  __shared__ int block_histogram[kMaxMaskPlanes + 2];
-  for (int b = threadIdx.x; b < kMaxMaskPlanes + 2; b += blockDim.x) block_histogram[b] = 0;
+  __shared__ int block_histogram[kPhasedKeys];
+  for (int b = threadIdx.x; b < kPhasedKeys; b += blockDim.x) block_histogram[b] = 0;
   __syncthreads();
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k < count) {
@@ -167,7 +164,7 @@ __global__ void __launch_bounds__(kBlock, 4)
     const BodyProperties<Real>& a = t.bodies[p.template_id[ia]];
     const BodyProperties<Real>& b = t.bodies[p.template_id[ib]];
     unsigned char key = kOtherPath;
-    if (pair_capacity<Law>(a, b) > 0 && a.faces + b.faces <= kMaxMaskPlanes) {
+    if (pair_capacity<Law>(a, b) > 0 && a.faces + b.faces <= kMaxPhasedPlanes) {
       const Pose<Real> pose_a{p.position.get(ia), p.orientation.get(ia)};
       const Pose<Real> pose_b{p.position.get(ib), p.orientation.get(ib)};
       // As polyhedra_volume_geometry: GJK first, then the overlap's own culling.
@@ -195,7 +192,7 @@ __global__ void __launch_bounds__(kBlock, 4)
     order[k] = k;
   }
   __syncthreads();
-  for (int b = threadIdx.x; b < kMaxMaskPlanes + 2; b += blockDim.x)
+  for (int b = threadIdx.x; b < kPhasedKeys; b += blockDim.x)
     if (block_histogram[b] > 0) atomicAdd(&histogram[b], block_histogram[b]);
 }
 
@@ -229,19 +226,13 @@ __global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
       // The fewest planes: the vertex enumeration alone, no workspace and no hull in the
       // thread; a pair it declines (a vertex of four planes, twins, ...) is deferred to
       // pair_kernel, whose overlap_polyhedra gives the host's result (it declines there too).
-      // The planes in shared memory, as the overlap batch's enumerate_kernel keeps them (thread
-      // t's plane q at planes[q * kBlock + t]: a warp reads one plane of 32 threads from
-      // consecutive addresses), not in the thread's local memory. Raw bytes: a __shared__
-      // array may not have a constructor, which EnumerationPlane's Vec3 has.
-      using Plane = overlap_detail::EnumerationPlane<Real>;
-      __shared__ __align__(
-          alignof(Plane)) unsigned char plane_bytes[kEnumerationPlanes * kBlock * sizeof(Plane)];
-      Plane* planes = reinterpret_cast<Plane*>(plane_bytes);
+      // The planes in shared memory, as the overlap batch's enumerate_kernel keeps them.
       const overlap_detail::EnumerationBodies<Real> bodies{a.shape,         b.shape,
                                                            pose_a.position, pose_a.orientation,
                                                            pose_b.position, pose_b.orientation,
                                                            Real(0)};
-      if (!overlap_enumerate_from_mask(bodies, masks[k], planes + threadIdx.x, kBlock, overlap))
+      if (!overlap_enumerate_from_mask(bodies, masks[k], shared_enumeration_planes<Real, kBlock>(),
+                                       kBlock, overlap))
         overlap.workspace_overrun = true;
     } else {
       OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
@@ -297,7 +288,7 @@ DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePai
   // The phased path when some template pair has at most 64 planes: its capacity is then 32 or
   // 64 (a pair with more goes to pair_kernel with its own capacity).
   for (const int capacity : capacities_)
-    phased_ = phased_ || (capacity > 0 && capacity <= kMaxMaskPlanes);
+    phased_ = phased_ || (capacity > 0 && capacity <= kMaxPhasedPlanes);
   if (phased_) {
     for (cudaStream_t& stream : streams_) TALUS_CUDA_CHECK(cudaStreamCreate(&stream));
   }
@@ -349,16 +340,17 @@ void DevicePairStage<Real>::launch_pairs(int capacity, const int* slots, int n) 
   }
 }
 
-// Phase 2 with a workspace of Cap planes over the sorted slots [begin, begin + n), on `stream`.
+// Phase 2 with a workspace of Cap planes over its range of the sorted slots, on `stream`.
 template <class Real>
 template <class Law, int Cap>
-void DevicePairStage<Real>::launch_polytopes(int begin, int n, cudaStream_t stream) {
-  if (n <= 0) return;
+void DevicePairStage<Real>::launch_polytopes(const PhasedBuckets& buckets, cudaStream_t stream) {
+  const PhasedRange range = buckets.workspace(Cap);
+  if (range.count <= 0) return;
   const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
   const auto launch = [&](auto kernel) {
-    kernel<<<blocks_for(n), kBlock, 0, stream>>>(
-        shared_.view, shared_.tables, args, sorted_order_.data(), begin, n, masks_.data(),
-        deferred_.data(), shared_.flags.at(deferred_pairs));
+    kernel<<<blocks_for(range.count), kBlock, 0, stream>>>(
+        shared_.view, shared_.tables, args, scratch_.sorted_order(), range.begin, range.count,
+        scratch_.masks(), scratch_.deferred(), scratch_.deferred_counter());
     TALUS_CUDA_LAUNCH_CHECK();
   };
   if (shared_.scene.deterministic) {
@@ -373,43 +365,27 @@ template <class Real>
 template <class Law>
 void DevicePairStage<Real>::compute_phased() {
   const int n = list_.candidates();
-  masks_.grow_to(n), keys_.grow_to(n), sorted_keys_.grow_to(n);
-  order_.grow_to(n), sorted_order_.grow_to(n);
-  histogram_.grow_to(kMaxMaskPlanes + 2);
-  TALUS_CUDA_CHECK(cudaMemset(histogram_.data(), 0, histogram_.size() * sizeof(int)));
+  scratch_.prepare(n);
   cull_pair_kernel<Law><<<blocks_for(n), kBlock>>>(
-      shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_), n, masks_.data(),
-      keys_.data(), order_.data(), histogram_.data());
+      shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_), n, scratch_.masks(),
+      scratch_.keys(), scratch_.order(), scratch_.histogram());
   TALUS_CUDA_LAUNCH_CHECK();
-  // Stable: slots of one key stay in slot order. kOtherPath (255) sorts last.
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
-    return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), order_.data(),
-                                           sorted_order_.data(), n, 0, 8);
-  });
-  const std::vector<int> counts = download(histogram_.data(), kMaxMaskPlanes + 2);
-  deferred_.grow_to(n);
-  // The sorted slots of keys 1 .. 9 need 8 planes, 10 .. 17 16, and so on. Each workspace size
-  // runs on a stream of its own: a small bucket (a few thousand deep pairs among millions) then
-  // runs beside the large one instead of as a tail with the GPU nearly idle. The streams are
-  // blocking ones: they start after the sort on the default stream, and the flag read below
-  // waits for all of them. The larger sizes are launched first so that their blocks are
-  // scheduled early.
-  static_assert((8 << (kPolytopeSizes - 1)) == kMaxMaskPlanes, "8, 16, 32, 64 planes");
-  int begin[kPolytopeSizes + 1];
-  begin[0] = counts[0];
-  for (int size = 0, m = 0; size < kPolytopeSizes; ++size) {
-    begin[size + 1] = begin[size];
-    for (; m <= (8 << size); ++m) begin[size + 1] += counts[m + 1];
-  }
-  const auto bucket = [&](int size) { return begin[size + 1] - begin[size]; };
-  launch_polytopes<Law, 64>(begin[3], bucket(3), streams_[3]);
-  launch_polytopes<Law, 32>(begin[2], bucket(2), streams_[2]);
-  launch_polytopes<Law, 16>(begin[1], bucket(1), streams_[1]);
-  launch_polytopes<Law, 8>(begin[0], bucket(0), streams_[0]);
-  const int late = shared_.flags.read(deferred_pairs);
+  // kOtherPath (255) sorts last.
+  scratch_.sort(n, kOtherPath, shared_.temp);
+  const PhasedBuckets buckets = scratch_.buckets();
+  // Each workspace size runs on a stream of its own: a small bucket (a few thousand deep pairs
+  // among millions) then runs beside the large one instead of as a tail with the GPU nearly
+  // idle. The streams are blocking ones: they start after the sort on the default stream, and
+  // the read of the deferred count below waits for all of them. The larger sizes are launched
+  // first so that their blocks are scheduled early.
+  launch_polytopes<Law, 64>(buckets, streams_[3]);
+  launch_polytopes<Law, 32>(buckets, streams_[2]);
+  launch_polytopes<Law, 16>(buckets, streams_[1]);
+  launch_polytopes<Law, 8>(buckets, streams_[0]);
+  const int late = scratch_.deferred_count();
   for (const int capacity : capacities_) {
-    if (capacity > 0 && capacity <= kMaxMaskPlanes)
-      launch_pairs<Law>(capacity, deferred_.data(), late);
+    if (capacity > 0 && capacity <= kMaxPhasedPlanes)
+      launch_pairs<Law>(capacity, scratch_.deferred(), late);
   }
 }
 
@@ -421,7 +397,7 @@ void DevicePairStage<Real>::launch_all(int candidates) {
     if (phased_) compute_phased<Law>();
   }
   for (const int capacity : capacities_) {
-    if (!phased_ || capacity == 0 || capacity > kMaxMaskPlanes)
+    if (!phased_ || capacity == 0 || capacity > kMaxPhasedPlanes)
       launch_pairs<Law>(capacity, nullptr, candidates);
   }
 }
@@ -455,9 +431,7 @@ long long DevicePairStage<Real>::touching_count() const {
 
 template <class Real>
 std::size_t DevicePairStage<Real>::bytes() const {
-  return (order_.size() + sorted_order_.size() + deferred_.size() + histogram_.size()) *
-             sizeof(int) +
-         masks_.size() * sizeof(unsigned long long) + keys_.size() + sorted_keys_.size();
+  return scratch_.bytes();
 }
 
 }  // namespace talus
