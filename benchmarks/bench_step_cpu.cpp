@@ -45,6 +45,24 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
   }
 }
 
+// The particles' order in memory (range(1), the modes of bench_step_gpu.cpp): 0 the lattice's,
+// 6 a random order (as a poured bed numbers them), 7 that order renumbered by cell at every
+// build (`reorder: true`; the host builds its candidates every step), 8 the lattice's order
+// renumbered so; a bed of side^3 (range(0)) with all effects, on all the host's threads.
+void host_step_order(benchmark::State& state) {
+  talus::Scene scene = talus_bench::dodecahedron_bed(static_cast<int>(state.range(0)),
+                                                     talus_bench::kAllEffects, true);
+  const int mode = static_cast<int>(state.range(1));
+  if (mode == 6 || mode == 7) talus_bench::shuffle_particles(scene);
+  scene.reorder = mode == 7 || mode == 8;
+  talus::HostStep<double> step(scene);
+  step.step();
+  for (auto _ : state) step.step();
+  state.counters["particle_steps/s"] = benchmark::Counter(
+      double(step.particle_count()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["threads"] = step.threads();
+}
+
 // Each case on 1 and 2 threads (this development host has 2 cores), in wall-clock time.
 void threads_1_2(benchmark::internal::Benchmark* b) {
   b->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
@@ -81,6 +99,15 @@ BENCHMARK_CAPTURE(host_step, linear_model,
                   true)
     ->Apply(threads_1_2);
 BENCHMARK_CAPTURE(host_step, gravity_only, "  gravity: [0, 0, -9.81]\n", false)->Apply(threads_1_2);
+
+BENCHMARK(host_step_order)
+    ->ArgNames({"side", "mode"})
+    ->Args({30, 0})
+    ->Args({30, 6})
+    ->Args({30, 7})
+    ->Args({30, 8})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_CAPTURE(host_wall_stage, grid, talus::WallSearch::grid)
     ->Arg(64)

@@ -8,7 +8,9 @@
 // memory instead of constant memory, 4 no GJK filter before the culling
 // (CudaStepOptions::gjk_filter), 5 the paper's law (`contact: volume_paper`, Eqs. 12-13, the
 // bed's law before the default law of bounded stiffness: the same geometry, less arithmetic per
-// contact, so 0 against 5 is what the default law costs). Each iteration is one step (the
+// contact, so 0 against 5 is what the default law costs), 6 the particles in a random order (as
+// a poured bed numbers them), 7 that order renumbered by cell at every build of the list
+// (`reorder: true`), 8 the lattice's order renumbered so. Each iteration is one step (the
 // stages synchronise at their ends; the time is the wall time of the step).
 // And the wall stage on a rotating drum of many facets (drum_bed.hpp), with the facet grid and
 // by brute force.
@@ -36,6 +38,9 @@ void gpu_step(benchmark::State& state) {
   if (mode == 1) scene.deterministic = false;
   if (mode == 2) scene.skin = 0.0;
   if (mode == 5) scene.effects.contact = talus::ContactModel::volume_paper;
+  if (mode == 6 || mode == 7) talus_bench::shuffle_particles(scene);
+  // The GPU's default renumbers; modes 0 to 6 are the step as it ran before that.
+  scene.reorder = mode == 7 || mode == 8;
   talus::CudaStepOptions options;
   options.constant_templates = mode != 3;
   options.gjk_filter = mode != 4;
@@ -80,6 +85,9 @@ BENCHMARK(gpu_step)
     ->Args({100, 3})
     ->Args({100, 4})
     ->Args({100, 5})
+    ->Args({100, 6})
+    ->Args({100, 7})
+    ->Args({100, 8})
     ->Args({159, 0})
     ->Unit(benchmark::kMillisecond);
 

@@ -4,7 +4,9 @@
 // The loader's lattice keeps bounding spheres apart, so the particles are set explicitly.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <string>
 
@@ -50,6 +52,13 @@ particles:
     scene.particles.push_back(p);
   }
   return scene;
+}
+
+// The scene's particles in a random order (seeded): a poured bed's particles are numbered in
+// the order they were fed, not by where they came to rest, so neighbours lie far apart in memory.
+inline void shuffle_particles(talus::Scene& scene, std::uint64_t seed = 17) {
+  std::mt19937_64 rng(seed);
+  std::shuffle(scene.particles.begin(), scene.particles.end(), rng);
 }
 
 // Gravity, the volume model, friction and rotation.

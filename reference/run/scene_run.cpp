@@ -314,6 +314,19 @@ void SceneRunner::advance() {
     }
   }
   world_.step();
+  if (scene_.domain) {  // the bodies whose centroid left the domain box, as the production step
+    std::vector<int> outside;
+    for (std::size_t i = 0; i < world_.bodies().size(); ++i) {
+      const Vec3d x = from_eigen(world_.bodies()[i].state.position);
+      if (!scene_.domain->contains(x) && std::isfinite(x.x + x.y + x.z))
+        outside.push_back(static_cast<int>(i));
+    }
+    if (!outside.empty()) {
+      world_.remove_bodies(outside);
+      for (auto at = outside.rbegin(); at != outside.rend(); ++at)
+        template_of_body_.erase(template_of_body_.begin() + *at);
+    }
+  }
   ++step_;
   contacts_sum_ += static_cast<double>(world_.contacts().size());
   write_outputs(done());

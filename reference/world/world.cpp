@@ -386,6 +386,29 @@ void RefWorld::step() {
   for (RefBody& b : bodies_) end_step(b.state, dt, setup_.rotation_scheme);
 }
 
+void RefWorld::remove_bodies(const std::vector<int>& indices) {
+  std::vector<int> renumbered(bodies_.size(), -1);
+  std::vector<RefBody> kept;
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (next < indices.size() && indices[next] == static_cast<int>(i)) {
+      ++next;
+      continue;
+    }
+    renumbered[i] = static_cast<int>(kept.size());
+    kept.push_back(std::move(bodies_[i]));
+  }
+  bodies_ = std::move(kept);
+  std::vector<RefContact> contacts;
+  for (RefContact c : contacts_) {
+    if (renumbered[c.body_a] < 0 || (c.body_b >= 0 && renumbered[c.body_b] < 0)) continue;
+    c.body_a = renumbered[c.body_a];
+    if (c.body_b >= 0) c.body_b = renumbered[c.body_b];
+    contacts.push_back(c);
+  }
+  contacts_ = std::move(contacts);
+}
+
 double RefWorld::kinetic_energy() const {
   double e = 0;
   for (const RefBody& b : bodies_) e += b.state.kinetic_energy();

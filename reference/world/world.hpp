@@ -135,6 +135,10 @@ class RefWorld {
   void add_body(const RefBodySpec& spec);
   // Drops the last `count` triangles of wall w (a closed outlet's plate that opens).
   void remove_last_wall_triangles(int w, int count);
+  // Removes the bodies at the given indices (ascending), between steps: the others keep their
+  // order, the last evaluation's contacts of removed bodies are dropped and the rest renumbered;
+  // histories are keyed by global ids, so the kept bodies keep theirs.
+  void remove_bodies(const std::vector<int>& indices);
   const ShapeTemplate& shape(int index) const { return setup_.templates.at(index); }
 
   double time() const { return time_; }

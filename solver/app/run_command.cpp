@@ -196,6 +196,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   time_step_members(scene, advice, json);
   json["wall_seconds"] = report.wall_seconds;
   json["particles"] = report.particles;
+  if (scene.domain) json["removed_particles"] = report.removed_particles;
   json["mean_contacts_per_step"] = report.mean_contacts;
   Json& stages = json["stage_seconds"] = Json::object();
   for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;

@@ -24,6 +24,14 @@ class DeviceBuffer {
     if (data_) cudaFree(data_);  // no throw from a destructor
   }
 
+  // Exchanges the two arrays (no copy): a gather into a scratch array, then swapped in.
+  void swap(DeviceBuffer& o) noexcept {
+    T* data = data_;
+    const std::size_t size = size_;
+    data_ = o.data_, size_ = o.size_;
+    o.data_ = data, o.size_ = size;
+  }
+
   void resize(std::size_t count) {
     if (count == size_) return;
     if (data_) TALUS_CUDA_CHECK(cudaFree(data_));

@@ -11,10 +11,16 @@
 namespace talus {
 
 const std::vector<std::string>& energy_probe_columns() {
-  static const std::vector<std::string> columns = {
-      "kinetic_translational", "kinetic_rotational", "gravitational", "elastic_normal",
-      "elastic_tangential",    "dissipated",         "wall_work",     "fed",
-      "energy_balance"};
+  static const std::vector<std::string> columns = {"kinetic_translational",
+                                                   "kinetic_rotational",
+                                                   "gravitational",
+                                                   "elastic_normal",
+                                                   "elastic_tangential",
+                                                   "dissipated",
+                                                   "wall_work",
+                                                   "fed",
+                                                   "removed",
+                                                   "energy_balance"};
   return columns;
 }
 

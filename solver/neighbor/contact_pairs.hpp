@@ -14,6 +14,7 @@
 // is visited once, and collisions only add candidates that the exact sphere test rejects.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,12 @@ struct NeighborInput {
   const Real* radius = nullptr;  // bounding radius about the centroid, m
   int count = 0;
   Real skin = 0;  // m: pairs are kept while |x_a - x_b| <= r_a + r_b + skin (a Verlet skin)
+  // The lowest corner of the region the particles lie in, when the local domain bounds it
+  // (Domain::reach_box): the grid's origin then, with no reduction over the particles; otherwise
+  // (fixed_origin false) the particles' lowest coordinates. The list does not depend on it (it is
+  // sorted), only the binning does.
+  bool fixed_origin = false;
+  Real origin[3] = {0, 0, 0};
 };
 
 // The binning: a cell size, an origin and a table of 2^k buckets.
@@ -78,6 +85,33 @@ TALUS_HD inline std::uint32_t particle_bucket(const NeighborInput<Real>& in,
   return cell_bucket(cell_coordinate(in.x[i], grid.origin[0], grid.cell_size),
                      cell_coordinate(in.y[i], grid.origin[1], grid.cell_size),
                      cell_coordinate(in.z[i], grid.origin[2], grid.cell_size), grid.bucket_mask);
+}
+
+// Spreads the low 21 bits of v three apart (bit k to bit 3k): one coordinate of a Morton code.
+TALUS_HD inline std::uint64_t spread_bits_by_three(std::uint64_t v) {
+  v &= 0x1fffffull;
+  v = (v | v << 32) & 0x1f00000000ffffull;
+  v = (v | v << 16) & 0x1f0000ff0000ffull;
+  v = (v | v << 8) & 0x100f00f00f00f00full;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+
+// The Z-order (Morton) key of particle i's cell: its cell coordinates from the grid's origin,
+// clamped to [0, 2^21), bits interleaved. Particles sorted by it sit with those of their own cell
+// and, mostly, of the cells next to it: the order the step renumbers them in (`reorder`).
+template <class Real>
+TALUS_HD inline std::uint64_t particle_cell_key(const NeighborInput<Real>& in,
+                                                const NeighborGrid<Real>& grid, int i) {
+  const Real* coordinates[3] = {in.x, in.y, in.z};
+  std::uint64_t key = 0;
+  for (int k = 0; k < 3; ++k) {
+    std::int64_t c = cell_coordinate(coordinates[k][i], grid.origin[k], grid.cell_size);
+    c = c < 0 ? 0 : (c > 0x1fffff ? 0x1fffff : c);
+    key |= spread_bits_by_three(static_cast<std::uint64_t>(c)) << k;
+  }
+  return key;
 }
 
 // The distinct buckets of particle i's 27 neighbour cells, ascending; returns how many (<= 27).
@@ -173,6 +207,8 @@ NeighborGrid<Real> make_neighbor_grid(const NeighborInput<Real>& in, Real min_ce
     }
     r_max = max_of(r_max, v[3]);
   }
+  if (in.fixed_origin)
+    for (int k = 0; k < 3; ++k) grid.origin[k] = in.origin[k];
   grid.cell_size = max_of(min_cell, Real(2) * r_max + in.skin);
   if (!(grid.cell_size > 0)) grid.cell_size = 1;  // all points: any size bins them
   std::uint32_t size = 64;
@@ -237,6 +273,20 @@ std::vector<ContactPair> build_candidate_pairs(const NeighborInput<Real>& in,
     stats->pairs = static_cast<long long>(pairs.size());
   }
   return pairs;
+}
+
+// The particles' indices in the order of their cells' Morton keys (particle_cell_key over
+// make_neighbor_grid's grid); a stable sort, so particles of one cell keep their order.
+template <class Real>
+std::vector<int> cell_order(const NeighborInput<Real>& in, int threads = 1) {
+  const NeighborGrid<Real> grid = make_neighbor_grid(in);
+  std::vector<std::uint64_t> key(in.count);
+  parallel_for(threads, in.count,
+               [&](long long i) { key[i] = particle_cell_key(in, grid, static_cast<int>(i)); });
+  std::vector<int> order(in.count);
+  for (int i = 0; i < in.count; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  return order;
 }
 
 }  // namespace talus

@@ -76,6 +76,16 @@ __global__ void write_partners(NeighborInput<Real> in, NeighborGrid<Real> grid, 
   sort_segment_by_partner(pairs, first[i], first[i + 1]);
 }
 
+// Each particle's Morton cell key (particle_cell_key) and its index, for the sort by cell.
+template <class Real>
+__global__ void cell_keys(NeighborInput<Real> in, NeighborGrid<Real> grid, std::uint64_t* key,
+                          int* index) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= in.count) return;
+  key[i] = particle_cell_key(in, grid, i);
+  index[i] = i;
+}
+
 // Reduction functors (CUB's Min/Max operators changed names across versions).
 struct MinOp {
   template <class T>
@@ -103,7 +113,15 @@ struct ContactPairsGpu<Real>::Impl {
   DeviceBuffer<Real> reduced;  // origin x, y, z and r_max
   DeviceBuffer<unsigned char> temp;
   DeviceBuffer<ContactPair> pairs;
+  DeviceBuffer<std::uint64_t> cell_key, sorted_cell_key;  // cell_order's
   long long pair_count = 0;
+
+  // Throws std::invalid_argument for a non-finite particle (the reductions below would carry a
+  // NaN into the grid).
+  void check_particles(const NeighborInput<Real>& in);
+  // The grid as make_neighbor_grid makes it (origin at the lowest coordinates, or the input's
+  // fixed origin; cells of 2 r_max + skin); `bits`: the bucket table's log2 size.
+  NeighborGrid<Real> make_grid(const NeighborInput<Real>& in, Real min_cell, int& bits);
 
   NeighborInput<Real> input() const {
     if (external.x) return external;
@@ -142,6 +160,54 @@ void ContactPairsGpu<Real>::set_device_particles(const NeighborInput<Real>& devi
 }
 
 template <class Real>
+void ContactPairsGpu<Real>::Impl::check_particles(const NeighborInput<Real>& in) {
+  scratch_int.resize(1);
+  const int none = INT_MAX;
+  scratch_int.upload(&none, 1);
+  find_bad_particle<<<blocks_for(in.count), kBlock>>>(in, scratch_int.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int first_bad = INT_MAX;
+  TALUS_CUDA_CHECK(cudaMemcpy(&first_bad, scratch_int.data(), sizeof(int), cudaMemcpyDeviceToHost));
+  if (first_bad != INT_MAX) {
+    throw std::invalid_argument("neighbour search: particle " + std::to_string(first_bad) +
+                                " has a non-finite position or a bad bounding radius");
+  }
+}
+
+template <class Real>
+NeighborGrid<Real> ContactPairsGpu<Real>::Impl::make_grid(const NeighborInput<Real>& in,
+                                                          Real min_cell, int& bits) {
+  const int n = in.count;
+  // A fixed origin (the local domain's reach box) needs only r_max.
+  reduced.resize(4);
+  const Real* sources[4] = {in.x, in.y, in.z, in.radius};
+  for (int k = in.fixed_origin ? 3 : 0; k < 4; ++k) {
+    Real* out = reduced.data() + k;
+    const Real initial = k < 3 ? Real(HUGE_VAL) : Real(0);
+    if (k < 3) {
+      cub_call(temp, [&](void* t, std::size_t& b) {
+        return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MinOp(), initial);
+      });
+    } else {
+      cub_call(temp, [&](void* t, std::size_t& b) {
+        return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MaxOp(), initial);
+      });
+    }
+  }
+  std::vector<Real> values;
+  reduced.download(values);
+  NeighborGrid<Real> grid;
+  for (int k = 0; k < 3; ++k) grid.origin[k] = in.fixed_origin ? in.origin[k] : values[k];
+  grid.cell_size = max_of(min_cell, Real(2) * values[3] + skin);
+  if (!(grid.cell_size > 0)) grid.cell_size = 1;
+  std::uint32_t size = 64;
+  bits = 6;
+  while (size < 2u * static_cast<std::uint32_t>(n) && size < (1u << 30)) size *= 2, ++bits;
+  grid.bucket_mask = size - 1;
+  return grid;
+}
+
+template <class Real>
 double ContactPairsGpu<Real>::build(Real min_cell) {
   Impl& m = *impl_;
   const int n = m.count;
@@ -149,51 +215,16 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
   if (n == 0) return 0;
   const NeighborInput<Real> in = m.input();
 
-  // Bad input first: the reductions below would carry a NaN into the grid.
-  m.scratch_int.resize(1);
-  const int none = INT_MAX;
-  m.scratch_int.upload(&none, 1);
-  find_bad_particle<<<blocks_for(n), kBlock>>>(in, m.scratch_int.data());
-  TALUS_CUDA_LAUNCH_CHECK();
-  int first_bad = INT_MAX;
-  TALUS_CUDA_CHECK(
-      cudaMemcpy(&first_bad, m.scratch_int.data(), sizeof(int), cudaMemcpyDeviceToHost));
-  if (first_bad != INT_MAX) {
-    throw std::invalid_argument("neighbour search: particle " + std::to_string(first_bad) +
-                                " has a non-finite position or a bad bounding radius");
-  }
+  m.check_particles(in);
 
   cudaEvent_t start, stop;
   TALUS_CUDA_CHECK(cudaEventCreate(&start));
   TALUS_CUDA_CHECK(cudaEventCreate(&stop));
   TALUS_CUDA_CHECK(cudaEventRecord(start));
 
-  // The grid, as make_neighbor_grid: origin at the lowest coordinates, cells of 2 r_max + skin.
-  m.reduced.resize(4);
-  const Real* sources[4] = {in.x, in.y, in.z, in.radius};
-  for (int k = 0; k < 4; ++k) {
-    Real* out = m.reduced.data() + k;
-    const Real initial = k < 3 ? Real(HUGE_VAL) : Real(0);
-    if (k < 3) {
-      cub_call(m.temp, [&](void* t, std::size_t& b) {
-        return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MinOp(), initial);
-      });
-    } else {
-      cub_call(m.temp, [&](void* t, std::size_t& b) {
-        return cub::DeviceReduce::Reduce(t, b, sources[k], out, n, MaxOp(), initial);
-      });
-    }
-  }
-  std::vector<Real> reduced;
-  m.reduced.download(reduced);
-  NeighborGrid<Real> grid;
-  for (int k = 0; k < 3; ++k) grid.origin[k] = reduced[k];
-  grid.cell_size = max_of(min_cell, Real(2) * reduced[3] + m.skin);
-  if (!(grid.cell_size > 0)) grid.cell_size = 1;
-  std::uint32_t size = 64;
   int bits = 6;
-  while (size < 2u * static_cast<std::uint32_t>(n) && size < (1u << 30)) size *= 2, ++bits;
-  grid.bucket_mask = size - 1;
+  const NeighborGrid<Real> grid = m.make_grid(in, min_cell, bits);
+  const std::uint32_t size = grid.bucket_mask + 1;
 
   // Bin and sort by bucket (radix sort is stable: indices ascend within a bucket). The scratch
   // is sized exactly at first and then only grows, by half again when a feeding run outgrows it:
@@ -247,6 +278,25 @@ double ContactPairsGpu<Real>::build(Real min_cell) {
 }
 
 template <class Real>
+void ContactPairsGpu<Real>::cell_order(int* device_order) {
+  Impl& m = *impl_;
+  const int n = m.count;
+  if (n == 0) return;
+  const NeighborInput<Real> in = m.input();
+  m.check_particles(in);
+  int bits = 6;
+  const NeighborGrid<Real> grid = m.make_grid(in, Real(0), bits);
+  m.cell_key.grow_to(n), m.sorted_cell_key.grow_to(n), m.index.grow_to(n);
+  cell_keys<<<blocks_for(n), kBlock>>>(in, grid, m.cell_key.data(), m.index.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  // Stable: the particles of one cell keep their order. Keys have 63 bits (21 per axis).
+  cub_call(m.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, m.cell_key.data(), m.sorted_cell_key.data(),
+                                           m.index.data(), device_order, n, 0, 63);
+  });
+}
+
+template <class Real>
 std::vector<ContactPair> ContactPairsGpu<Real>::pairs() const {
   std::vector<ContactPair> out(impl_->pair_count);
   if (!out.empty()) {
@@ -275,7 +325,8 @@ std::size_t ContactPairsGpu<Real>::allocated_bytes() const {
          (m.index.size() + m.sorted.size() + m.begin.size() + m.end.size() + m.counts.size() +
           m.first.size() + m.scratch_int.size()) *
              sizeof(int) +
-         m.temp.size() + m.pairs.size() * sizeof(ContactPair);
+         (m.cell_key.size() + m.sorted_cell_key.size()) * sizeof(std::uint64_t) + m.temp.size() +
+         m.pairs.size() * sizeof(ContactPair);
 }
 
 template class ContactPairsGpu<float>;

@@ -30,6 +30,10 @@ class ContactPairsGpu {
   // same list as build_candidate_pairs). Returns the time in milliseconds (CUDA events), from
   // the reductions to the last write. Throws std::invalid_argument for a non-finite particle.
   double build(Real min_cell = 0);
+  // The resident particles' indices in the order of their cells' Morton keys, into
+  // `device_order` (count entries, device memory): cell_order of contact_pairs.hpp on the device,
+  // the same order. Throws std::invalid_argument for a non-finite particle.
+  void cell_order(int* device_order);
   // The list of the last build, downloaded.
   std::vector<ContactPair> pairs() const;
   long long pair_count() const;

@@ -23,6 +23,9 @@ class AnyStep {
   virtual double time() const = 0;
   virtual const StepPlan& plan() const = 0;
   virtual std::size_t particles() const = 0;
+  // The local domain (domain/domain.hpp): probes combine their numbers over its ranks.
+  virtual const Domain& domain() const = 0;
+  virtual long long removed_particles() const = 0;  // left the domain box so far
   virtual std::size_t pair_contacts() const = 0;
   virtual std::size_t wall_contacts() const = 0;
   virtual Vec3d wall_force(int w) const = 0;
@@ -53,6 +56,8 @@ class StepAdapter : public AnyStep {
   double time() const override { return step_.time(); }
   const StepPlan& plan() const override { return step_.plan(); }
   std::size_t particles() const override { return step_.particle_count(); }
+  const Domain& domain() const override { return step_.domain(); }
+  long long removed_particles() const override { return step_.removed_count(); }
   std::size_t pair_contacts() const override { return step_.pair_contact_count(); }
   std::size_t wall_contacts() const override { return step_.wall_contact_count(); }
   Vec3d wall_force(int w) const override { return step_.wall_force(w); }

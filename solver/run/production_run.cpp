@@ -106,7 +106,10 @@ struct ProductionRunner::Impl {
                          (first_energy.gravitational - lowest_gravitational) +
                          std::abs(e.ledger.wall_work - first_energy.ledger.wall_work) +
                          (e.ledger.fed - first_energy.ledger.fed);
-    const double gained = e.mechanical() - first_energy.mechanical() -
+    // What removed particles took out is counted as held (their gravitational energy may be
+    // negative: removing a particle that fell low raises the sum that stays).
+    const double gained = e.mechanical() + (e.ledger.removed - first_energy.ledger.removed) -
+                          first_energy.mechanical() -
                           (e.ledger.wall_work - first_energy.ledger.wall_work) -
                           (e.ledger.fed - first_energy.ledger.fed);
     // Far beyond: grown by more than all it was given (an exact run gains nothing; a tiny
@@ -124,21 +127,22 @@ struct ProductionRunner::Impl {
     std::vector<double> values;
     for (const Probe probe : scene.outputs.probes->quantities) {
       switch (probe) {
+        // Each rank's number over its own particles, combined over the domain's ranks.
         case Probe::kinetic_energy:
-          values.push_back(step->kinetic_energy());
+          values.push_back(step->domain().sum(step->kinetic_energy()));
           break;
         case Probe::contact_count:
-          values.push_back(static_cast<double>(step->pair_contacts()));
+          values.push_back(step->domain().sum(static_cast<double>(step->pair_contacts())));
           break;
         case Probe::bed_height:
-          values.push_back(step->bed_height(*scene.effects.gravity));
+          values.push_back(step->domain().max(step->bed_height(*scene.effects.gravity)));
           break;
         case Probe::energy: {
           const EnergyTerms e = step->energy();
           values.insert(values.end(),
                         {e.kinetic_translational, e.kinetic_rotational, e.gravitational,
                          e.elastic_normal, e.elastic_tangential, e.ledger.dissipated,
-                         e.ledger.wall_work, e.ledger.fed, e.balance()});
+                         e.ledger.wall_work, e.ledger.fed, e.ledger.removed, e.balance()});
           break;
         }
         case Probe::wall_forces:
@@ -317,6 +321,7 @@ ProductionReport ProductionRunner::report() const {
   r.simulated_time = m.step->time();
   r.wall_seconds = clock_seconds() - m.started;
   r.particles = m.step->particles();
+  r.removed_particles = m.step->removed_particles();
   r.mean_contacts = m.step_index > 0 ? m.contacts_sum / double(m.step_index) : 0;
   for (const Stage stage : m.step->plan().stages) {
     r.stage_seconds.emplace_back(to_string(stage),

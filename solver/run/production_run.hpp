@@ -78,7 +78,8 @@ struct ProductionReport {
   double simulated_time = 0;  // s
   double wall_seconds = 0;
   std::size_t particles = 0;
-  double mean_contacts = 0;  // particle-particle and particle-wall contacts per step
+  long long removed_particles = 0;  // left the scene's domain box
+  double mean_contacts = 0;         // particle-particle and particle-wall contacts per step
   std::vector<std::pair<std::string, double>> stage_seconds;  // the plan's stages, in order
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end

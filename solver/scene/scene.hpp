@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "solver/core/quat.hpp"
+#include "solver/domain/domain.hpp"
 #include "solver/shape/mesh_io.hpp"
 #include "solver/shape/shape.hpp"
 
@@ -293,6 +294,18 @@ struct Scene {
   // scheduling (the default); false: by atomic additions (faster, not bit-reproducible). The
   // host backend is deterministic either way.
   bool deterministic = true;
+  // The simulated region (`domain: {min, max}`; docs/scenes.md): a particle whose centroid leaves
+  // it is removed at the end of the step, taking its energy to the ledger's `removed`. Not given:
+  // all of space. Every initial particle and feed region lies inside it (the loader checks).
+  std::optional<Box> domain;
+  SourceRef domain_source;
+  // Particles renumbered in the order of their grid cells (a Z-order curve) at every build of the
+  // candidate pairs (`reorder`): neighbours then sit near each other in memory. The physics is
+  // the same; the sums' order, and so the last bits, are not. Not given: on the CUDA backend
+  // (6 % off the 1e6 bed's step, 23 % when its particles are numbered at random), off on the
+  // host, which builds its candidates every step and gains nothing at 27,000 particles
+  // (benchmarks/README.md).
+  std::optional<bool> reorder;
   std::vector<Material> materials;
   std::vector<MaterialPair> material_pairs;
   std::vector<ParticleTemplate> templates;

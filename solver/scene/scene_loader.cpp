@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,9 +17,9 @@ namespace talus {
 namespace {
 
 const std::vector<std::string> kTopLevelKeys = {
-    "time",          "seed",      "backend",        "precision", "skin",
-    "deterministic", "materials", "material_pairs", "templates", "particles",
-    "walls",         "effects",   "outputs"};
+    "time",          "seed",      "backend", "precision", "skin",
+    "deterministic", "reorder",   "domain",  "materials", "material_pairs",
+    "templates",     "particles", "walls",   "effects",   "outputs"};
 
 const std::string kTimeStep = "a positive number in s, or auto";
 
@@ -53,6 +54,58 @@ void resolve_auto_step(Scene& scene) {
                     "step in s",
                     scene.time_step, kAutoStepFraction, advice.critical_step, scene.end_time));
   }
+}
+
+// The bounding box of a region (a cylinder's: its two discs' boxes together).
+Box region_bounds(const Region& r) {
+  Box b;
+  if (r.kind == RegionKind::box) {
+    b.min = r.box_min, b.max = r.box_max;
+    return b;
+  }
+  const Vec3d top = r.base + r.axis * r.height;
+  // A disc of radius R about axis a reaches R sqrt(1 - a_k^2) along axis k.
+  const Vec3d reach(r.radius * std::sqrt(std::max(0.0, 1 - r.axis.x * r.axis.x)),
+                    r.radius * std::sqrt(std::max(0.0, 1 - r.axis.y * r.axis.y)),
+                    r.radius * std::sqrt(std::max(0.0, 1 - r.axis.z * r.axis.z)));
+  b.min = Vec3d(std::min(r.base.x, top.x), std::min(r.base.y, top.y), std::min(r.base.z, top.z)) -
+          reach;
+  b.max = Vec3d(std::max(r.base.x, top.x), std::max(r.base.y, top.y), std::max(r.base.z, top.z)) +
+          reach;
+  return b;
+}
+
+// `domain: {min: [x, y, z], max: [x, y, z]}`, read after the particles: every explicit particle
+// and every lattice, fill and feed region must lie inside it, or the run would start by removing
+// what the scene asked for.
+void parse_domain(const SceneNode& node, Scene& scene) {
+  node.keys({"min", "max"}, "domain: a map with keys min, max (corners of a box, m)");
+  Box box;
+  box.min = node.at("min", "[x, y, z], the lowest corner in m").vec3("[x, y, z] in m");
+  const SceneNode max = node.at("max", "[x, y, z], the highest corner in m");
+  box.max = max.vec3("[x, y, z] in m");
+  if (!(box.min.x < box.max.x && box.min.y < box.max.y && box.min.z < box.max.z))
+    max.fail_expected("a corner above min on every axis");
+  if (!box.bounded()) max.fail_expected("finite corners");
+  scene.domain = box;
+  scene.domain_source = node.ref();
+  const auto outside = [&](const SourceRef& at, const std::string& what) {
+    throw SceneError(at.file, at.line, at.column, at.key,
+                     what + " lies (partly) outside the domain box written at " +
+                         scene.domain_source.where() + "; its particles would be removed at once");
+  };
+  for (const ParticleState& p : scene.particles)
+    if (!box.contains(p.position)) outside(p.source, "the particle's position");
+  const auto check_region = [&](const Region& r, const SourceRef& at, const char* what) {
+    const Box b = region_bounds(r);
+    if (!(box.contains(b.min) && b.max.x <= box.max.x && b.max.y <= box.max.y &&
+          b.max.z <= box.max.z))
+      outside(at, what);
+  };
+  for (const LatticeRequest& l : scene.lattices) check_region(l.region, l.source, "the lattice");
+  for (const RandomFillRequest& f : scene.random_fills)
+    check_region(f.region, f.source, "the random fill's region");
+  for (const FeedRequest& f : scene.feeds) check_region(f.region, f.source, "the feed's region");
 }
 
 }  // namespace
@@ -102,6 +155,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
         "(effects.contact)");
   parse_particles(root.at("particles", "a list of particle entries"), scene);
   scene.effects.feed = !scene.feeds.empty();
+  if (auto domain = root.find("domain")) parse_domain(*domain, scene);
+  if (auto reorder = root.find("reorder")) scene.reorder = reorder->boolean();
   if (auto outputs = root.find("outputs")) parse_outputs(*outputs, scene);
   if (scene.time_step_auto) resolve_auto_step(scene);
   return scene;

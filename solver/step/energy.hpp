@@ -1,6 +1,7 @@
 // The energy balance of a run (the `energy` probe and the run's watchdog): the state's kinetic,
 // gravitational and elastic energies, and the running totals of what left or entered through the
-// contacts: dissipated by damping and friction, given by moving walls, brought in by feeds.
+// contacts: dissipated by damping and friction, given by moving walls, brought in by feeds, taken
+// out by particles that left the domain box.
 // Host code; both steps fill it (the CUDA step from device reductions).
 #pragma once
 
@@ -29,6 +30,7 @@ struct EnergyLedger {
   double dissipated = 0;        // J
   double wall_work = 0;         // J, by moving walls on the particles
   double fed = 0;               // J, kinetic + gravitational energy of inserted particles
+  double removed = 0;           // J, kinetic + gravitational energy of removed particles
   double dissipation_rate = 0;  // W, at the last evaluation
   double wall_power = 0;        // W, at the last evaluation
   double spring_energy = 0;     // J, the springs' at the last evaluation
@@ -62,7 +64,7 @@ struct EnergyTerms {
   }
   // Held + dissipated - given: constant in an exact run (its change is the balance error).
   double balance() const {
-    return mechanical() + ledger.dissipated - ledger.wall_work - ledger.fed;
+    return mechanical() + ledger.dissipated + ledger.removed - ledger.wall_work - ledger.fed;
   }
   bool finite() const { return std::isfinite(balance()) && std::isfinite(ledger.wall_work); }
 };

@@ -19,7 +19,8 @@ bool Feeding::due(double time) const {
 }
 
 std::vector<ParticleState> Feeding::insert(double time, std::vector<Vec3d> positions,
-                                           const std::vector<int>& template_ids) {
+                                           const std::vector<int>& template_ids,
+                                           const Domain& domain) {
   std::vector<ParticleState> added;
   std::vector<double> radii;
   radii.reserve(positions.size());
@@ -33,7 +34,11 @@ std::vector<ParticleState> Feeding::insert(double time, std::vector<Vec3d> posit
     }
     added.insert(added.end(), more.begin(), more.end());
   }
-  return added;
+  // This rank's share: every rank runs the same feeders, and each appends what it owns.
+  std::vector<ParticleState> owned;
+  for (const ParticleState& p : added)
+    if (domain.owns(p.position)) owned.push_back(p);
+  return owned;
 }
 
 std::vector<std::string> Feeding::save() const {

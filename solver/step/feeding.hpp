@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "solver/core/vec3.hpp"
+#include "solver/domain/domain.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/scene/wall_meshes.hpp"
@@ -26,10 +27,11 @@ class Feeding {
   bool due(double time) const;
 
   // The particles the feeds insert at `time` (feed by feed, in order) among the particles now at
-  // `positions` (world, m) with templates `template_ids`. Both steps ask due() first, so that a
-  // step with nothing due gathers no positions.
+  // `positions` (world, m) with templates `template_ids`, those the local `domain` owns. Both
+  // steps ask due() first, so that a step with nothing due gathers no positions. (Over several
+  // ranks each would need the others' particles near its feed region as well: the halo.)
   std::vector<ParticleState> insert(double time, std::vector<Vec3d> positions,
-                                    const std::vector<int>& template_ids);
+                                    const std::vector<int>& template_ids, const Domain& domain);
 
   std::vector<std::string> save() const;
   // Throws CheckpointError when the number of states is not the scene's number of feeds.

@@ -30,6 +30,14 @@ struct StepState {
   std::vector<std::pair<std::string, std::vector<Real>>> arrays;  // as allocated_arrays() names
   std::vector<int> template_ids, material_ids;
   std::vector<long long> global_ids;
+  long long next_id = -1;  // the id the next inserted particle gets (-1: count, as before removal)
+  long long removed = 0;   // particles removed so far
+  // The CUDA step's pair list (empty elsewhere): the positions its displacements are measured
+  // from (x, then y, then z, per particle) and whether the particles changed since its last
+  // build. A resumed run rebuilds its list at once but renumbers by cell only where the
+  // uninterrupted run would rebuild (cuda_pair_list.cuh), so that it continues bit for bit.
+  std::vector<Real> list_reference;
+  bool list_stale = false;
   std::vector<PairKey> pair_keys, wall_keys;  // sorted (key_less)
   std::vector<ContactHistoryData<Real>> pair_histories, wall_histories;
   // The feeds' states (Feeder::save), one per scene feed; empty for a step without feeds.
@@ -131,7 +139,12 @@ void put_step_state(Checkpoint& c, const StepState<Real>& s) {
   c.put_text("feeds.states", feeds);
   const EnergyLedger& e = s.ledger;
   c.put("step.energy", std::vector<double>{e.dissipated, e.wall_work, e.fed, e.dissipation_rate,
-                                           e.wall_power, e.spring_energy});
+                                           e.wall_power, e.spring_energy, e.removed});
+  c.put("step.ids", std::vector<long long>{s.next_id, s.removed});
+  if (!s.list_reference.empty()) {
+    c.put("pairs.reference", s.list_reference);
+    c.put_value<std::uint8_t>("pairs.stale", s.list_stale ? 1 : 0);
+  }
 }
 
 // The state back from put_step_state's sections. CheckpointError when one is missing, of another
@@ -149,9 +162,23 @@ StepState<Real> get_step_state(const Checkpoint& c) {
   s.count = c.get_value<int>("step.count");
   if (c.has("step.energy")) {  // absent from checkpoints written before the energy probe
     const std::vector<double> e = c.get<double>("step.energy");
-    // 5 numbers before the springs' energy was kept (it then starts at zero).
-    if (e.size() != 5 && e.size() != 6) c.fail("step.energy", "expected 6 numbers");
-    s.ledger = EnergyLedger{e[0], e[1], e[2], e[3], e[4], e.size() == 6 ? e[5] : 0.0};
+    // 5 numbers before the springs' energy was kept, 6 before removal (the rest start at zero).
+    if (e.size() < 5 || e.size() > 7) c.fail("step.energy", "expected 7 numbers");
+    s.ledger.dissipated = e[0], s.ledger.wall_work = e[1], s.ledger.fed = e[2];
+    s.ledger.dissipation_rate = e[3], s.ledger.wall_power = e[4];
+    s.ledger.spring_energy = e.size() >= 6 ? e[5] : 0.0;
+    s.ledger.removed = e.size() == 7 ? e[6] : 0.0;
+  }
+  if (c.has("step.ids")) {  // absent from checkpoints written before particles were removed
+    const std::vector<long long> ids = c.get<long long>("step.ids");
+    if (ids.size() != 2) c.fail("step.ids", "expected 2 numbers (next id, removed)");
+    s.next_id = ids[0], s.removed = ids[1];
+  }
+  if (c.has("pairs.reference")) {  // a CUDA step's, since it renumbers particles by cell
+    s.list_reference = c.get<Real>("pairs.reference");
+    if (s.list_reference.size() != 3 * static_cast<std::size_t>(s.count))
+      c.fail("pairs.reference", "expected 3 values per particle");
+    s.list_stale = c.get_value<std::uint8_t>("pairs.stale") != 0;
   }
   const std::string names = c.text("step.arrays");
   const auto check = [&](const std::string& name, std::size_t size) {

@@ -143,7 +143,9 @@ TEST(OverlapCulling, FloatPassDecidesAsTheDoublePassOrHandsOver) {
             const bool answered = filtered_pass(filtered, n, h, round_off, got);
             // The band is at least 12 * 2^-24 * R = 7.2e-7 R wide: a vertex nearer the plane
             // must hand it over.
-            if (shift <= 5e-7) EXPECT_FALSE(answered) << what;
+            if (shift <= 5e-7) {
+              EXPECT_FALSE(answered) << what;
+            }
             if (shift >= 1e-5) {
               ++far;
               far_decided += answered;

@@ -171,3 +171,56 @@ TEST(ContactPairs, NonFiniteInputIsRefusedNamingTheParticle) {
 
 }  // namespace
 }  // namespace talus
+
+namespace talus {
+namespace {
+
+// Morton keys: each coordinate's bits three apart, x lowest.
+TEST(CellOrder, MortonKeysInterleaveTheCellCoordinates) {
+  EXPECT_EQ(spread_bits_by_three(0), 0u);
+  EXPECT_EQ(spread_bits_by_three(1), 1u);
+  EXPECT_EQ(spread_bits_by_three(0b101), 0b1000001u);
+  EXPECT_EQ(spread_bits_by_three(0x1fffff), 0x1249249249249249ull);
+  EXPECT_EQ(spread_bits_by_three(0x200000), 0u);  // beyond 21 bits: dropped (coordinates clamp)
+  std::vector<double> x = {0.5, 1.5, 0.5}, y = {0.5, 0.5, 1.5}, z = {1.5, 0.5, 0.5},
+                      r = {0.25, 0.25, 0.25};
+  NeighborInput<double> in;
+  in.x = x.data(), in.y = y.data(), in.z = z.data(), in.radius = r.data(), in.count = 3;
+  NeighborGrid<double> grid;                      // origin 0, cells of 1
+  EXPECT_EQ(particle_cell_key(in, grid, 0), 4u);  // cell (0, 0, 1): z's bit at 2
+  EXPECT_EQ(particle_cell_key(in, grid, 1), 1u);  // (1, 0, 0)
+  EXPECT_EQ(particle_cell_key(in, grid, 2), 2u);  // (0, 1, 0)
+}
+
+// cell_order is a permutation that sorts the particles by key, stable within a cell, and the
+// pair list does not depend on where the grid's origin is put (a fixed origin from the domain).
+TEST(CellOrder, SortsByCellAndTheListIgnoresTheOrigin) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(0, 0.2);
+  const int n = 3000;
+  std::vector<double> x(n), y(n), z(n), r(n, 0.004);
+  for (int i = 0; i < n; ++i) x[i] = u(rng), y[i] = u(rng), z[i] = u(rng);
+  NeighborInput<double> in;
+  in.x = x.data(), in.y = y.data(), in.z = z.data(), in.radius = r.data(), in.count = n;
+  const std::vector<int> order = cell_order(in, 2);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int i = 0; i < n; ++i) ASSERT_EQ(sorted[i], i);
+  const NeighborGrid<double> grid = make_neighbor_grid(in);
+  for (int k = 1; k < n; ++k) {
+    const auto previous = particle_cell_key(in, grid, order[k - 1]);
+    const auto key = particle_cell_key(in, grid, order[k]);
+    ASSERT_LE(previous, key);
+    if (previous == key) {
+      ASSERT_LT(order[k - 1], order[k]);  // stable
+    }
+  }
+  const std::vector<ContactPair> free_origin = build_candidate_pairs(in);
+  in.fixed_origin = true;
+  in.origin[0] = -1.3, in.origin[1] = -0.01, in.origin[2] = 0.05;  // even above some particles
+  EXPECT_EQ(build_candidate_pairs(in), free_origin);
+  EXPECT_GT(free_origin.size(), 100u);
+}
+
+}  // namespace
+}  // namespace talus

@@ -61,7 +61,8 @@ TEST(SceneErrors, UnknownKeyListsTheAllowedKeysAndTheLikelyOne) {
                "youngs_modulus, poisson_ratio, friction, restitution (did you mean 'density'?)");
   EXPECT_STREQ(error_with("seed: 3", "sed: 3").what(),
                "errors.yaml:2:1: sed: unknown key; expected one of time, seed, backend, precision, "
-               "skin, deterministic, materials, material_pairs, templates, particles, walls, "
+               "skin, deterministic, reorder, domain, materials, material_pairs, templates, "
+               "particles, walls, "
                "effects, outputs (did you mean 'seed'?)");
   EXPECT_STREQ(error_with("seed: 3", "seed: 3\nseed: 4").what(),
                "errors.yaml:3:1: seed: duplicate key; first given on line 2");
@@ -195,12 +196,50 @@ TEST(SceneErrors, YamlSyntaxErrorsGiveThePosition) {
 TEST(SceneErrors, EmptyOrNonMapDocument) {
   EXPECT_EQ(scene_error("").message(),
             "expected a scene: a map with keys time, seed, backend, precision, skin, "
-            "deterministic, materials, material_pairs, templates, particles, walls, effects, "
+            "deterministic, reorder, domain, materials, material_pairs, templates, particles, "
+            "walls, effects, "
             "outputs, got nothing");
   EXPECT_STREQ(scene_error("- 1\n- 2\n").what(),
                "errors.yaml:1:1: expected a scene: a map with keys time, seed, backend, precision, "
-               "skin, deterministic, materials, material_pairs, templates, particles, walls, "
+               "skin, deterministic, reorder, domain, materials, material_pairs, templates, "
+               "particles, walls, "
                "effects, outputs, got [1, 2]");
+}
+
+}  // namespace
+}  // namespace talus
+
+namespace talus {
+namespace {
+
+// `domain:` (docs/scenes.md): a box above min on every axis, holding every explicit particle and
+// every lattice, fill and feed region, or the error names the item and where the box was written.
+TEST(SceneErrors, DomainBoxMustHoldWhatTheSceneStartsWith) {
+  const std::string effects = "effects:\n";
+  const Scene ok =
+      parse_scene(replaced(kValidScene, effects,
+                           "domain: {min: [-0.1, -0.1, 0], max: [0.1, 0.1, 0.2]}\n" + effects),
+                  "errors.yaml", scene_data_dir());
+  ASSERT_TRUE(ok.domain.has_value());
+  EXPECT_EQ(ok.domain->max.z, 0.2);
+  EXPECT_EQ(ok.domain_source.line, 17);
+
+  EXPECT_STREQ(error_with(effects, "domain: {min: [0, 0, 0], max: [1, 0, 1]}\n" + effects).what(),
+               "errors.yaml:17:31: domain.max: expected a corner above min on every axis, got "
+               "[1, 0, 1]");
+  EXPECT_STREQ(error_with(effects, "domain: {min: [0, 0, 0]}\n" + effects).what(),
+               "errors.yaml:17:9: domain.max: missing required key; expected [x, y, z], the "
+               "highest corner in m");
+  // The particle at z = 0.05 lies above a box that ends at 0.04.
+  const SceneError outside =
+      error_with(effects, "domain: {min: [-0.1, -0.1, 0], max: [0.1, 0.1, 0.04]}\n" + effects);
+  EXPECT_EQ(outside.line(), 16);
+  EXPECT_EQ(outside.key(), "particles[0].explicit[0]");
+  EXPECT_NE(std::string(outside.what()).find("outside the domain box written at errors.yaml:17"),
+            std::string::npos)
+      << outside.what();
+  EXPECT_STREQ(error_with(effects, "reorder: maybe\n" + effects).what(),
+               "errors.yaml:17:10: reorder: expected true or false, got 'maybe'");
 }
 
 }  // namespace

@@ -106,6 +106,14 @@ void DevicePairList<Real>::bind_particles() {
   in.radius = v.bounding_radius;
   in.count = n;
   in.skin = skin_;
+  if (shared_.domain) {  // the grid anchored at the local domain's reach box when it is bounded
+    const Box reach = shared_.domain->reach_box();
+    if (reach.bounded()) {
+      in.fixed_origin = true;
+      in.origin[0] = Real(reach.min.x), in.origin[1] = Real(reach.min.y);
+      in.origin[2] = Real(reach.min.z);
+    }
+  }
   broad_phase_.set_device_particles(in);
   // Contents are set at each build (the CSR's ranges, the positions built from).
   if (deterministic()) entry_begin_.grow_to(n), entry_end_.grow_to(n);
@@ -116,17 +124,18 @@ template <class Real>
 void DevicePairList<Real>::particles_changed() {
   bind_particles();
   stale_ = true;
+  due_ = -1;
 }
 
-// True when some particle has moved more than (a little less than) skin / 2 since the list was
-// built: a pair outside the list (centres beyond r_a + r_b + skin then) could now touch. The 10%
-// margin covers the round-off of the distances the broad phase compared.
+// True when some particle has moved more than (a little less than) skin / 2 from x0, y0, z0 (the
+// positions the list was built at): a pair outside the list (centres beyond r_a + r_b + skin
+// then) could now touch. The 10% margin covers the round-off of the distances the broad phase
+// compared.
 template <class Real>
-bool DevicePairList<Real>::expired() {
-  if (builds_ == 0 || !(skin_ > 0)) return true;
+bool DevicePairList<Real>::moved_beyond(const Real* x0, const Real* y0, const Real* z0) {
   TALUS_CUDA_CHECK(cudaMemset(largest_move_.data(), 0, sizeof(unsigned long long)));
-  max_displacement_kernel<<<blocks_for(shared_.count), kBlock>>>(
-      shared_.view, built_x_.data(), built_y_.data(), built_z_.data(), largest_move_.data());
+  max_displacement_kernel<<<blocks_for(shared_.count), kBlock>>>(shared_.view, x0, y0, z0,
+                                                                 largest_move_.data());
   TALUS_CUDA_LAUNCH_CHECK();
   unsigned long long bits = 0;
   TALUS_CUDA_CHECK(cudaMemcpy(&bits, largest_move_.data(), sizeof(bits), cudaMemcpyDeviceToHost));
@@ -134,6 +143,26 @@ bool DevicePairList<Real>::expired() {
   std::memcpy(&moved2, &bits, sizeof(moved2));
   const double limit = 0.45 * double(skin_);
   return moved2 > limit * limit;
+}
+
+// The rebuild an uninterrupted run makes (renumber_due_): the first build, changed particles, a
+// move beyond the reference (the mirrored one after a restart). A rebuild besides: an imported
+// store, or the list's own reference passed while it mirrors another.
+template <class Real>
+void DevicePairList<Real>::measure() {
+  if (due_ >= 0) return;
+  const bool no_skin = !(skin_ > 0);
+  if (stale_ || no_skin) {
+    renumber_due_ = true;
+  } else if (mirror_) {
+    renumber_due_ = moved_beyond(mirror_x_.data(), mirror_y_.data(), mirror_z_.data());
+  } else {
+    renumber_due_ = builds_ == 0 || moved_beyond(built_x_.data(), built_y_.data(), built_z_.data());
+  }
+  bool rebuild = renumber_due_ || imported_ >= 0 || builds_ == 0;
+  if (!rebuild && mirror_)
+    rebuild = moved_beyond(built_x_.data(), built_y_.data(), built_z_.data());
+  due_ = rebuild ? 1 : 0;
 }
 
 // The touching slots' keys and histories, sorted by key, into the store; returns their number.
@@ -216,6 +245,7 @@ template <class Real>
 void DevicePairList<Real>::import_histories(
     const std::vector<PairKey>& keys, const std::vector<ContactHistoryData<Real>>& histories) {
   imported_ = tangential_history_ ? static_cast<int>(keys.size()) : 0;
+  due_ = -1;
   if (imported_ == 0) return;
   store_keys_.grow_to(imported_), store_histories_.grow_to(imported_);
   TALUS_CUDA_CHECK(cudaMemcpy(store_keys_.data(), keys.data(), imported_ * sizeof(PairKey),
@@ -226,8 +256,57 @@ void DevicePairList<Real>::import_histories(
 }
 
 template <class Real>
+bool DevicePairList<Real>::due() {
+  measure();
+  return due_ == 1;
+}
+
+template <class Real>
+bool DevicePairList<Real>::renumber_due() {
+  measure();
+  return renumber_due_;
+}
+
+template <class Real>
+void DevicePairList<Real>::keep_histories() {
+  if (imported_ < 0) imported_ = store_touching_histories();
+}
+
+template <class Real>
+void DevicePairList<Real>::export_reference(std::vector<Real>& reference, bool& stale) {
+  stale = stale_;
+  reference.clear();
+  if (!(skin_ > 0) || (builds_ == 0 && !mirror_)) return;
+  const int n = shared_.count;
+  const DeviceBuffer<Real>* from[3] = {&built_x_, &built_y_, &built_z_};
+  if (mirror_) from[0] = &mirror_x_, from[1] = &mirror_y_, from[2] = &mirror_z_;
+  for (const DeviceBuffer<Real>* axis : from) {
+    const std::vector<Real> values = download(axis->data(), n);
+    reference.insert(reference.end(), values.begin(), values.end());
+  }
+}
+
+template <class Real>
+void DevicePairList<Real>::import_reference(const std::vector<Real>& reference, bool stale) {
+  const int n = shared_.count;
+  stale_ = stale;  // as the uninterrupted run had it (a resize at the import set it)
+  due_ = -1;
+  mirror_ = skin_ > 0 && reference.size() == 3 * static_cast<std::size_t>(n) && n > 0;
+  if (!mirror_) return;
+  DeviceBuffer<Real>* to[3] = {&mirror_x_, &mirror_y_, &mirror_z_};
+  for (int axis = 0; axis < 3; ++axis) {
+    to[axis]->resize(n);
+    TALUS_CUDA_CHECK(cudaMemcpy(to[axis]->data(), reference.data() + axis * std::size_t(n),
+                                n * sizeof(Real), cudaMemcpyHostToDevice));
+  }
+}
+
+template <class Real>
 void DevicePairList<Real>::update() {
-  if (imported_ < 0 && !stale_ && !expired()) return;
+  const bool rebuild = due();
+  due_ = -1;
+  if (!rebuild) return;
+  if (renumber_due_) mirror_ = false;  // the uninterrupted run rebuilds here too: in step again
   const int stored = imported_ >= 0 ? imported_ : store_touching_histories();
   imported_ = -1;
   stale_ = false;
@@ -253,6 +332,7 @@ std::size_t DevicePairList<Real>::bytes() const {
          store_histories_.size() * sizeof(ContactHistoryData<Real>) +
          (built_x_.size() + built_y_.size() + built_z_.size()) * sizeof(Real) +
          largest_move_.size() * sizeof(unsigned long long) +
+         (mirror_x_.size() + mirror_y_.size() + mirror_z_.size()) * sizeof(Real) +
          (entry_particle_.size() + entry_slot_.size() + sorted_particle_.size() +
           sorted_slot_.size() + entry_begin_.size() + entry_end_.size()) *
              sizeof(int) +

@@ -22,9 +22,25 @@ class DevicePairList {
   // (0: rebuilt every step); the scene's deterministic mode adds the slot forces and the CSR.
   DevicePairList(DeviceStepShared<Real>& shared, Real skin);
 
-  // Rebuilds the list when it has expired (always on the first call, after import_histories and
-  // after particles_changed).
+  // Whether the next update rebuilds: the list has expired (always on the first call, after
+  // import_histories, keep_histories and particles_changed). Measured once per update.
+  bool due();
+  // Whether this rebuild is one the run would make had it never been resumed (the first build,
+  // the particles changed, a particle moved 0.45 skin since the reference): the step renumbers
+  // the particles then and only then, so a resumed run renumbers at the same steps as the
+  // uninterrupted one. After a restart the reference is the uninterrupted run's (import_reference)
+  // until that run's next rebuild; the list's own, from its rebuild at the restart, still decides
+  // its own safety rebuilds, which change no result.
+  bool renumber_due();
+  // Rebuilds the list when due().
   void update();
+  // Before the particles are renumbered or removed: the touching slots' histories into the store
+  // (keyed by global ids, read through the current indices), which the next update builds the
+  // list with, as after import_histories.
+  void keep_histories();
+  // The particles' indices in the order of their cells (ContactPairsGpu::cell_order), into
+  // `device_order` (count entries).
+  void cell_order(int* device_order) { broad_phase_.cell_order(device_order); }
   // The shared particles were appended to (a feed, a restart's larger state), their arrays maybe
   // moved: the broad phase reads the arrays now in the shared view, the per-particle arrays follow
   // the count, and the next update rebuilds the list (new particles have no candidates yet),
@@ -40,6 +56,12 @@ class DevicePairList {
   // touching slots' histories over (a restart).
   void import_histories(const std::vector<PairKey>& keys,
                         const std::vector<ContactHistoryData<Real>>& histories);
+
+  // The reference positions the next renumbering is decided from (3 per particle, x then y then
+  // z; empty without a skin or before the first build) and whether the particles changed since
+  // the last build; setting them on a resumed step (before its first update).
+  void export_reference(std::vector<Real>& reference, bool& stale);
+  void import_reference(const std::vector<Real>& reference, bool stale);
 
   int candidates() const { return candidates_; }
   long long builds() const { return builds_; }
@@ -66,7 +88,9 @@ class DevicePairList {
  private:
   bool deterministic() const { return shared_.scene.deterministic; }
   void bind_particles();  // the broad phase's input and the per-particle arrays, from shared_
-  bool expired();
+  // Some particle has moved 0.45 skin from the positions x0, y0, z0.
+  bool moved_beyond(const Real* x0, const Real* y0, const Real* z0);
+  void measure();  // due_ and renumber_due_, once per update
   int store_touching_histories();
   void carry_histories(int stored);
   void build_csr();
@@ -80,6 +104,11 @@ class DevicePairList {
   int candidates_ = 0;
   int imported_ = -1;   // entries of an imported store awaiting the next build; -1: none
   bool stale_ = false;  // the particles changed since the last build
+  int due_ = -1;        // due()'s answer until the next update (-1: not measured)
+  bool renumber_due_ = false;
+  // After a restart: the uninterrupted run's reference positions, until its next rebuild.
+  bool mirror_ = false;
+  DeviceBuffer<Real> mirror_x_, mirror_y_, mirror_z_;
   DeviceBuffer<Real> built_x_, built_y_, built_z_;  // positions when the list was built
   DeviceBuffer<unsigned long long> largest_move_;   // squared, as double bits
   DeviceBuffer<unsigned char> slot_state_;

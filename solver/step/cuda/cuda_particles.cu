@@ -16,6 +16,25 @@ void upload_at(T* device, const std::vector<T>& host) {
   }
 }
 
+template <class T>
+__global__ void gather_kernel(const T* __restrict__ from, const int* __restrict__ order, int n,
+                              T* __restrict__ to) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k < n) to[k] = from[order[k]];
+}
+
+// values[k] = values[order[k]] for k < n, through `scratch` (of values' size exactly, so that the
+// swap leaves every array its size) swapped in.
+template <class T>
+void gather_in_place(DeviceBuffer<T>& values, const int* order, int n, DeviceBuffer<T>& scratch) {
+  scratch.resize(values.size());
+  if (n > 0) {
+    gather_kernel<<<blocks_for(n), kBlock>>>(values.data(), order, n, scratch.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+  values.swap(scratch);
+}
+
 }  // namespace
 
 template <class Real>
@@ -64,7 +83,17 @@ void DeviceParticles<Real>::reserve(int count) {
 template <class Real>
 void DeviceParticles<Real>::resize(int count) {
   reserve(count);
-  shared_.count = std::max(shared_.count, count);
+  shared_.count = count;
+  bind();
+}
+
+template <class Real>
+void DeviceParticles<Real>::keep(const int* device_order, int kept) {
+  for (auto& entry : storage_) gather_in_place(entry.second, device_order, kept, real_scratch_);
+  gather_in_place(template_ids_, device_order, kept, int_scratch_);
+  gather_in_place(material_ids_, device_order, kept, int_scratch_);
+  gather_in_place(shared_.global_ids, device_order, kept, id_scratch_);
+  shared_.count = kept;
   bind();
 }
 
@@ -95,7 +124,7 @@ void DeviceParticles<Real>::append(const std::vector<ParticleState>& added,
     const BodyProperties<Real>& body = bodies.at(p.template_index);
     template_id[j] = p.template_index;
     material_id[j] = body.material;
-    global_id[j] = first + j;
+    global_id[j] = next_id_ + j;
     h.position.set(j, Vec3<Real>(p.position));
     h.velocity.set(j, Vec3<Real>(p.velocity));
     const Quatd q = p.orientation.normalized();
@@ -121,6 +150,7 @@ void DeviceParticles<Real>::append(const std::vector<ParticleState>& added,
   upload_at(material_ids_.data() + first, material_id);
   upload_at(shared_.global_ids.data() + first, global_id);
   shared_.count = first + k;
+  next_id_ += k;
   bind();
 }
 
@@ -136,7 +166,8 @@ std::size_t DeviceParticles<Real>::bytes() const {
   std::size_t bytes = (template_ids_.size() + material_ids_.size()) * sizeof(int) +
                       shared_.global_ids.size() * sizeof(long long);
   for (const auto& entry : storage_) bytes += entry.second.size() * sizeof(Real);
-  return bytes;
+  return bytes + real_scratch_.size() * sizeof(Real) + int_scratch_.size() * sizeof(int) +
+         id_scratch_.size() * sizeof(long long);
 }
 
 template <class Real>

@@ -34,9 +34,18 @@ class DeviceParticles {
   // zero.
   void append(const std::vector<ParticleState>& added,
               const std::vector<BodyProperties<Real>>& bodies, bool body_forces);
-  // `count` particles (at least the present ones): the arrays grow, the new particles' contents
-  // are left for the caller to set (import_from).
+  // `count` particles: the arrays grow (or the count shrinks), the particles' contents are left
+  // for the caller to set (import_from).
   void resize(int count);
+  // Keeps the particles at device_order[0 .. kept) in that order and drops the rest (a
+  // renumbering by cell, a removal): every array and id gathered into a scratch array of its size
+  // that is then swapped in. The arrays move: the caller tells whoever holds their pointers (the
+  // pair list).
+  void keep(const int* device_order, int kept);
+  // The global id the next appended particle gets (ids are never reused), and setting it (a
+  // restart).
+  long long next_id() const { return next_id_; }
+  void set_next_id(long long id) { next_id_ = id; }
 
   // The real arrays' names (as HostStep::allocated_arrays, without the ids) and the device bytes
   // held (capacity, not count).
@@ -73,8 +82,14 @@ class DeviceParticles {
   DeviceStepShared<Real>& shared_;
   const StepPlan& plan_;
   int capacity_ = 1;
+  long long next_id_ = 0;
   std::vector<std::pair<std::string, DeviceBuffer<Real>>> storage_;
   DeviceBuffer<int> template_ids_, material_ids_;
+  // keep()'s scratch, one array of each type at the capacity (allocated on the first keep, then
+  // swapped with the arrays in turn).
+  DeviceBuffer<Real> real_scratch_;
+  DeviceBuffer<int> int_scratch_;
+  DeviceBuffer<long long> id_scratch_;
 };
 
 }  // namespace talus

@@ -6,6 +6,8 @@
 // state they share (DeviceStepShared, cuda_step_common.cuh).
 #include "solver/step/cuda/cuda_step.hpp"
 
+#include <cub/cub.cuh>
+
 #include <algorithm>
 #include <array>
 #include <mutex>
@@ -13,6 +15,7 @@
 #include <string>
 #include <utility>
 
+#include "solver/core/cub_call.cuh"
 #include "solver/geometry/device_shape.cuh"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/initial_particles.hpp"
@@ -77,6 +80,35 @@ PairLawTables<Real> upload_law_tables(const PairLawTables<Real>& h,
   return d;
 }
 
+// Particles whose centroid has left the domain box `lo` .. `hi` (half-open, as Box::contains;
+// a non-finite one stays, for the watchdog): keep[i] 0, their energy (as particle_energy, in
+// double) in energy[i], counted in `outside`; index[i] = i for the selection of the kept.
+template <class Real>
+__global__ void outside_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies, Vec3d lo,
+                               Vec3d hi, Vec3d g, bool gravity, unsigned char* keep, double* energy,
+                               int* index, int* outside) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= p.count) return;
+  index[i] = i;
+  const Vec3d x(p.position.get(i));
+  const bool inside =
+      x.x >= lo.x && x.x < hi.x && x.y >= lo.y && x.y < hi.y && x.z >= lo.z && x.z < hi.z;
+  const bool leaves = !inside && is_finite(x.x + x.y + x.z);
+  keep[i] = leaves ? 0 : 1;
+  energy[i] = 0;
+  if (!leaves) return;
+  atomicAdd(outside, 1);
+  const BodyProperties<Real>& body = bodies[p.template_id[i]];
+  double e = 0.5 * double(body.mass) * norm2(Vec3d(p.velocity.get(i)));
+  if (p.angular_velocity.present()) {
+    const Vec3d w(p.angular_velocity.get(i));
+    const Vec3d inertia(body.inertia);
+    e += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+  }
+  if (gravity) e -= double(body.mass) * dot(g, x);
+  energy[i] = e;
+}
+
 }  // namespace
 
 template <class Real>
@@ -96,6 +128,13 @@ struct CudaStep<Real>::Impl {
   std::unique_ptr<DevicePairList<Real>> list;
   std::unique_ptr<DevicePairStage<Real>> pairs;
   std::unique_ptr<DeviceWallStage<Real>> walls;
+
+  std::unique_ptr<Domain> domain;  // the local domain (domain/domain.hpp)
+  // Renumbering and removal: the kept particles' order, flags and removed energies.
+  DeviceBuffer<int> order, index;
+  DeviceBuffer<unsigned char> keep_flags;
+  DeviceBuffer<double> removed_energy, removed_sum;
+  long long removed = 0;
 
   StageSeconds stage_seconds{};
   double time = 0;
@@ -127,13 +166,31 @@ struct CudaStep<Real>::Impl {
   }
 
   explicit Impl(const Scene& s)
-      : plan(plan_step(s)), dt(Real(s.time_step)), shared(s), scene(s), feeding(s) {}
+      : plan(plan_step(s)),
+        dt(Real(s.time_step)),
+        shared(s),
+        scene(s),
+        feeding(s),
+        domain(make_scene_domain(s)) {
+    shared.domain = domain.get();
+  }
   ~Impl() { release_template_region(shared.constant_region); }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
   int count() const { return shared.count; }
   ParticleView<Real>& view() { return shared.view; }
+
+  // As HostStep::reorder_by_cell, at a build of the list: the touching histories kept by
+  // global ids, the particles gathered in cell order, the list told.
+  void reorder_by_cell() {
+    list->keep_histories();
+    order.grow_to(count());
+    list->cell_order(order.data());
+    particles->keep(order.data(), count());
+    list->particles_changed();
+  }
+  void remove_outside();
 
   void upload_templates(const CudaStepOptions& options);
   void set_up_pairs(const PairLawTables<Real>& host_tables);
@@ -184,7 +241,11 @@ struct CudaStep<Real>::Impl {
           });
           break;
         case Stage::candidate_pairs:
-          timed(stage, [&] { list->update(); });
+          timed(stage, [&] {
+            if (scene.reorder.value_or(true) && list->due() && list->renumber_due())
+              reorder_by_cell();
+            list->update();
+          });
           break;
         case Stage::pair_contacts:
           timed(stage, [&] { pairs->compute(spring_dt); });
@@ -232,7 +293,7 @@ template <class Real>
 void CudaStep<Real>::Impl::feed() {
   if (!feeding.due(time)) return;
   const std::vector<ParticleState> added =
-      feeding.insert(time, particles->positions(), particles->template_ids());
+      feeding.insert(time, particles->positions(), particles->template_ids(), *domain);
   if (added.empty()) return;
   // The energy the new particles bring (the energy probe's `fed`), from their states in double.
   const Vec3d* gravity = scene.effects.gravity ? &*scene.effects.gravity : nullptr;
@@ -248,6 +309,38 @@ void CudaStep<Real>::Impl::feed() {
   }
   particles->append(added, host_bodies, true);
   if (list) list->particles_changed();
+}
+
+// As HostStep::remove_outside: one pass flags the particles outside the domain box; when some
+// are, their energies are summed (CUB, in a fixed order), the kept ones selected in order, the
+// touching histories kept by global ids and the particles gathered.
+template <class Real>
+void CudaStep<Real>::Impl::remove_outside() {
+  const int n = count();
+  if (n == 0) return;
+  const Box box = domain->local_box();
+  keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
+  shared.flags.clear(outside_particles);
+  const Vec3d g = scene.effects.gravity ? *scene.effects.gravity : Vec3d();
+  outside_kernel<<<blocks_for(n), kBlock>>>(
+      view(), bodies.data(), box.min, box.max, g, scene.effects.gravity.has_value(),
+      keep_flags.data(), removed_energy.data(), index.data(), shared.flags.at(outside_particles));
+  TALUS_CUDA_LAUNCH_CHECK();
+  const int outside = shared.flags.read(outside_particles);
+  if (outside == 0) return;
+  removed_sum.grow_to(1);
+  cub_call(shared.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceReduce::Sum(t, b, removed_energy.data(), removed_sum.data(), n);
+  });
+  ledger.removed += download(removed_sum.data(), 1)[0];
+  cub_call(shared.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::Flagged(t, b, index.data(), keep_flags.data(), order.data(),
+                                      shared.flags.at(selected), n);
+  });
+  if (list) list->keep_histories();
+  particles->keep(order.data(), n - outside);
+  if (list) list->particles_changed();
+  removed += outside;
 }
 
 // The law tables on the device, the pair list with the scene's skin and the pair stage.
@@ -340,6 +433,7 @@ void CudaStep<Real>::step() {
       TALUS_CUDA_LAUNCH_CHECK();
     });
   }
+  if (m.scene.domain) m.remove_outside();
 }
 
 template <class Real>
@@ -350,7 +444,10 @@ StepState<Real> CudaStep<Real>::export_state() const {
   s.steps = m.steps;
   s.forces_ready = m.forces_ready;
   m.particles->export_to(s);
+  s.next_id = m.particles->next_id();
+  s.removed = m.removed;
   if (m.list) m.list->export_histories(s.pair_keys, s.pair_histories);
+  if (m.list) m.list->export_reference(s.list_reference, s.list_stale);
   if (m.walls) m.walls->export_histories(s.wall_keys, s.wall_histories);
   s.feed_states = m.feeding.save();
   s.ledger = m.ledger;
@@ -361,13 +458,18 @@ template <class Real>
 void CudaStep<Real>::import_state(const StepState<Real>& s) {
   Impl& m = *impl_;
   m.feeding.restore(s.feed_states);  // first: it refuses a checkpoint of other feeds
-  // A feeding run's particles: the initial ones and those inserted by the checkpoint's step.
-  const bool grown = !m.feeding.empty() && s.count > m.count();
-  if (grown) m.particles->resize(s.count);
+  // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
+  // run with a domain box: less those removed.
+  const bool resized =
+      (!m.feeding.empty() && s.count > m.count()) || (m.scene.domain && s.count < m.count());
+  if (resized) m.particles->resize(s.count);
   check_state_fits(s, m.count(), m.particles->names(), static_cast<int>(m.host_bodies.size()));
   m.particles->import_from(s);
-  if (m.list && grown) m.list->particles_changed();
+  m.particles->set_next_id(s.next_id >= 0 ? s.next_id : s.count);
+  m.removed = s.removed;
+  if (m.list && resized) m.list->particles_changed();
   if (m.list) m.list->import_histories(s.pair_keys, s.pair_histories);
+  if (m.list) m.list->import_reference(s.list_reference, s.list_stale);
   if (m.walls) m.walls->import_histories(s.wall_keys, s.wall_histories);
   m.time = s.time;
   m.steps = s.steps;
@@ -390,6 +492,14 @@ const StepPlan& CudaStep<Real>::plan() const {
 template <class Real>
 int CudaStep<Real>::particle_count() const {
   return impl_->count();
+}
+template <class Real>
+const Domain& CudaStep<Real>::domain() const {
+  return *impl_->domain;
+}
+template <class Real>
+long long CudaStep<Real>::removed_count() const {
+  return impl_->removed;
 }
 template <class Real>
 const StageSeconds& CudaStep<Real>::stage_seconds() const {

@@ -82,6 +82,9 @@ class CudaStep {
   long long steps() const;
   const StepPlan& plan() const;
   int particle_count() const;
+  // As HostStep's: the local domain, the particles removed so far.
+  const Domain& domain() const;
+  long long removed_count() const;
 
   // The device arrays that exist (names as HostStep's) and the device bytes the step holds.
   std::vector<std::string> allocated_arrays() const;

@@ -45,8 +45,8 @@ enum Flag {
   degenerate_wall = 2,
   selected = 3,
   touching_pairs = 4,
-  deferred_pairs = 5,
-  touching_walls = 6,
+  touching_walls = 5,
+  outside_particles = 6,
   flags
 };
 
@@ -140,6 +140,8 @@ template <class Real>
 struct DeviceStepShared {
   explicit DeviceStepShared(const Scene& s) : scene(s) {}
   const Scene& scene;
+  // The local domain (the step's; domain/domain.hpp): the broad phase's grid origin, removal.
+  const Domain* domain = nullptr;
   int count = 0;
   ParticleView<Real> view;
   PairLawTables<Real> tables;

@@ -23,6 +23,7 @@
 #include "solver/contact/contact_laws.hpp"
 #include "solver/contact/damping_calibration.hpp"
 #include "solver/core/host_parallel.hpp"
+#include "solver/domain/domain.hpp"
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/host/sorted_histories.hpp"
@@ -95,9 +96,16 @@ class PairContactStage {
     tables_.linear.tangential_damping = Real(fx.linear.tangential_damping);
   }
 
-  // Broad phase: every pair whose bounding spheres meet (|x_a - x_b| <= r_a + r_b).
-  void find_candidates(const ParticleView<Real>& p) {
+  // Broad phase: every pair whose bounding spheres meet (|x_a - x_b| <= r_a + r_b), on a grid
+  // anchored at the local domain's reach box when that is bounded.
+  void find_candidates(const ParticleView<Real>& p, const Domain& domain = SingleDomain()) {
     NeighborInput<Real> input;
+    const Box reach = domain.reach_box();
+    if (reach.bounded()) {
+      input.fixed_origin = true;
+      input.origin[0] = Real(reach.min.x), input.origin[1] = Real(reach.min.y);
+      input.origin[2] = Real(reach.min.z);
+    }
     input.x = p.position.x;
     input.y = p.position.y;
     input.z = p.position.z;

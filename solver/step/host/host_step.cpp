@@ -62,6 +62,7 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
       plan_(plan_step(scene)),
       dt_(Real(scene.time_step)),
       threads_(host_thread_count(threads)),
+      domain_(make_scene_domain(scene)),
       feeding_(scene) {
   for (const ParticleTemplate& t : scene.templates) {
     shapes_.push_back(t.kind == ParticleShapeKind::polyhedron
@@ -132,7 +133,7 @@ void HostStep<Real>::set_particle(int i, const ParticleState& p) {
   const BodyProperties<Real>& body = bodies_.at(p.template_index);
   template_ids_[i] = p.template_index;
   material_ids_[i] = body.material;
-  global_ids_[i] = i;
+  global_ids_[i] = next_id_++;
   view_.position.set(i, Vec3<Real>(p.position));
   view_.velocity.set(i, Vec3<Real>(p.velocity));
   const Quatd q = p.orientation.normalized();
@@ -151,7 +152,7 @@ void HostStep<Real>::feed() {
   positions.reserve(count_);
   for (int i = 0; i < count_; ++i) positions.push_back(Vec3d(view_.position.get(i)));
   const std::vector<ParticleState> added =
-      feeding_.insert(time_, std::move(positions), template_ids_);
+      feeding_.insert(time_, std::move(positions), template_ids_, *domain_);
   if (added.empty()) return;
   const int first = count_;
   grow(count_ + static_cast<int>(added.size()));
@@ -172,6 +173,53 @@ void HostStep<Real>::feed() {
       p.torque.set(i, Vec3<Real>());
     }
   }
+}
+
+template <class Real>
+void HostStep<Real>::keep_particles(const std::vector<int>& order) {
+  const auto gather = [&](auto& values) {
+    auto kept = values;  // same capacity: the view's pointers stay valid after the swap below
+    kept.resize(order.size());
+    parallel_for(threads_, static_cast<long long>(order.size()),
+                 [&](long long k) { kept[k] = values[order[k]]; });
+    values.resize(order.size());
+    std::copy(kept.begin(), kept.end(), values.begin());
+  };
+  for (auto& entry : storage_) gather(entry.second);
+  gather(template_ids_);
+  gather(material_ids_);
+  gather(global_ids_);
+  count_ = static_cast<int>(order.size());
+  bind_view();
+}
+
+template <class Real>
+void HostStep<Real>::reorder_by_cell() {
+  NeighborInput<Real> in;
+  in.x = view_.position.x, in.y = view_.position.y, in.z = view_.position.z;
+  in.radius = view_.bounding_radius;
+  in.count = count_;
+  keep_particles(cell_order(in, threads_));
+}
+
+template <class Real>
+void HostStep<Real>::remove_outside() {
+  const Domain& d = *domain_;
+  std::vector<int> kept;
+  kept.reserve(count_);
+  const Vec3d* gravity = scene_.effects.gravity ? &*scene_.effects.gravity : nullptr;
+  for (int i = 0; i < count_; ++i) {
+    const Vec3d x(view_.position.get(i));
+    // A non-finite position is no departure: the run's watchdog reports it.
+    if (d.owner(x) >= 0 || !is_finite(x.x + x.y + x.z)) {
+      kept.push_back(i);
+    } else {
+      ledger_.removed += particle_energy(view_, bodies_, gravity, i);
+    }
+  }
+  if (static_cast<int>(kept.size()) == count_) return;
+  removed_ += count_ - static_cast<long long>(kept.size());
+  keep_particles(kept);
 }
 
 template <class Real>
@@ -221,7 +269,7 @@ void HostStep<Real>::timed(Stage stage, Body&& body) {
 
 template <class Real>
 void HostStep<Real>::run_force_stages(Real spring_dt) {
-  const ParticleView<Real> p = view_;
+  ParticleView<Real> p = view_;
   const BodyProperties<Real>* bodies = bodies_.data();
   // The per-particle stages touch particle i only: any split over threads gives the same bits.
   const auto each_particle = [&](auto&& body) {
@@ -245,7 +293,14 @@ void HostStep<Real>::run_force_stages(Real spring_dt) {
         });
         break;
       case Stage::candidate_pairs:
-        timed(stage, [&] { contacts_->find_candidates(p); });
+        timed(stage, [&] {
+          // The host builds its candidates every evaluation: every build renumbers.
+          if (scene_.reorder.value_or(false)) {
+            reorder_by_cell();
+            p = view_;
+          }
+          contacts_->find_candidates(p, *domain_);
+        });
         break;
       case Stage::pair_contacts:
         timed(stage, [&] { contacts_->compute(p, spring_dt); });
@@ -317,10 +372,12 @@ void HostStep<Real>::step() {
   ++steps_;
   run_force_stages(dt_);
   ledger_.advance(scene_.time_step, contact_rates());
+  const ParticleView<Real> q = view_;  // renumbered by the force stages with `reorder`
   timed(Stage::integrate_end, [&] {
     parallel_for(threads_, count_,
-                 [&](long long i) { integrate_end(p, bodies, static_cast<int>(i), dt_); });
+                 [&](long long i) { integrate_end(q, bodies, static_cast<int>(i), dt_); });
   });
+  if (scene_.domain) remove_outside();
 }
 
 template <class Real>
@@ -334,6 +391,8 @@ StepState<Real> HostStep<Real>::export_state() const {
   s.template_ids = template_ids_;
   s.material_ids = material_ids_;
   s.global_ids = global_ids_;
+  s.next_id = next_id_;
+  s.removed = removed_;
   if (contacts_) s.pair_keys = contacts_->history_keys(), s.pair_histories = contacts_->histories();
   if (walls_) s.wall_keys = walls_->history_keys(), s.wall_histories = walls_->histories();
   s.feed_states = feeding_.save();
@@ -346,8 +405,9 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   std::vector<std::string> names;
   for (const auto& entry : storage_) names.push_back(entry.first);
   feeding_.restore(s.feed_states);  // first: it refuses a checkpoint of other feeds
-  // A feeding run's particles: the initial ones and those inserted by the checkpoint's step.
-  if (!feeding_.empty() && s.count > count_) grow(s.count);
+  // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
+  // run with a domain box: less those removed.
+  if ((!feeding_.empty() && s.count > count_) || (scene_.domain && s.count < count_)) grow(s.count);
   check_state_fits(s, count_, names, static_cast<int>(bodies_.size()));
   // Copied into the arrays in place: view_ keeps pointing at them.
   for (std::size_t k = 0; k < storage_.size(); ++k)
@@ -355,6 +415,8 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   template_ids_ = s.template_ids;
   material_ids_ = s.material_ids;
   global_ids_ = s.global_ids;
+  next_id_ = s.next_id >= 0 ? s.next_id : s.count;
+  removed_ = s.removed;
   bind_view();
   if (contacts_) contacts_->set_histories(s.pair_keys, s.pair_histories);
   if (walls_) walls_->set_histories(s.wall_keys, s.wall_histories);
@@ -378,6 +440,9 @@ std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>& view) {
       row.angular_velocity = rotate(row.orientation, Vec3d(view.angular_velocity.get(i)));
     }
   }
+  // In global-id order whatever the particles' order in memory (`reorder`), as the files list them.
+  const auto by_id = [](const TrajectoryRow& a, const TrajectoryRow& b) { return a.id < b.id; };
+  if (!std::is_sorted(rows.begin(), rows.end(), by_id)) std::sort(rows.begin(), rows.end(), by_id);
   return rows;
 }
 

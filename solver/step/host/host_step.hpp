@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/domain/domain.hpp"
 #include "solver/io/trajectory.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
@@ -36,8 +37,8 @@ BodyProperties<Real> body_properties(const Scene& scene, const ParticleTemplate&
                                      const ShapeArrays<Real>* arrays);
 
 // The outputs of a particle view in host memory: trajectory rows (world-frame angular
-// velocity), kinetic energy (J), the highest particle point along -g (m). Shared with the CUDA
-// step, which downloads its arrays first.
+// velocity; in global-id order, whatever the order in memory), kinetic energy (J), the highest
+// particle point along -g (m). Shared with the CUDA step, which downloads its arrays first.
 template <class Real>
 std::vector<TrajectoryRow> particle_rows(const ParticleView<Real>& view);
 template <class Real>
@@ -84,6 +85,17 @@ class HostStep {
   // The force stages alone at the current state (as the first step does): for step 0's outputs.
   void evaluate_forces();
 
+  // Keeps the particles at indices order[0 .. k) in that order and drops the rest: a permutation
+  // (the renumbering by cell) or a removal. Every array and id moves with its particle; the
+  // contact histories are keyed by global ids (tangential_history.hpp), so the touching pairs of
+  // the kept particles keep theirs and a removed particle's leave the store at the next
+  // evaluation. Between steps only (the contact records of the last evaluation name indices).
+  void keep_particles(const std::vector<int>& order);
+  // The local domain: the scene's box (or all of space), its halo (domain/domain.hpp).
+  const Domain& domain() const { return *domain_; }
+  // Particles removed so far (their centroids left the domain box).
+  long long removed_count() const { return removed_; }
+
   // The state to go on from (restart; step_state.hpp), and setting it on a step made from the
   // same scene: the next step() continues as this one's would, to the bit. import_state throws
   // CheckpointError when the state does not fit the step (particle count, arrays, ids).
@@ -126,6 +138,11 @@ class HostStep {
   void set_particle(int i, const ParticleState& p);  // index i's state and ids from p
   void feed();                                       // the feeds' insertions at time_
   void run_force_stages(Real spring_dt);
+  // With `reorder`: the particles renumbered by cell (neighbor/contact_pairs.hpp, cell_order).
+  void reorder_by_cell();
+  // With a domain box: the particles whose centroid has left it, removed, their energy to the
+  // ledger's `removed`.
+  void remove_outside();
   // What the contacts of the last evaluation report to the energy ledger.
   ContactRates contact_rates() const;
   template <class Body>
@@ -142,6 +159,9 @@ class HostStep {
   std::vector<std::pair<std::string, std::vector<Real>>> storage_;
   std::vector<int> template_ids_, material_ids_;
   std::vector<long long> global_ids_;
+  long long next_id_ = 0;  // the global id of the next particle set (ids are never reused)
+  long long removed_ = 0;
+  std::unique_ptr<Domain> domain_;
   ParticleView<Real> view_;
   std::unique_ptr<PairContactStage<Real>> contacts_;
   std::unique_ptr<WallContactStage<Real>> walls_;
