@@ -392,6 +392,48 @@ TEST(ProductionVsReference, FeedIntoABoxLinear) {
   expect_agreement(compare_solvers(scene, 0.003, 0.5), 100);
 }
 
+// A domain box (docs/scenes.md): two balls bounce in a box while four beside it, thrown down,
+// leave the box's floor behind and then the domain; both solvers remove them at the same step
+// (the counts agree after every step) and go on alike with the two left.
+TEST(ProductionVsReference, BallsLeavingTheDomainAreRemovedLinear) {
+  const Scene scene = scene_from(std::string("time: {step: 5.0e-6, end: 0.02}\n") + kGlass + R"(
+templates:
+  ball: {sphere: 0.003, material: glass}
+walls:
+  - box: {min: [-0.01, -0.01, 0], max: [0.01, 0.01, 0.03], material: glass, open_top: true}
+particles:
+  - explicit:
+      - {template: ball, position: [0, 0, 0.0031]}
+      - {template: ball, position: [0.001, 0.0005, 0.01], velocity: [0, 0, -0.5]}
+  - lattice:
+      template: ball
+      region: {box: {min: [0.02, 0, 0], max: [0.032, 0.006, 0.006]}}
+      spacing: 0.006
+      velocity: [0, 0, -1]
+domain: {min: [-0.02, -0.02, -0.004], max: [0.05, 0.02, 0.05]}
+effects:
+  gravity: [0, 0, -9.81]
+  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
+  friction: true
+  rotation: true
+)");
+  {
+    ProductionRunner production(scene, ProductionSettings{});
+    SceneRunner reference(scene, SceneRunSettings{});
+    ASSERT_EQ(reference.world().bodies().size(), 4u);
+    while (!production.done()) {
+      production.advance();
+      reference.advance();
+      ASSERT_EQ(production.rows().size(), reference.world().bodies().size())
+          << "step " << reference.step();
+    }
+    // The lattice's two balls (ids 2, 3; 3 mm up at 1 m/s) pass z = -4 mm within 7 ms.
+    ASSERT_EQ(production.rows().size(), 2u);
+    EXPECT_EQ(production.rows()[1].id, 1);
+  }
+  expect_agreement(compare_solvers(scene, 0.003, 1.0), 100);
+}
+
 // The files: both solvers write trajectory frames and probes (kinetic energy, pair contacts, bed
 // height, wall forces) for two cubes on a plane, volume model; the production files must match
 // the reference's: the same frames and rows, positions within 1e-8 relative, probe values within

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "solver/core/host_parallel.hpp"
 #include "solver/scene/initial_particles.hpp"
@@ -177,9 +178,10 @@ void HostStep<Real>::feed() {
 
 template <class Real>
 void HostStep<Real>::keep_particles(const std::vector<int>& order) {
+  // Gathered into a scratch vector, then copied back: each array keeps its storage (shrinking
+  // never reallocates), so the capacity kept for feeds stays.
   const auto gather = [&](auto& values) {
-    auto kept = values;  // same capacity: the view's pointers stay valid after the swap below
-    kept.resize(order.size());
+    std::remove_reference_t<decltype(values)> kept(order.size());
     parallel_for(threads_, static_cast<long long>(order.size()),
                  [&](long long k) { kept[k] = values[order[k]]; });
     values.resize(order.size());
