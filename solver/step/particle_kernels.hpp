@@ -93,4 +93,20 @@ TALUS_HD inline void integrate_end(const ParticleView<Real>& p, const BodyProper
   }
 }
 
+// The kinetic (translational and rotational) and gravitational energy particle i holds, J, in
+// double (`gravity` null: none): what a feed brings and a removal takes to the energy ledger.
+template <class Real>
+TALUS_HD inline double particle_energy(const ParticleView<Real>& p,
+                                       const BodyProperties<Real>& body, const Vec3d* gravity,
+                                       int i) {
+  double energy = 0.5 * double(body.mass) * norm2(Vec3d(p.velocity.get(i)));
+  if (p.angular_velocity.present()) {
+    const Vec3d w(p.angular_velocity.get(i));  // body frame, with the principal moments
+    const Vec3d inertia(body.inertia);
+    energy += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+  }
+  if (gravity) energy -= double(body.mass) * dot(*gravity, Vec3d(p.position.get(i)));
+  return energy;
+}
+
 }  // namespace talus

@@ -1,5 +1,6 @@
 // The CUDA step's per-particle kernels (the stages of particle_kernels.hpp, one thread per
-// particle) and the deterministic accumulation over each particle's slots and wall contacts.
+// particle), the deterministic accumulation over each particle's slots and wall contacts, and the
+// flagging of particles that left the domain box.
 // Included only by cuda_step.cu.
 #pragma once
 
@@ -90,6 +91,29 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
   }
   p.force.set(i, f);
   if (torque) p.torque.set(i, t);
+}
+
+// ---- Removal at the domain box ----
+
+// Particles whose centroid has left the domain box `lo` .. `hi` (half-open, as Box::contains;
+// a non-finite one stays, for the watchdog): keep[i] 0, their energy (particle_energy) in
+// energy[i], counted in `outside`; index[i] = i for the selection of the kept.
+template <class Real>
+__global__ void outside_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies, Vec3d lo,
+                               Vec3d hi, Vec3d g, bool gravity, unsigned char* keep, double* energy,
+                               int* index, int* outside) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= p.count) return;
+  index[i] = i;
+  const Vec3d x(p.position.get(i));
+  const bool inside =
+      x.x >= lo.x && x.x < hi.x && x.y >= lo.y && x.y < hi.y && x.z >= lo.z && x.z < hi.z;
+  const bool leaves = !inside && is_finite(x.x + x.y + x.z);
+  keep[i] = leaves ? 0 : 1;
+  energy[i] = 0;
+  if (!leaves) return;
+  atomicAdd(outside, 1);
+  energy[i] = particle_energy(p, bodies[p.template_id[i]], gravity ? &g : nullptr, i);
 }
 
 }  // namespace

@@ -80,35 +80,6 @@ PairLawTables<Real> upload_law_tables(const PairLawTables<Real>& h,
   return d;
 }
 
-// Particles whose centroid has left the domain box `lo` .. `hi` (half-open, as Box::contains;
-// a non-finite one stays, for the watchdog): keep[i] 0, their energy (as particle_energy, in
-// double) in energy[i], counted in `outside`; index[i] = i for the selection of the kept.
-template <class Real>
-__global__ void outside_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies, Vec3d lo,
-                               Vec3d hi, Vec3d g, bool gravity, unsigned char* keep, double* energy,
-                               int* index, int* outside) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= p.count) return;
-  index[i] = i;
-  const Vec3d x(p.position.get(i));
-  const bool inside =
-      x.x >= lo.x && x.x < hi.x && x.y >= lo.y && x.y < hi.y && x.z >= lo.z && x.z < hi.z;
-  const bool leaves = !inside && is_finite(x.x + x.y + x.z);
-  keep[i] = leaves ? 0 : 1;
-  energy[i] = 0;
-  if (!leaves) return;
-  atomicAdd(outside, 1);
-  const BodyProperties<Real>& body = bodies[p.template_id[i]];
-  double e = 0.5 * double(body.mass) * norm2(Vec3d(p.velocity.get(i)));
-  if (p.angular_velocity.present()) {
-    const Vec3d w(p.angular_velocity.get(i));
-    const Vec3d inertia(body.inertia);
-    e += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
-  }
-  if (gravity) e -= double(body.mass) * dot(g, x);
-  energy[i] = e;
-}
-
 }  // namespace
 
 template <class Real>

@@ -468,16 +468,7 @@ template <class Real>
 double particle_energy(const ParticleView<Real>& view,
                        const std::vector<BodyProperties<Real>>& bodies, const Vec3d* gravity,
                        int i) {
-  const BodyProperties<Real>& body = bodies[view.template_id[i]];
-  const Vec3d x(view.position.get(i));
-  double energy = 0.5 * double(body.mass) * norm2(Vec3d(view.velocity.get(i)));
-  if (view.angular_velocity.present()) {
-    const Vec3d w(view.angular_velocity.get(i));  // body frame, with the principal moments
-    const Vec3d inertia(body.inertia);
-    energy += 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
-  }
-  if (gravity) energy -= double(body.mass) * dot(*gravity, x);
-  return energy;
+  return particle_energy(view, bodies[view.template_id[i]], gravity, i);
 }
 
 template <class Real>
