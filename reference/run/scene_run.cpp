@@ -241,6 +241,8 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
       world_(world_setup(scene, template_of_body_)),
       polyhedron_slot_(polyhedron_slots(scene)) {
   started_ = last_progress_ = clock_seconds();
+  // The output root is this run's while it lasts (solver/io/run_directory.hpp).
+  lock_ = claim_output_root(scene, settings_.output_root, new_run_id(), false, settings_.overwrite);
   for (std::size_t f = 0; f < scene.feeds.size(); ++f) {
     feeders_.emplace_back(scene, static_cast<int>(f));
   }

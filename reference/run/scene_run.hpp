@@ -12,6 +12,7 @@
 #include "reference/world/world.hpp"
 #include "solver/io/output_schedule.hpp"
 #include "solver/io/probes.hpp"
+#include "solver/io/run_directory.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
 
@@ -46,6 +47,9 @@ struct SceneRunSettings {
   // Called about every `progress_interval` seconds of wall time and at the end; may be empty.
   std::function<void(const SceneRunProgress&)> progress;
   double progress_interval = 1.0;
+  // An output root with an earlier run's outputs: removed first (true) or refused (false), as
+  // for the production runner (solver/io/run_directory.hpp).
+  bool overwrite = false;
 };
 
 struct SceneRunReport {
@@ -94,6 +98,7 @@ class SceneRunner {
   long long next_id_ = 0;
   std::vector<int> plate_triangles_;  // per wall: the closed plate still present, else 0
   long long step_ = 0, total_steps_ = 0;
+  OutputLock lock_;  // the output root, this run's while it lasts; released after the outputs
   std::unique_ptr<OutputSchedule> outputs_;  // trajectories, probes, ParaView
   double contacts_sum_ = 0;
   double started_ = 0, last_progress_ = 0;  // steady-clock seconds

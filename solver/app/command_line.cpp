@@ -46,7 +46,7 @@ const std::pair<const char*, const char*> kSynopses[] = {
 struct RunText {
   std::vector<std::string> scenes;
   std::string solver, backend, precision, output, threads, end, resume;
-  bool quiet = false, allow_unstable_step = false;
+  bool quiet = false, allow_unstable_step = false, overwrite = false;
 };
 
 struct RenderText {
@@ -87,7 +87,7 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
                                                                   {"float", Precision::float32}};
   refuse_extras(app, "run",
                 "--solver, --backend, --precision, --output, --threads, --end, --resume, "
-                "--quiet, --allow-unstable-step");
+                "--quiet, --allow-unstable-step, --overwrite");
   const auto given = [&](const char* name) { return app->count(name) > 0; };
   RunArguments parsed;
   if (t.scenes.size() > 1)
@@ -104,12 +104,16 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
   if (given("--threads")) parsed.threads = parse_positive_count("--threads", t.threads);
   if (given("--end")) parsed.end_time = positive_number("--end", t.end, "time in s");
   if (given("--resume")) {
-    if (t.resume.empty()) throw UsageError("--resume expects a checkpoint directory");
+    if (t.resume.empty())
+      throw UsageError("--resume expects a checkpoint directory or a checkpoint file");
     parsed.resume_directory = t.resume;
   }
   parsed.quiet = t.quiet;
   parsed.allow_unstable_step = t.allow_unstable_step;
+  parsed.overwrite = t.overwrite;
   if (!parsed.resume_directory.empty()) {
+    if (parsed.overwrite)
+      throw UsageError("--resume continues the run's own outputs; drop --overwrite");
     if (!t.scenes.empty())
       throw UsageError("--resume continues the run its checkpoint names; drop the scene file '" +
                        parsed.scene_path + "'");
@@ -233,11 +237,14 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   text_option(run, "--threads", r.threads, "N",
               "the host backend's threads (N >= 1; default: all cores, or OMP_NUM_THREADS)");
   text_option(run, "--end", r.end, "T", "stop at T seconds instead of the scene's end time");
-  text_option(run, "--resume", r.resume, "DIR",
-              "continue the run from the newest checkpoint in DIR (outputs.checkpoint) instead "
-              "of a scene file; takes --backend, --threads, --quiet and --allow-unstable-step "
-              "only");
+  text_option(run, "--resume", r.resume, "DIR|FILE",
+              "continue the run from the newest checkpoint in DIR (outputs.checkpoint), or from "
+              "the checkpoint FILE, instead of a scene file; takes --backend, --threads, --quiet "
+              "and --allow-unstable-step only");
   run->add_flag("--quiet", r.quiet, "no progress lines on stderr");
+  run->add_flag("--overwrite", r.overwrite,
+                "remove an earlier run's outputs from the output directory first (a new run "
+                "into a directory that holds them is refused otherwise)");
   run->add_flag("--allow-unstable-step", r.allow_unstable_step,
                 "run a time step above the critical step that talus estimates (refused "
                 "otherwise; docs/contact.md)");

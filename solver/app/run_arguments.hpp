@@ -28,10 +28,14 @@ struct RunArguments {
   // --allow-unstable-step: run a scene whose time step is above the critical step of the
   // time-step advisor (solver/contact/time_step_advisor.hpp) instead of refusing it.
   bool allow_unstable_step = false;
+  // --overwrite: a new run into an output root that holds an earlier run's outputs removes them
+  // first (solver/io/run_directory.hpp); without it such a run is refused.
+  bool overwrite = false;
   // --end T: stop at T seconds instead of the scene's end time (s, > 0; shorter runs).
   std::optional<double> end_time;
-  // --resume DIR: continue the run whose checkpoints are in DIR (no scene path; the checkpoint
-  // names the scene, the output root and the precision). Empty: a new run.
+  // --resume PATH: continue the run from the newest checkpoint in the directory PATH, or from the
+  // checkpoint file PATH (no scene path; the checkpoint names the scene, the output root and the
+  // precision). Empty: a new run.
   std::string resume_directory;
 };
 

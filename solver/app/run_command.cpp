@@ -27,6 +27,7 @@
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
+#include "solver/io/run_directory.hpp"
 #include "solver/run/production_run.hpp"
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
@@ -149,6 +150,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   settings.host_threads = args.threads;
   settings.output_root = resume ? resume->output_root : args.output_root;
   if (resume) settings.resume = resume->checkpoint;
+  settings.overwrite = args.overwrite;
   settings.stop_requested = [] { return stop_signal != 0; };
   if (!args.quiet) settings.progress = print_production_progress;
   if (advice.limited()) {
@@ -167,6 +169,8 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
     throw RunError(e.what());
   } catch (const CheckpointError& e) {
     throw RunError(e.what());  // a checkpoint that does not fit the scene
+  } catch (const OutputConflict& e) {
+    throw RunError(e.what());  // an output directory in use or holding another run's outputs
   }
   if (report.interrupted) {
     const int signal = stop_signal;
@@ -307,7 +311,11 @@ std::string run_json(const RunArguments& given) {
   if (builtin) {
     // The built-in scene, written out so that the run directory holds what produced it (and
     // `talus render` finds it through run.json).
-    if (args.output_root.empty()) args.output_root = kBuiltinSceneOutput;
+    if (args.output_root.empty()) {
+      // talus's own directory for it: a new run of the built-in scene replaces the last one's.
+      args.output_root = kBuiltinSceneOutput;
+      args.overwrite = true;
+    }
     create_output_directory(args.output_root);
     args.scene_path = args.output_root + "/" + kBuiltinSceneFileName;
     write_file_atomically(args.scene_path, builtin_scene_text());
@@ -358,8 +366,14 @@ std::string run_json(const RunArguments& given) {
   }
   reference::SceneRunSettings settings;
   settings.output_root = args.output_root;
+  settings.overwrite = args.overwrite;
   if (!args.quiet) settings.progress = print_progress;
-  const reference::SceneRunReport report = reference::run_scene(scene, settings);
+  reference::SceneRunReport report;
+  try {
+    report = reference::run_scene(scene, settings);
+  } catch (const OutputConflict& e) {
+    throw RunError(e.what());
+  }
   Json json;
   json["solver"] = "reference";
   json["scene"] = args.scene_path;

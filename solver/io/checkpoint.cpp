@@ -169,7 +169,8 @@ std::string checkpoint_file_name(long long step) {
 }
 
 std::vector<std::string> list_checkpoints(const std::string& directory) {
-  static const std::regex pattern("checkpoint_([0-9]{9,})\\.bin");
+  // At most 18 digits: every such step fits a long long (a longer name is not one of ours).
+  static const std::regex pattern("checkpoint_([0-9]{9,18})\\.bin");
   std::vector<std::pair<long long, std::string>> found;
   std::error_code error;
   for (std::filesystem::directory_iterator it(directory, error), end; !error && it != end;
@@ -183,6 +184,33 @@ std::vector<std::string> list_checkpoints(const std::string& directory) {
   std::vector<std::string> paths;
   for (const auto& entry : found) paths.push_back(entry.second);
   return paths;
+}
+
+std::string checkpoint_run_id(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[kHeaderBytes];
+  if (!in.read(header, sizeof header) || std::memcmp(header, kMagic, sizeof kMagic) != 0) return {};
+  std::uint64_t sections = 0;
+  std::memcpy(&sections, header + 24, 8);
+  // The run's sections come first (the runner puts them before the step's): a few are read, the
+  // rest of the file never is.
+  for (std::uint64_t k = 0; k < sections && k < 64; ++k) {
+    std::uint32_t name_size = 0, element_size = 0;
+    std::uint64_t count = 0;
+    if (!in.read(reinterpret_cast<char*>(&name_size), 4) || name_size > 256) return {};
+    std::string name(name_size, '\0');
+    if (!in.read(name.data(), name_size) || !in.read(reinterpret_cast<char*>(&element_size), 4) ||
+        !in.read(reinterpret_cast<char*>(&count), 8))
+      return {};
+    if (name == "run.id") {
+      if (element_size != 1 || count > 64) return {};
+      std::string id(count, '\0');
+      return in.read(id.data(), static_cast<std::streamsize>(count)) ? id : std::string();
+    }
+    if (element_size == 0 || count > (std::uint64_t(1) << 40) / element_size) return {};
+    in.seekg(static_cast<std::streamoff>(count * element_size), std::ios::cur);
+  }
+  return {};
 }
 
 }  // namespace talus

@@ -117,5 +117,8 @@ std::string checkpoint_file_name(long long step);
 // The checkpoint files (checkpoint_<digits>.bin) of a directory by increasing step; empty when
 // there are none or the directory does not exist.
 std::vector<std::string> list_checkpoints(const std::string& directory);
+// The run id (section `run.id`) of a checkpoint file, read from its first sections without
+// checking the whole file; empty when it has none or cannot be read.
+std::string checkpoint_run_id(const std::string& path);
 
 }  // namespace talus

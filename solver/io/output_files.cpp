@@ -8,6 +8,9 @@
 #include <stdexcept>
 #include <system_error>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 namespace talus {
 
 void create_output_directory(const std::string& directory) {
@@ -21,6 +24,27 @@ void create_output_directory(const std::string& directory) {
                              "': a file of that name is in the way");
 }
 
+void sync_directory_of(const std::string& path) {
+  std::string directory = std::filesystem::path(path).parent_path().string();
+  if (directory.empty()) directory = ".";
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0)
+    throw std::runtime_error("cannot sync directory '" + directory + "': " + std::strerror(errno));
+  const int code = ::fsync(fd) == 0 ? 0 : errno;
+  ::close(fd);
+  // Some file systems cannot sync a directory (EINVAL): nothing more can be done there.
+  if (code != 0 && code != EINVAL)
+    throw std::runtime_error("cannot sync directory '" + directory + "': " + std::strerror(code));
+}
+
+void sync_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot sync '" + path + "': " + std::strerror(errno));
+  const int code = ::fsync(fd) == 0 ? 0 : errno;
+  ::close(fd);
+  if (code != 0) throw std::runtime_error("cannot sync '" + path + "': " + std::strerror(code));
+}
+
 void write_file_atomically(const std::string& path, const std::string& text) {
   const std::string temporary = path + ".tmp";
   auto fail = [&](int code) {
@@ -31,10 +55,14 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   if (!file) fail(errno);
   const std::size_t written = std::fwrite(text.data(), 1, text.size(), file);
   int code = (written != text.size() || std::fflush(file) != 0) ? errno : 0;
+  // On the disk before the rename: a power loss leaves the old file or the whole new one, never
+  // a new name on an empty file.
+  if (code == 0 && ::fsync(fileno(file)) != 0) code = errno;
   if (std::fclose(file) != 0 && code == 0) code = errno;
   if (written != text.size() && code == 0) code = EIO;
   if (code != 0) fail(code);
   if (std::rename(temporary.c_str(), path.c_str()) != 0) fail(errno);
+  sync_directory_of(path);  // the rename itself, on the disk
 }
 
 std::string numbered_file_name(const std::string& prefix, long long step,

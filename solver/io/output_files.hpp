@@ -15,9 +15,15 @@ void create_output_directory(const std::string& directory);
 // `path` under the run's output root: unchanged when it is absolute or the root is empty.
 std::string joined_path(const std::string& root, const std::string& path);
 
-// Writes `text` to `path` through "<path>.tmp" and a rename. Throws std::runtime_error
-// "cannot write '<path>': <reason>" (and removes the temporary file) on any failure.
+// Writes `text` to `path` through "<path>.tmp" and a rename, the file synced to the disk before
+// the rename and its directory after it (fsync). Throws std::runtime_error "cannot write
+// '<path>': <reason>" (and removes the temporary file) on any failure.
 void write_file_atomically(const std::string& path, const std::string& text);
+
+// fsync of a written file, and of the directory that holds `path` (after a rename or a new file
+// in it). Throw std::runtime_error naming the path on failure.
+void sync_file(const std::string& path);
+void sync_directory_of(const std::string& path);
 
 // prefix + the step in at least 9 digits + extension: ("particles_", 1200, ".vtp") gives
 // "particles_000001200.vtp", so that the files of a run sort by step.

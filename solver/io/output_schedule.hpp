@@ -49,11 +49,11 @@ class OutputWriter {
   virtual void write(long long step, OutputFrame& frame) = 0;
   // The file or directory, as the run's summary lists it.
   virtual std::string path() const = 0;
-  // What the writer needs to go on after a restart, kept in the checkpoint's section `key()`
-  // (empty key: nothing to keep).
-  virtual std::string key() const { return {}; }
-  virtual std::string save() const { return {}; }
-  virtual void restore(const std::string& /*state*/) {}
+  // What the writer needs to go on after a restart, as checkpoint sections named after it
+  // (its constructor takes them back from the checkpoint of a resumed run).
+  virtual void save(Checkpoint& /*checkpoint*/) const {}
+  // Files appended to in place (the probe file) on the disk, before a checkpoint counts them.
+  virtual void sync() {}
 
  private:
   long long every_;
@@ -63,11 +63,13 @@ class OutputSchedule {
  public:
   // The outputs the scene names, under `output_root` (empty: the working directory): their
   // directories and first files (run.json names `solver`). `particles`: the run's particle count
-  // at the start (the ParaView default depends on it). `resume_step` >= 0: a run resumed after
-  // that step (the probe file keeps its rows up to it). Throws std::runtime_error naming a path
-  // that cannot be created.
+  // at the start (the ParaView default and the trajectory format depend on it). `resume`: the
+  // checkpoint of a run resumed after its step: each writer takes its state from it and checks
+  // that its files are the ones the checkpoint's run wrote (the probe file holds the very rows it
+  // had written by then; run.json is kept as it is). Throws std::runtime_error naming a path that
+  // cannot be created, CheckpointError naming a file that does not continue the checkpoint's run.
   OutputSchedule(const Scene& scene, const std::string& output_root, const std::string& solver,
-                 std::size_t particles, long long resume_step = -1);
+                 std::size_t particles, const Checkpoint* resume = nullptr);
   ~OutputSchedule();
 
   // Whether any output is due at `step` (`last`: the run's last step).
@@ -75,9 +77,10 @@ class OutputSchedule {
   // Writes every output due at `step`.
   void write(long long step, bool last, const OutputSource& source);
 
-  // The writers' states into and out of a checkpoint (a restart).
+  // The writers' states into a checkpoint (a restart), after sync(): every file written so far
+  // is on the disk (fsync) before a checkpoint says it is.
   void save(Checkpoint& checkpoint) const;
-  void restore(const Checkpoint& checkpoint);
+  void sync();
 
   // Each output's file or directory, in the scene's order: trajectories, probes, ParaView.
   std::vector<std::string> paths() const;

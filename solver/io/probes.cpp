@@ -4,8 +4,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
+#include <unistd.h>
+
+#include "solver/io/checkpoint.hpp"
 #include "solver/io/output_files.hpp"
 
 namespace talus {
@@ -44,7 +48,7 @@ std::vector<std::string> probe_columns(const ProbeOutput& probes,
 }
 
 ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns)
-    : path_(path), columns_(std::move(columns)) {
+    : path_(path), columns_(std::move(columns)), hash_(fnv1a64(nullptr, 0)) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   if (!parent.empty()) create_output_directory(parent.string());
   file_ = std::fopen(path.c_str(), "wb");
@@ -55,35 +59,67 @@ ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> colum
   header += "\n";
   if (std::fputs(header.c_str(), file_) < 0 || std::fflush(file_) != 0)
     throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
+  count(header);
 }
 
 ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns,
-                         long long last_step)
-    : path_(path), columns_(std::move(columns)) {
+                         const ProbeResume& resume)
+    : path_(path), columns_(std::move(columns)), hash_(fnv1a64(nullptr, 0)) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot resume probe file '" + path + "': it is missing");
-  std::string header = "time,step", line, kept;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  std::string header = "time,step";
   for (const std::string& column : columns_) header += "," + column;
-  if (!std::getline(in, line) || line != header)
+  if (text.compare(0, header.size() + 1, header + "\n") != 0)
     throw std::runtime_error("cannot resume probe file '" + path + "': its header is not '" +
                              header + "'");
-  kept = header + "\n";
-  // Whole rows (a newline at the end) of steps up to last_step, in order.
-  while (std::getline(in, line) && !in.eof()) {
-    const std::vector<std::string> fields = split_csv_line(line);
-    double step = 0;
-    if (fields.size() < 2 || !parse_double(fields[1], step) || step > double(last_step)) break;
-    kept += line + "\n";
+  std::string kept;
+  if (resume.bytes >= 0) {
+    const std::string at = " (the checkpoint of step " + std::to_string(resume.step) + " counts " +
+                           std::to_string(resume.bytes) + " bytes of rows written by then)";
+    if (static_cast<long long>(text.size()) < resume.bytes)
+      throw CheckpointError("cannot resume probe file '" + path + "': it holds " +
+                            std::to_string(text.size()) +
+                            " bytes, so it ends before the checkpoint's step" + at +
+                            "; it was cut or replaced since, and a resumed run would leave a gap");
+    kept = text.substr(0, static_cast<std::size_t>(resume.bytes));
+    if (fnv1a64(kept.data(), kept.size()) != resume.hash)
+      throw CheckpointError("cannot resume probe file '" + path +
+                            "': its rows up to the checkpoint's step are not the ones the "
+                            "checkpoint's run wrote" +
+                            at + "; another run has written it since");
+  } else {
+    // Whole rows (a newline at the end) of steps up to the checkpoint's, in order.
+    std::size_t begin = header.size() + 1;
+    kept = text.substr(0, begin);
+    for (std::size_t end; (end = text.find('\n', begin)) != std::string::npos; begin = end + 1) {
+      const std::string line = text.substr(begin, end - begin);
+      const std::vector<std::string> fields = split_csv_line(line);
+      double step = 0;
+      if (fields.size() < 2 || !parse_double(fields[1], step) || step > double(resume.step)) break;
+      kept += line + "\n";
+    }
   }
-  in.close();
-  write_file_atomically(path, kept);
+  if (kept.size() != text.size()) write_file_atomically(path, kept);
   file_ = std::fopen(path.c_str(), "ab");
   if (!file_)
     throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
+  count(kept);
 }
 
 ProbeWriter::~ProbeWriter() {
   if (file_) std::fclose(file_);
+}
+
+void ProbeWriter::count(const std::string& text) {
+  bytes_ += static_cast<long long>(text.size());
+  hash_ = fnv1a64(text.data(), text.size(), hash_);
+}
+
+void ProbeWriter::sync() {
+  if (std::fflush(file_) != 0 || ::fsync(fileno(file_)) != 0)
+    throw std::runtime_error("cannot write probe file '" + path_ + "': " + std::strerror(errno));
 }
 
 void ProbeWriter::write_row(double time, long long step, const std::vector<double>& values) {
@@ -97,6 +133,7 @@ void ProbeWriter::write_row(double time, long long step, const std::vector<doubl
   // One write and a flush per row: what reached the file is whole rows, up to the last one.
   if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0)
     throw std::runtime_error("cannot write probe file '" + path_ + "': " + std::strerror(errno));
+  count(row);
 }
 
 ProbeTable read_probe_file(const std::string& path) {

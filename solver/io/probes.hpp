@@ -5,6 +5,7 @@
 // energy_probe_columns().
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -22,17 +23,27 @@ const std::vector<std::string>& energy_probe_columns();
 std::vector<std::string> probe_columns(const ProbeOutput& probes,
                                        const std::vector<WallSpec>& walls);
 
+// Where a resumed probe file continues (ProbeWriter below).
+struct ProbeResume {
+  long long step = 0;      // the checkpoint's step
+  long long bytes = -1;    // the file's length at the checkpoint; -1: not recorded
+  std::uint64_t hash = 0;  // FNV-1a of those bytes (checkpoint.hpp)
+};
+
 class ProbeWriter {
  public:
   // Creates the file's directory when missing, creates (or empties) the file and writes the
   // header. Throws std::runtime_error naming the path and the reason.
   ProbeWriter(const std::string& path, std::vector<std::string> columns);
-  // Continues the file of a run resumed after step `last_step` (a restart): the rows of later
-  // steps, which the interrupted run may have written after its checkpoint, and a partial last
-  // line are dropped (the file rewritten through a temporary name), then rows are appended.
-  // Throws std::runtime_error naming the path when the file is missing or its header is not
-  // time,step and `columns`.
-  ProbeWriter(const std::string& path, std::vector<std::string> columns, long long last_step);
+  // Continues the file of a run resumed after the checkpoint `resume` describes. With the
+  // checkpoint's length and hash of what its run had written (`bytes` >= 0), the file must begin
+  // with exactly those bytes: it is cut back to them (rows the interrupted run wrote after its
+  // checkpoint go), then rows are appended. A file that is shorter (it does not reach the
+  // checkpoint's step), or whose first bytes differ (another run's file), is refused with a
+  // CheckpointError naming it. Without them (a checkpoint of an older talus), the rows of steps
+  // up to `step` and no partial last line are kept. Throws std::runtime_error naming the path when
+  // the file is missing or its header is not time,step and `columns`.
+  ProbeWriter(const std::string& path, std::vector<std::string> columns, const ProbeResume& resume);
   ~ProbeWriter();
   ProbeWriter(const ProbeWriter&) = delete;
   ProbeWriter& operator=(const ProbeWriter&) = delete;
@@ -41,6 +52,12 @@ class ProbeWriter {
   // when the count of values differs from the columns', std::runtime_error when writing fails.
   void write_row(double time, long long step, const std::vector<double>& values);
 
+  // fsync: the rows written so far are on the disk.
+  void sync();
+  // The file's length so far and the FNV-1a of its bytes (a checkpoint's record of it).
+  long long bytes() const { return bytes_; }
+  std::uint64_t hash() const { return hash_; }
+
   const std::string& path() const { return path_; }
   const std::vector<std::string>& columns() const { return columns_; }
 
@@ -48,6 +65,9 @@ class ProbeWriter {
   std::string path_;
   std::vector<std::string> columns_;
   std::FILE* file_ = nullptr;
+  long long bytes_ = 0;
+  std::uint64_t hash_ = 0;
+  void count(const std::string& text);  // adds written bytes to bytes_ and hash_
 };
 
 // A probe file read back: the header's names (time and step included) and the rows' numbers.

@@ -143,9 +143,15 @@ void write_trajectory_frame_hdf5(const std::string& directory, long long step, d
     }
     if (!file.close()) fail("the file could not be closed (disk full?)");
   }
+  try {
+    sync_file(temporary);  // on the disk before it takes the frame's name (output_files.hpp)
+  } catch (const std::runtime_error& e) {
+    fail(e.what());
+  }
   std::error_code error;
   std::filesystem::rename(temporary, path, error);
   if (error) fail(error.message());
+  sync_directory_of(path);
 }
 
 TrajectoryFrame read_trajectory_frame_hdf5(const std::string& path, long long step) {

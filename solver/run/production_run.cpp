@@ -8,11 +8,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <variant>
 
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/output_schedule.hpp"
+#include "solver/io/run_directory.hpp"
 #include "solver/run/any_step.hpp"
 #include "solver/step/host/host_step.hpp"
 
@@ -56,6 +58,11 @@ std::unique_ptr<AnyStep> make_host_step(const Scene& scene, int threads) {
 struct ProductionRunner::Impl {
   const Scene& scene;
   ProductionSettings settings;
+  // The output root, held for the run's whole life (run_directory.hpp; released after the
+  // outputs close), and the run's id, which its checkpoints carry (a resumed run keeps its
+  // checkpoint's).
+  OutputLock lock;
+  std::string run_id;
   std::unique_ptr<AnyStep> step;
   int host_threads = 0;  // the host step's, 0 for another backend
   long long step_index = 0, total_steps = 0;
@@ -63,9 +70,13 @@ struct ProductionRunner::Impl {
   std::vector<std::string> outputs;
   double contacts_sum = 0, output_seconds = 0;
   double started = 0, last_progress = 0;
-  // Checkpoints: their directory (empty: none asked for), the scene file's fingerprint.
+  // Checkpoints: their directory (empty: none asked for), this run's files there (by step; only
+  // these are pruned), the files the scene reads and their fingerprints.
   std::string checkpoint_dir;
-  std::uint64_t scene_hash = 0;
+  std::vector<std::string> own_checkpoints;
+  std::vector<std::string> input_files;
+  std::vector<std::uint64_t> input_hashes;
+  std::size_t initial_particles = 0;  // at step 0 (a resumed run's outputs are shaped by it)
   long long resumed_from = -1, last_checkpoint_step = -1;
   std::string last_checkpoint;
   bool interrupted = false;
@@ -174,13 +185,20 @@ struct ProductionRunner::Impl {
   }
 
   // The run's state at this step (step, outputs, what resuming needs to find the run again),
-  // through a temporary name and a rename; then all but the newest `keep` files are removed.
+  // through a temporary name and a rename, once every output file it counts is on the disk;
+  // then all but the newest `keep` of this run's checkpoints are removed (another run's never).
   void write_checkpoint_now() {
     const double start = clock_seconds();
+    schedule->sync();
     Checkpoint c;
     const std::filesystem::path root = absolute_path(settings.output_root);
-    c.put_text("run.scene_file", absolute_path(scene.file));
-    c.put_value("run.scene_hash", scene_hash);
+    c.put_text("run.id", run_id);  // first: checkpoint_run_id reads only the first sections
+    c.put_text("run.scene_file", input_files.front());
+    c.put_value("run.scene_hash", input_hashes.front());
+    std::string files;
+    for (const std::string& file : input_files) files += file + "\n";
+    c.put_text("run.input_files", files);
+    c.put("run.input_hashes", input_hashes);
     c.put_text("run.output_root",
                root.lexically_relative(absolute_path(checkpoint_dir)).generic_string());
     c.put_text("run.backend", step->backend());
@@ -193,9 +211,19 @@ struct ProductionRunner::Impl {
     write_checkpoint(path, c);
     last_checkpoint = path;
     last_checkpoint_step = step_index;
-    const std::vector<std::string> files = list_checkpoints(checkpoint_dir);
+    if (std::find(own_checkpoints.begin(), own_checkpoints.end(), path) == own_checkpoints.end())
+      own_checkpoints.push_back(path);
+    // By step: the names hold the step in at least 9 digits, so shorter names come first.
+    std::sort(own_checkpoints.begin(), own_checkpoints.end(),
+              [](const std::string& a, const std::string& b) {
+                return a.size() != b.size() ? a.size() < b.size() : a < b;
+              });
     const std::size_t keep = static_cast<std::size_t>(scene.outputs.checkpoint->keep);
-    for (std::size_t k = 0; k + keep < files.size(); ++k) std::filesystem::remove(files[k]);
+    while (own_checkpoints.size() > keep) {
+      std::error_code ignored;  // one already gone is no reason to stop the run
+      std::filesystem::remove(own_checkpoints.front(), ignored);
+      own_checkpoints.erase(own_checkpoints.begin());
+    }
     output_seconds += clock_seconds() - start;
   }
 };
@@ -211,6 +239,10 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
       }
     }
   }
+  const Checkpoint* resume = m.settings.resume.get();
+  m.run_id = resume && resume->has("run.id") ? resume->text("run.id") : new_run_id();
+  m.lock = claim_output_root(scene, m.settings.output_root, m.run_id, resume != nullptr,
+                             m.settings.overwrite);
   if (m.settings.make_step) {
     m.step = m.settings.make_step(scene);
   } else {
@@ -218,7 +250,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.step = make_host_step(scene, m.host_threads);
   }
   m.total_steps = std::llround(scene.end_time / scene.time_step);
-  const Checkpoint* resume = m.settings.resume.get();
+  m.initial_particles = m.step->particles();
   if (resume) {
     if (resume->text("run.precision") != to_string(scene.precision))
       resume->fail("run.precision", "written in " + resume->text("run.precision") +
@@ -232,12 +264,16 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   if (scene.outputs.checkpoint) {
     m.checkpoint_dir = joined_path(m.settings.output_root, scene.outputs.checkpoint->directory);
     create_output_directory(m.checkpoint_dir);
-    m.scene_hash = file_hash(scene.file);  // resuming checks that the scene is unchanged
+    // Resuming checks that the scene and its meshes are unchanged.
+    m.input_files = scene_input_files(scene);
+    for (const std::string& file : m.input_files) m.input_hashes.push_back(file_hash(file));
+    if (resume)
+      for (const std::string& path : list_checkpoints(m.checkpoint_dir))
+        if (checkpoint_run_id(path) == m.run_id) m.own_checkpoints.push_back(path);
     m.outputs.push_back(m.checkpoint_dir);
   }
   m.schedule = std::make_unique<OutputSchedule>(scene, m.settings.output_root, "talus",
-                                                m.step->particles(), resume ? m.step_index : -1);
-  if (resume) m.schedule->restore(*resume);
+                                                m.initial_particles, resume);
   for (const std::string& path : m.schedule->paths()) m.outputs.push_back(path);
   if (resume) {  // the checkpoint's step has its outputs already
     m.watch_energy();
@@ -351,28 +387,86 @@ ProductionReport run_production(const Scene& scene, const ProductionSettings& se
   return runner.report();
 }
 
-ResumePoint read_resume_point(const std::string& directory) {
-  const std::vector<std::string> files = list_checkpoints(directory);
+std::vector<std::string> scene_input_files(const Scene& scene) {
+  std::vector<std::string> files{absolute_path(scene.file)};
+  const auto add = [&](const std::string& file) {
+    const std::string path = absolute_path(file);
+    if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+  };
+  for (const ParticleTemplate& t : scene.templates)
+    if (!t.mesh_file.empty()) add(t.mesh_file);
+  for (const WallSpec& wall : scene.walls)
+    if (const auto* mesh = std::get_if<MeshWall>(&wall.shape)) add(mesh->file);
+  return files;
+}
+
+namespace {
+
+// Throws CheckpointError unless each file the checkpoint's run read still has its hash.
+void check_input_files(const Checkpoint& checkpoint) {
+  const std::string path = checkpoint.path();
+  std::vector<std::string> files;
+  std::vector<std::uint64_t> hashes;
+  if (checkpoint.has("run.input_files")) {
+    const std::string text = checkpoint.text("run.input_files");
+    for (std::size_t begin = 0, end; (end = text.find('\n', begin)) != std::string::npos;
+         begin = end + 1)
+      files.push_back(text.substr(begin, end - begin));
+    hashes = checkpoint.get<std::uint64_t>("run.input_hashes");
+    if (files.empty() || hashes.size() != files.size())
+      checkpoint.fail("run.input_hashes", "expected one hash per file of run.input_files");
+  } else {  // a checkpoint of an older talus: the scene file only
+    files = {checkpoint.text("run.scene_file")};
+    hashes = {checkpoint.get_value<std::uint64_t>("run.scene_hash")};
+  }
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    const std::string what =
+        k == 0 ? "the run's scene file '" + files[k] + "'" : "the mesh file '" + files[k] + "'";
+    std::uint64_t now = 0;
+    try {
+      now = file_hash(files[k]);
+    } catch (const CheckpointError&) {
+      throw CheckpointError(path + ": " + what + " cannot be read");
+    }
+    if (now != hashes[k])
+      throw CheckpointError(path + ": " + what + (k == 0 ? "" : ", which the scene reads,") +
+                            " has changed since the checkpoint was written (its hash differs); "
+                            "restore it, or start a new run");
+  }
+}
+
+}  // namespace
+
+ResumePoint read_resume_point(const std::string& path) {
+  std::error_code error;
+  const bool one_file = std::filesystem::is_regular_file(path, error);
+  const std::string directory =
+      one_file ? std::filesystem::path(absolute_path(path)).parent_path().string() : path;
+  if (!one_file && !std::filesystem::is_directory(path, error))
+    throw CheckpointError(path + ": " +
+                          (std::filesystem::exists(path, error)
+                               ? "neither a checkpoint file nor a directory of checkpoints"
+                               : "no such checkpoint file or directory"));
+  const std::vector<std::string> files =
+      one_file ? std::vector<std::string>{path} : list_checkpoints(directory);
   if (files.empty())
     throw CheckpointError(directory +
                           ": no checkpoint to resume from (checkpoint_<step>.bin; a "
                           "run writes them when its scene has outputs.checkpoint)");
   ResumePoint r;
   r.checkpoint_path = files.back();
-  auto checkpoint = std::make_shared<Checkpoint>(read_checkpoint(r.checkpoint_path));
-  r.scene_file = checkpoint->text("run.scene_file");
-  const auto hash = checkpoint->get_value<std::uint64_t>("run.scene_hash");
-  std::uint64_t now = 0;
+  std::shared_ptr<Checkpoint> checkpoint;
   try {
-    now = file_hash(r.scene_file);
-  } catch (const CheckpointError&) {
-    throw CheckpointError(r.checkpoint_path + ": the run's scene file '" + r.scene_file +
-                          "' cannot be read");
+    checkpoint = std::make_shared<Checkpoint>(read_checkpoint(r.checkpoint_path));
+  } catch (const CheckpointError& e) {
+    if (files.size() < 2) throw;
+    throw CheckpointError(std::string(e.what()) +
+                          "; an older checkpoint is there: continue from it with 'talus run "
+                          "--resume " +
+                          files[files.size() - 2] + "'");
   }
-  if (now != hash)
-    throw CheckpointError(r.checkpoint_path + ": the scene file '" + r.scene_file +
-                          "' has changed since the checkpoint was written (its hash differs); "
-                          "restore it, or start a new run");
+  r.scene_file = checkpoint->text("run.scene_file");
+  check_input_files(*checkpoint);
   r.output_root =
       (std::filesystem::path(absolute_path(directory)) / checkpoint->text("run.output_root"))
           .lexically_normal()

@@ -43,6 +43,9 @@ struct ProductionSettings {
   // step's state set back, the outputs continued (probe rows after its step dropped, then
   // appended; frames numbered on; the ParaView collections as they were). Null: a new run.
   std::shared_ptr<const Checkpoint> resume;
+  // A new run into an output root that holds an earlier run's outputs removes them first
+  // (claim_output_root, solver/io/run_directory.hpp); false: such a run is refused.
+  bool overwrite = false;
   // Asked after each step; true stops the run there (Ctrl-C, SIGTERM), with a checkpoint when
   // the scene asks for checkpoints (report().interrupted).
   std::function<bool()> stop_requested;
@@ -55,8 +58,8 @@ struct ProductionSettings {
 // The runner checks the energy balance every this many steps (and at the last one).
 constexpr long long kEnergyWatchEvery = 100;
 
-// Where `talus run --resume DIRECTORY` goes on from: the newest checkpoint of the directory,
-// read and checked, and what it says of the run.
+// Where `talus run --resume PATH` goes on from: the newest checkpoint of the directory PATH (or
+// the checkpoint file PATH), read and checked, and what it says of the run.
 struct ResumePoint {
   std::string checkpoint_path;
   std::shared_ptr<const Checkpoint> checkpoint;
@@ -67,9 +70,15 @@ struct ResumePoint {
   long long step = 0;
 };
 // Throws CheckpointError (solver/io/checkpoint.hpp) naming the file: no checkpoint in the
-// directory, a corrupt or truncated one (checksum, size), another format version, or a scene
-// file that is gone or has changed since the checkpoint was written (its hash).
-ResumePoint read_resume_point(const std::string& directory);
+// directory, a corrupt or truncated one (checksum, size; naming an older checkpoint of the
+// directory to resume from instead, when there is one), another format version, or a scene file
+// or a mesh file it reads that is gone or has changed since the checkpoint was written (their
+// hashes).
+ResumePoint read_resume_point(const std::string& path);
+
+// The files a scene reads: the scene file, then its templates' and walls' mesh files, each once,
+// as absolute paths. A checkpoint keeps their hashes; resuming checks them.
+std::vector<std::string> scene_input_files(const Scene& scene);
 
 struct ProductionReport {
   std::string backend = "cpu";  // the step's: "cpu" or "cuda"

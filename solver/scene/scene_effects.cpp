@@ -1,6 +1,10 @@
 // The `effects` and `outputs` sections.
 #include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
 
+#include "solver/io/output_names.hpp"
 #include "solver/scene/scene_sections.hpp"
 
 namespace talus {
@@ -169,6 +173,51 @@ ProbeOutput parse_probes(const SceneNode& node, const Scene& scene) {
   return output;
 }
 
+// Refuses outputs that would write over each other (relative paths are compared as written:
+// they share the run's output root): two outputs on one path, a probe file named like a file that
+// the output directory it lies in writes, or like the run lock.
+void check_output_paths(const SceneNode& node, const Outputs& o) {
+  struct Placed {
+    const char* key;
+    std::string path;
+    bool (*writes)(const std::string&);  // the names the output writes in its directory
+  };
+  std::vector<Placed> placed;
+  if (o.trajectories)
+    placed.push_back({"trajectories", o.trajectories->directory, trajectory_output_name});
+  if (o.probes) placed.push_back({"probes", o.probes->file, nullptr});
+  if (o.vtk) placed.push_back({"vtk", o.vtk->directory, vtk_output_name});
+  if (o.checkpoint)
+    placed.push_back({"checkpoint", o.checkpoint->directory, checkpoint_output_name});
+  const auto normal = [](const std::string& path) {
+    std::string text = std::filesystem::path(path).lexically_normal().generic_string();
+    while (text.size() > 1 && text.back() == '/') text.pop_back();
+    return text.empty() ? std::string(".") : text;
+  };
+  const auto fail_at = [&](const Placed& p, const std::string& message) {
+    const SceneNode item = node.at(p.key, "");
+    if (auto where = item.find(p.writes ? "directory" : "file")) where->fail(message);
+    item.fail(message);
+  };
+  for (std::size_t a = 0; a < placed.size(); ++a)
+    for (std::size_t b = a + 1; b < placed.size(); ++b)
+      if (normal(placed[a].path) == normal(placed[b].path))
+        fail_at(placed[b], std::string("'") + placed[b].path + "' is also the path of outputs." +
+                               placed[a].key + "; give each output a path of its own");
+  if (!o.probes) return;
+  const Placed& probes = placed[o.trajectories ? 1 : 0];
+  const std::filesystem::path probe(normal(o.probes->file));
+  const std::string name = probe.filename().string();
+  const std::string parent = probe.has_parent_path() ? normal(probe.parent_path().string()) : ".";
+  if (parent == "." && name == kRunLockFile)
+    fail_at(probes,
+            "'" + o.probes->file + "' is the run lock's file; name the probe file another way");
+  for (const Placed& p : placed)
+    if (p.writes && normal(p.path) == parent && p.writes(name))
+      fail_at(probes, "'" + o.probes->file + "' lies in the directory of outputs." + p.key +
+                          " under a name that output writes; name the probe file another way");
+}
+
 }  // namespace
 
 void parse_outputs(const SceneNode& node, Scene& scene) {
@@ -180,6 +229,7 @@ void parse_outputs(const SceneNode& node, Scene& scene) {
   if (auto vtk = node.find("vtk")) scene.outputs.vtk = parse_vtk(*vtk);
   if (auto checkpoint = node.find("checkpoint"))
     scene.outputs.checkpoint = parse_checkpoint(*checkpoint);
+  check_output_paths(node, scene.outputs);
 }
 
 }  // namespace talus

@@ -120,7 +120,7 @@ TEST(TalusRunResume, SigtermStopsAtAStepWithACheckpointAndResumes) {
   const ProcessResult resumed = run_talus({"run", "--resume", dir + "/cut/checkpoints", "--quiet"});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(parse_or_fail(resumed.out)["steps"].get<double>(), 3000);
-  for (const char* file : {"/frames/trajectory_000003000.csv", "/probes.csv"}) {
+  for (const char* file : {"/frames/run.json", "/frames/trajectory_000003000.csv", "/probes.csv"}) {
     const std::string a = read_file(dir + "/whole" + file), b = read_file(dir + "/cut" + file);
     EXPECT_FALSE(a.empty()) << file;
     EXPECT_TRUE(a == b) << file;

@@ -94,8 +94,8 @@ TEST(OutputSchedule, VtkSeriesContinuesThroughACheckpoint) {
     schedule.write(3, false, source);
     schedule.save(checkpoint);
   }
-  OutputSchedule resumed(scene, "", "talus", 2, 4);
-  resumed.restore(checkpoint);
+  checkpoint.put_value("step.steps", 4LL);
+  OutputSchedule resumed(scene, "", "talus", 2, &checkpoint);
   CountingSource source;
   resumed.write(6, false, source);
   const std::string pvd = talus_test::read_text(dir + "/vtk/particles.pvd");

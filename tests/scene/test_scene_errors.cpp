@@ -242,5 +242,62 @@ TEST(SceneErrors, DomainBoxMustHoldWhatTheSceneStartsWith) {
                "errors.yaml:17:10: reorder: expected true or false, got 'maybe'");
 }
 
+// Outputs that would write over each other are refused where the scene names them (item 2 of
+// "Runs that never lose data"): two outputs on one path (compared as written, after '.' and '..'
+// and trailing slashes are resolved), a probe file named like a file of the output directory it
+// lies in, or like the run lock. Outputs side by side are fine.
+TEST(SceneErrors, OutputPathsThatCollideAreRefused) {
+  const auto with_outputs = [](const std::string& outputs) {
+    return kValidScene + "outputs:\n" + outputs;
+  };
+  const Scene ok = parse_scene(
+      with_outputs(
+          "  trajectories: {every: 10, directory: out/frames}\n"
+          "  probes: {every: 1, file: out/frames/probes.csv, quantities: [kinetic_energy]}\n"
+          "  vtk: {every: 10, directory: out/vtk}\n"
+          "  checkpoint: {every: 10, directory: out/checkpoints}\n"),
+      "errors.yaml", scene_data_dir());
+  EXPECT_EQ(ok.outputs.probes->file, "out/frames/probes.csv");
+  const struct {
+    std::string outputs, message;
+  } cases[] = {
+      {"  trajectories: {every: 10, directory: out}\n  vtk: {every: 10, directory: ./out/}\n",
+       "errors.yaml:23:31: outputs.vtk.directory: './out/' is also the path of "
+       "outputs.trajectories; give each output a path of its own"},
+      {"  probes: {every: 1, file: a/../runs, quantities: [kinetic_energy]}\n"
+       "  checkpoint: {every: 5, directory: runs}\n",
+       "errors.yaml:23:37: outputs.checkpoint.directory: 'runs' is also the path of "
+       "outputs.probes; give each output a path of its own"},
+      // The default directories collide too: the error points at the output's map.
+      {"  trajectories: {every: 10}\n  vtk: {every: 10, directory: trajectories}\n",
+       "errors.yaml:23:31: outputs.vtk.directory: 'trajectories' is also the path of "
+       "outputs.trajectories; give each output a path of its own"},
+      {"  trajectories: {every: 10, directory: out}\n"
+       "  probes: {every: 1, file: out/run.json, quantities: [kinetic_energy]}\n",
+       "errors.yaml:23:28: outputs.probes.file: 'out/run.json' lies in the directory of "
+       "outputs.trajectories under a name that output writes; name the probe file another way"},
+      {"  trajectories: {every: 10, directory: out}\n"
+       "  probes: {every: 1, file: out/trajectory_000000010.csv, quantities: [kinetic_energy]}\n",
+       "errors.yaml:23:28: outputs.probes.file: 'out/trajectory_000000010.csv' lies in the "
+       "directory of outputs.trajectories under a name that output writes; name the probe file "
+       "another way"},
+      {"  checkpoint: {every: 10}\n"
+       "  probes: {every: 1, file: checkpoints/checkpoint_000000001.bin, quantities: "
+       "[kinetic_energy]}\n",
+       "errors.yaml:23:28: outputs.probes.file: 'checkpoints/checkpoint_000000001.bin' lies in "
+       "the directory of outputs.checkpoint under a name that output writes; name the probe "
+       "file another way"},
+      {"  vtk: {every: 10, directory: v}\n"
+       "  probes: {every: 1, file: v/particles.pvd, quantities: [kinetic_energy]}\n",
+       "errors.yaml:23:28: outputs.probes.file: 'v/particles.pvd' lies in the directory of "
+       "outputs.vtk under a name that output writes; name the probe file another way"},
+      {"  probes: {every: 1, file: ./.talus.lock, quantities: [kinetic_energy]}\n",
+       "errors.yaml:22:28: outputs.probes.file: './.talus.lock' is the run lock's file; name the "
+       "probe file another way"},
+  };
+  for (const auto& c : cases)
+    EXPECT_STREQ(scene_error(with_outputs(c.outputs)).what(), c.message.c_str()) << c.outputs;
+}
+
 }  // namespace
 }  // namespace talus
