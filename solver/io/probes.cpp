@@ -3,9 +3,10 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
+#include "solver/io/input_files.hpp"
 #include "solver/io/output_files.hpp"
 
 namespace talus {
@@ -60,8 +61,13 @@ ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> colum
 ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns,
                          long long last_step)
     : path_(path), columns_(std::move(columns)) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot resume probe file '" + path + "': it is missing");
+  std::string text;
+  try {
+    text = read_input_file(path);
+  } catch (const InputFileError& e) {
+    throw std::runtime_error("cannot resume probe file '" + path + "': it " + e.problem());
+  }
+  std::istringstream in(text);
   std::string header = "time,step", line, kept;
   for (const std::string& column : columns_) header += "," + column;
   if (!std::getline(in, line) || line != header)
@@ -75,7 +81,6 @@ ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> colum
     if (fields.size() < 2 || !parse_double(fields[1], step) || step > double(last_step)) break;
     kept += line + "\n";
   }
-  in.close();
   write_file_atomically(path, kept);
   file_ = std::fopen(path.c_str(), "ab");
   if (!file_)
@@ -100,8 +105,7 @@ void ProbeWriter::write_row(double time, long long step, const std::vector<doubl
 }
 
 ProbeTable read_probe_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the file");
+  std::istringstream in(read_input_file(path));
   ProbeTable table;
   std::string line;
   if (!std::getline(in, line) || line.rfind("time,step", 0) != 0)

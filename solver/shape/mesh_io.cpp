@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "solver/io/input_files.hpp"
 #include "solver/shape/builtins.hpp"
 #include "solver/shape/hull.hpp"
 #include "solver/shape/template_builder.hpp"
@@ -49,12 +50,6 @@ bool parse_long(const std::string& token, long& value) {
   char* end = nullptr;
   value = std::strtol(token.c_str(), &end, 10);
   return !token.empty() && end == token.c_str() + token.size();
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open the file for reading");
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 // Merges vertices with identical coordinates (STL stores each facet's corners separately).
@@ -139,16 +134,26 @@ void read_ascii_stl(const std::string& path, const std::string& data, TriangleMe
   }
 }
 
-void read_binary_stl(const std::string& data, std::uint32_t n_triangles, TriangleMesh& mesh) {
+void read_binary_stl(const std::string& path, const std::string& data, std::uint32_t n_triangles,
+                     TriangleMesh& mesh) {
   VertexMerger merger(mesh);
   for (std::uint32_t t = 0; t < n_triangles; ++t) {
-    const char* record = data.data() + 84 + 50 * std::size_t(t);
+    const std::size_t offset = 84 + 50 * std::size_t(t);
     float values[12];  // normal, then the three corners; little-endian IEEE floats
-    std::memcpy(values, record, sizeof values);
+    std::memcpy(values, data.data() + offset, sizeof values);
     std::array<Vec3d, 3> corners;
     for (int c = 0; c < 3; ++c)
-      corners[c] = {double(values[3 + 3 * c]), double(values[4 + 3 * c]),
-                    double(values[5 + 3 * c])};
+      for (int k = 0; k < 3; ++k) {
+        const float value = values[3 + 3 * c + k];
+        // The text readers refuse "nan" and "inf" the same way; a NaN would otherwise reach the
+        // hull as a point that is neither inside nor outside any plane.
+        if (!std::isfinite(value))
+          fail(path, "binary STL triangle " + std::to_string(t) + " (record at byte " +
+                         std::to_string(offset) + "): vertex " + std::to_string(c + 1) + " " +
+                         "xyz"[k] + " is " + (std::isnan(value) ? "NaN" : "infinite") +
+                         "; expected a finite number");
+        corners[c][k] = double(value);
+      }
     merger.add_triangle(corners);
   }
 }
@@ -190,8 +195,7 @@ bool is_mesh_path(const std::string& path) {
 }
 
 TriangleMesh read_obj(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) fail(path, "cannot open the file for reading");
+  std::istringstream in(read_input_file(path));
   TriangleMesh mesh;
   struct FaceRef {
     long index;  // 0-based
@@ -259,7 +263,7 @@ TriangleMesh read_obj(const std::string& path) {
 }
 
 TriangleMesh read_stl(const std::string& path) {
-  const std::string data = read_bytes(path);
+  const std::string data = read_input_file(path);
   TriangleMesh mesh;
   std::uint64_t announced = 0;
   if (data.size() >= 84) {
@@ -267,7 +271,7 @@ TriangleMesh read_stl(const std::string& path) {
     std::memcpy(&n_triangles, data.data() + 80, 4);
     announced = n_triangles;
     if (84 + 50 * announced == data.size()) {
-      read_binary_stl(data, n_triangles, mesh);
+      read_binary_stl(path, data, n_triangles, mesh);
       if (mesh.triangles.empty()) fail(path, "binary STL has no facets");
       return mesh;
     }
