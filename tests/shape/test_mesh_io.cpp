@@ -143,6 +143,14 @@ TEST(MeshFiles, NonConvexMeshWarnsOnceAndUsesItsHull) {
   testing::internal::CaptureStderr();
   load_shape_file(obj);
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  // Every vertex on the hull, but one triangle cuts through the body: its centroid
+  // (-1/3, 1/3, -1/3) lies 2/3 inside the nearest face, so the mesh is reported.
+  mesh.triangles.push_back({0, 3, 6});
+  write_obj(obj, mesh);
+  testing::internal::CaptureStderr();
+  load_shape_file(obj);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            obj + ": mesh is not convex; using its convex hull\n");
 }
 
 TEST(MeshFiles, ObjErrorsNameFileLineAndExpectation) {
