@@ -165,8 +165,7 @@ class SurfaceProbe {
  public:
   SurfaceProbe(const std::vector<Vec3d>& points, const TriangleMesh& mesh,
                const ShapeTemplate& hull, double tol)
-      : points_(points),
-        hull_(hull),
+      : hull_(hull),
         tol_(tol),
         vertex_of_point_(points.size(), -1),
         neighbours_(points.size()),
@@ -205,7 +204,6 @@ class SurfaceProbe {
   }
 
  private:
-  const std::vector<Vec3d>& points_;
   const ShapeTemplate& hull_;
   const double tol_;
   std::vector<int> vertex_of_point_;          // template vertex of each point, or -1
