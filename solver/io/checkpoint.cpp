@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <regex>
 
+#include "solver/io/input_files.hpp"
 #include "solver/io/output_files.hpp"
 
 namespace talus {
@@ -93,9 +93,12 @@ std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash) {
 }
 
 std::uint64_t file_hash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CheckpointError(path + ": cannot read the file");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  try {
+    bytes = read_input_file(path);
+  } catch (const InputFileError& e) {
+    throw CheckpointError(e.what());
+  }
   return fnv1a64(bytes.data(), bytes.size());
 }
 
@@ -123,9 +126,12 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
 }
 
 Checkpoint read_checkpoint(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  try {
+    bytes = read_input_file(path);
+  } catch (const InputFileError& e) {
+    throw CheckpointError(path + ": cannot read the checkpoint: it " + e.problem());
+  }
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw CheckpointError(path + ": not a talus checkpoint (no TALUSCKP header)");
   if (bytes.size() < kHeaderBytes + sizeof(std::uint64_t))

@@ -3,13 +3,13 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 #include <unistd.h>
 
 #include "solver/io/checkpoint.hpp"
+#include "solver/io/input_files.hpp"
 #include "solver/io/output_files.hpp"
 
 namespace talus {
@@ -65,10 +65,12 @@ ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> colum
 ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns,
                          const ProbeResume& resume)
     : path_(path), columns_(std::move(columns)), hash_(fnv1a64(nullptr, 0)) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot resume probe file '" + path + "': it is missing");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  in.close();
+  std::string text;
+  try {
+    text = read_input_file(path);
+  } catch (const InputFileError& e) {
+    throw std::runtime_error("cannot resume probe file '" + path + "': it " + e.problem());
+  }
   std::string header = "time,step";
   for (const std::string& column : columns_) header += "," + column;
   if (text.compare(0, header.size() + 1, header + "\n") != 0)
@@ -137,8 +139,7 @@ void ProbeWriter::write_row(double time, long long step, const std::vector<doubl
 }
 
 ProbeTable read_probe_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the file");
+  std::istringstream in(read_input_file(path));
   ProbeTable table;
   std::string line;
   if (!std::getline(in, line) || line.rfind("time,step", 0) != 0)

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
 
+#include "solver/io/input_files.hpp"
 #include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
 
@@ -64,8 +64,7 @@ TrajectoryFrame read_trajectory_frame(const std::string& path) {
   if (match[2].str() == "h5") return read_trajectory_frame_hdf5(path, std::stoll(match[1].str()));
   TrajectoryFrame frame;
   frame.step = std::stoll(match[1].str());
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the file");
+  std::istringstream in(read_input_file(path));
   std::string line;
   if (!std::getline(in, line) || line != kTrajectoryHeader)
     throw std::runtime_error(path + ":1: expected the header '" + kTrajectoryHeader + "'");
@@ -139,14 +138,15 @@ void write_run_info(const std::string& directory, const RunInfo& info) {
 
 RunInfo read_run_info(const std::string& directory) {
   const std::string path = directory + "/run.json";
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw std::runtime_error(path +
-                             ": cannot open the file (expected the run.json that talus run "
-                             "writes beside its trajectory frames)");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const Json json = parse_json(buffer.str(), path);
+  std::string text;
+  try {
+    text = read_input_file(path);
+  } catch (const InputFileError& e) {
+    throw std::runtime_error(path + ": " + e.problem() +
+                             " (expected the run.json that talus run writes beside its "
+                             "trajectory frames)");
+  }
+  const Json json = parse_json(text, path);
   auto fail = [&](const std::string& what) {
     throw std::runtime_error(path + ": expected " + what);
   };

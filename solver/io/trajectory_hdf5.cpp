@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/io/input_files.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/trajectory.hpp"
 
@@ -158,6 +159,9 @@ TrajectoryFrame read_trajectory_frame_hdf5(const std::string& path, long long st
   silence_hdf5();
   TrajectoryFrame frame;
   frame.step = step;
+  // HDF5 would open a FIFO or a device as readily as a file, and block or read forever.
+  const std::string problem = input_file_problem(path);
+  if (!problem.empty()) throw InputFileError(path, problem);
   const Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.ok()) throw std::runtime_error(path + ": cannot open the file as HDF5");
   const Handle dataset(H5Dopen2(file.get(), "particles", H5P_DEFAULT), H5Dclose);

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "solver/contact/time_step_advisor.hpp"
+#include "solver/io/input_files.hpp"
 #include "solver/scene/scene_sections.hpp"
 
 namespace talus {
@@ -163,15 +163,14 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
 }
 
 Scene load_scene(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    throw SceneError(path, 0, 0, "", "scene file not found");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, 0, 0, "", "cannot open the scene file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text;
+  try {
+    text = read_input_file(path);
+  } catch (const InputFileError& e) {
+    throw SceneError(path, 0, 0, "", "the scene file " + e.problem());
+  }
   std::string directory = std::filesystem::path(path).parent_path().string();
-  return parse_scene(text.str(), path, directory.empty() ? "." : directory);
+  return parse_scene(text, path, directory.empty() ? "." : directory);
 }
 
 }  // namespace talus

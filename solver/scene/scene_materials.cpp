@@ -2,8 +2,8 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 
+#include "solver/io/input_files.hpp"
 #include "solver/scene/scene_sections.hpp"
 #include "solver/shape/mesh_io.hpp"
 
@@ -66,11 +66,11 @@ std::string resolve_path(const std::string& path, const std::string& directory) 
   return (std::filesystem::path(directory) / p).lexically_normal().string();
 }
 
-void check_mesh_file_exists(const SceneNode& node, const std::string& resolved_path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(resolved_path, error) || !std::ifstream(resolved_path))
-    node.fail("mesh file '" + resolved_path +
-              "' not found (relative paths start at the scene file's directory)");
+void check_mesh_file_readable(const SceneNode& node, const std::string& resolved_path) {
+  const std::string problem = input_file_problem(resolved_path);
+  if (!problem.empty())
+    node.fail("mesh file '" + resolved_path + "' " + problem +
+              " (relative paths start at the scene file's directory)");
 }
 
 void parse_materials(const SceneNode& node, Scene& scene) {
@@ -149,7 +149,7 @@ void parse_polyhedron(const SceneNode& shape_node, const std::optional<SceneNode
   if (mesh) {
     const std::string path = mesh_with_scale ? spec.substr(0, colon) : spec;
     result.mesh_file = resolve_path(path, scene.directory);
-    check_mesh_file_exists(shape_node, result.mesh_file);
+    check_mesh_file_readable(shape_node, result.mesh_file);
     result.resolved_spec = result.mesh_file + (mesh_with_scale ? spec.substr(colon) : "");
   }
   try {

@@ -23,7 +23,8 @@ int template_reference(const SceneNode& node, const Scene& scene);
 
 // `path` as given when absolute, else relative to `directory`.
 std::string resolve_path(const std::string& path, const std::string& directory);
-// A mesh file that exists, or "mesh file '<resolved>' not found ..." at the node.
-void check_mesh_file_exists(const SceneNode& node, const std::string& resolved_path);
+// A mesh file that is a regular file, or "mesh file '<resolved>' does not exist" (or "is a
+// directory, not a regular file", "is a FIFO ...", see input_file_problem) at the node.
+void check_mesh_file_readable(const SceneNode& node, const std::string& resolved_path);
 
 }  // namespace talus

@@ -81,7 +81,7 @@ MeshWall parse_mesh(const SceneNode& body, const Scene& scene) {
   const std::string path = file.text("an .obj or .stl file");
   if (!is_mesh_path(path)) file.fail_expected("an .obj or .stl file");
   wall.file = resolve_path(path, scene.directory);
-  check_mesh_file_exists(file, wall.file);
+  check_mesh_file_readable(file, wall.file);
   if (auto scale = body.find("scale"))
     wall.scale =
         scale->number("a positive number of metres per file unit", [](double v) { return v > 0; });

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
+#include <queue>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -21,11 +23,14 @@ struct HullFace {
   Vec3d normal;  // unit, outward
   double offset = 0;
   std::vector<int> outside;  // conflict list: points strictly above this face's plane
+  int farthest = -1;         // the point of `outside` farthest above the plane
+  double farthest_distance = 0;
   bool alive = true;
 };
 
 // Thrown when round-off at the current tolerance leaves the hull inconsistent (a face without a
-// well-defined plane, a horizon that is not one loop); the caller retries with a larger tolerance.
+// well-defined plane, a horizon that is not one loop, an edge folding inward); the caller retries
+// with a larger tolerance.
 struct DegenerateHull {};
 
 // Incremental Quickhull: each step takes the point farthest above some face, removes the faces
@@ -36,22 +41,23 @@ class IncrementalHull {
  public:
   IncrementalHull(const std::vector<Vec3d>& points, double eps) : points_(points), eps_(eps) {}
 
-  // The hull of all points, inserting `first` (which must span a volume) before the others:
-  // the others enter only where they lie more than eps outside the hull of `first`.
-  std::vector<std::array<int, 3>> run(const std::vector<int>& first) {
-    build_simplex(first);
-    std::vector<int> pending;
-    for (int f = 0; f < int(faces_.size()); ++f) pending.push_back(f);
-    // Rescanning every point against the final faces also catches points that were dropped as
-    // inside while the hull was smaller but end up outside it after its faces turned.
-    do {
-      while (!pending.empty()) {
-        const int f = pending.back();
-        pending.pop_back();
-        if (!faces_[f].alive || faces_[f].outside.empty()) continue;
-        add_point(f, pending);
-      }
-    } while (rescan(pending));
+  // The hull of the points `subset` (which must span a volume). Each point is tested only against
+  // the faces that replace the ones whose conflict list held it, so the expected cost is
+  // O(n log n) for n points.
+  std::vector<std::array<int, 3>> run(const std::vector<int>& subset) {
+    build_simplex(subset);
+    // Faces with a conflict list, farthest point first. Taking the farthest point of the whole
+    // cloud (not of the face last made) refines all parts of the surface evenly: on a cylinder,
+    // refining one rim far ahead of the other leaves fans of O(n) slivers that every later point
+    // on the other rim sees, which made the hull O(n^2).
+    Pending pending;
+    for (int f = 0; f < int(faces_.size()); ++f) push(pending, f);
+    while (!pending.empty()) {
+      const int f = pending.top().second;
+      pending.pop();
+      if (faces_[f].alive) add_point(f, pending);
+    }
+    check_locally_convex();
     std::vector<std::array<int, 3>> triangles;
     for (const HullFace& face : faces_)
       if (face.alive) triangles.push_back(face.v);
@@ -63,25 +69,24 @@ class IncrementalHull {
     return dot(face.normal, points_[p]) - face.offset;
   }
 
-  // Puts every point lying more than eps above a face in that face's conflict list. A hull
-  // vertex above a face means the surface folded (it is no longer convex).
-  bool rescan(std::vector<int>& pending) {
-    std::vector<bool> is_vertex(points_.size(), false);
-    for (const HullFace& face : faces_)
-      if (face.alive)
-        for (int v : face.v) is_vertex[v] = true;
-    bool found = false;
-    for (int p = 0; p < int(points_.size()); ++p) {
-      for (int f = 0; f < int(faces_.size()); ++f) {
-        if (!faces_[f].alive || distance(faces_[f], p) <= eps_) continue;
-        if (is_vertex[p]) throw DegenerateHull{};
-        faces_[f].outside.push_back(p);
-        pending.push_back(f);
-        found = true;
-        break;
+  // A closed surface whose every edge bends outward is convex, so checking each edge against its
+  // two faces (O(n)) finds any fold that round-off left, without testing every point against
+  // every face (O(n^2)).
+  void check_locally_convex() const {
+    for (const HullFace& face : faces_) {
+      if (!face.alive) continue;
+      for (int k = 0; k < 3; ++k) {
+        const HullFace& other = faces_[neighbour(face.v[k], face.v[(k + 1) % 3])];
+        for (int w : other.v)
+          if (distance(face, w) > eps_) throw DegenerateHull{};
       }
     }
-    return found;
+  }
+
+  using Pending = std::priority_queue<std::pair<double, int>>;  // (farthest distance, face)
+
+  void push(Pending& pending, int f) const {
+    if (!faces_[f].outside.empty()) pending.push({faces_[f].farthest_distance, f});
   }
 
   int add_face(int a, int b, int c) {
@@ -165,19 +170,22 @@ class IncrementalHull {
   void assign(int p, int first, int last) {
     for (int f = first; f < last; ++f) {
       if (distance(faces_[f], p) > eps_) {
-        faces_[f].outside.push_back(p);
+        HullFace& face = faces_[f];
+        face.outside.push_back(p);
+        const double d = distance(face, p);
+        if (face.farthest < 0 || d > face.farthest_distance)
+          face.farthest = p, face.farthest_distance = d;
         return;
       }
     }
   }
 
-  // Faces seen from p (distance above `threshold`), grown from `seed`, and the horizon: the
-  // directed edges of seen faces whose neighbour is not seen. True when the horizon is one
-  // simple loop, as it is for a point outside a convex polyhedron.
+  // Faces seen from p (distance above `threshold`), grown from `seed`, then made to leave a
+  // convex cone (see close_horizon). True when the horizon is one simple loop, as it is for a
+  // point outside a convex polyhedron.
   bool find_visible(int seed, int p, double threshold, std::vector<int>& visible,
                     std::vector<std::array<int, 2>>& horizon) {
     visible.assign(1, seed);
-    horizon.clear();
     ++stamp_;
     mark_.resize(faces_.size(), 0);
     seen_.resize(faces_.size(), false);
@@ -186,16 +194,64 @@ class IncrementalHull {
     for (std::size_t q = 0; q < visible.size(); ++q) {
       const HullFace& face = faces_[visible[q]];
       for (int k = 0; k < 3; ++k) {
-        const int a = face.v[k], b = face.v[(k + 1) % 3];
-        const int g = neighbour(a, b);
-        if (mark_[g] != stamp_) {
-          mark_[g] = stamp_;
-          seen_[g] = distance(faces_[g], p) > threshold;
-          if (seen_[g]) visible.push_back(g);
-        }
-        if (!seen_[g]) horizon.push_back({a, b});
+        const int g = neighbour(face.v[k], face.v[(k + 1) % 3]);
+        if (mark_[g] == stamp_) continue;
+        mark_[g] = stamp_;
+        seen_[g] = distance(faces_[g], p) > threshold;
+        if (seen_[g]) visible.push_back(g);
       }
     }
+    return close_horizon(p, visible, horizon);
+  }
+
+  bool is_visible(int g) const { return mark_[g] == stamp_ && seen_[g]; }
+
+  // The horizon (directed edges of visible faces whose neighbour is not visible), after growing
+  // the visible region over every kept face that would fold against its new neighbour. A point
+  // just outside the hull and close to a horizon edge makes a new face (a, b, p) that is thin or
+  // steep: a kept face g beyond (a, b), which p sees within the tolerance only, then has its far
+  // vertex well above the new face, a fold far larger than the tolerance. Taking g into the
+  // visible region moves the horizon past it; p lies within the tolerance of g's plane, so the
+  // surface moves by no more than that.
+  bool close_horizon(int p, std::vector<int>& visible, std::vector<std::array<int, 2>>& horizon) {
+    for (;;) {  // each round adds a face, so this ends
+      horizon.clear();
+      for (int f : visible)
+        for (int k = 0; k < 3; ++k) {
+          const int a = faces_[f].v[k], b = faces_[f].v[(k + 1) % 3];
+          if (!is_visible(neighbour(a, b))) horizon.push_back({a, b});
+        }
+      if (!is_simple_loop(horizon)) return false;
+      int fold = -1;
+      for (const auto& e : horizon)
+        if (folds(e[0], e[1], p)) {
+          fold = neighbour(e[0], e[1]);
+          break;
+        }
+      if (fold < 0) return true;
+      if (distance(faces_[fold], p) < -eps_) return false;  // p is well inside: not a fold to mend
+      mark_[fold] = stamp_;
+      seen_[fold] = true;
+      visible.push_back(fold);
+    }
+  }
+
+  // True when the new face (a, b, p) has no reliable plane, or the kept face beyond edge (a, b)
+  // has its third vertex more than eps above that plane.
+  bool folds(int a, int b, int p) const {
+    const Vec3d& pa = points_[a];
+    const Vec3d n = cross(points_[b] - pa, points_[p] - pa);
+    const double longest =
+        std::max({norm(points_[b] - pa), norm(points_[p] - pa), norm(points_[p] - points_[b])});
+    if (!(norm(n) > 0.5 * eps_ * longest)) return true;
+    const HullFace& kept = faces_[neighbour(a, b)];
+    for (int w : kept.v)
+      if (w != a && w != b && dot(n, points_[w] - pa) > eps_ * norm(n)) return true;
+    return false;
+  }
+
+  static bool is_simple_loop(const std::vector<std::array<int, 2>>& horizon) {
+    if (horizon.empty()) return false;
     std::unordered_map<int, int> next;
     for (const auto& e : horizon)
       if (!next.emplace(e[0], e[1]).second) return false;  // pinched at a vertex
@@ -209,11 +265,8 @@ class IncrementalHull {
     return false;
   }
 
-  void add_point(int f, std::vector<int>& pending) {
-    std::vector<int>& outside = faces_[f].outside;
-    int p = outside[0];
-    for (int q : outside)
-      if (distance(faces_[f], q) > distance(faces_[f], p)) p = q;
+  void add_point(int f, Pending& pending) {
+    const int p = faces_[f].farthest;
     std::vector<int> visible;
     std::vector<std::array<int, 2>> horizon;
     // Round-off can leave a nearly coplanar face unseen inside the seen region; counting faces
@@ -229,8 +282,9 @@ class IncrementalHull {
       remove_face(g);
     }
     const int first_new = int(faces_.size());
-    for (const auto& e : horizon) pending.push_back(add_face(e[0], e[1], p));
+    for (const auto& e : horizon) add_face(e[0], e[1], p);
     for (int q : orphans) assign(q, first_new, int(faces_.size()));
+    for (int g = first_new; g < int(faces_.size()); ++g) push(pending, g);
   }
 
   const std::vector<Vec3d>& points_;
@@ -257,31 +311,40 @@ double hull_tolerance(const std::vector<Vec3d>& points, double rel_tol) {
 
 namespace {
 
-// One attempt at a fixed absolute tolerance: the hull, then the hull again with the corners
-// inserted first. A point added early (when it was outside) may end up inside a facet or an edge
-// of the final hull, where it lies on fewer than 3 facets; inserted after the corners it is
-// within eps of their hull and stays out.
-std::vector<std::array<int, 3>> hull_at_tolerance(const std::vector<Vec3d>& points, double eps) {
-  std::vector<int> first(points.size());
-  std::iota(first.begin(), first.end(), 0);
-  for (int pass = 0; pass < 4; ++pass) {
-    std::vector<std::array<int, 3>> triangles = IncrementalHull(points, eps).run(first);
-    const std::vector<std::vector<int>> groups = coplanar_groups(points, triangles, eps);
-    std::unordered_map<int, std::vector<int>> groups_of_vertex;
+// One attempt at fixed absolute tolerances: the hull with visibility decided at `hull_eps` (near
+// round-off, so that dense points on a curved surface give a consistent, convex triangulation),
+// then its triangles grouped into facets at `merge_eps`. A vertex on fewer than 3 facets lies
+// inside a facet or on an edge, within merge_eps of it: the hull is built again from the corners
+// alone, until every vertex is a corner. Each rebuild can let more triangles merge (on a dense,
+// nearly flat patch the corners left are again within the tolerance of a wider plane), so this
+// stops after kCornerPasses rebuilds: a vertex still on two facets then lies on their common edge
+// within the tolerance, and one on a single facet inside it (make_template keeps neither).
+std::vector<std::array<int, 3>> hull_at_tolerance(const std::vector<Vec3d>& points, double hull_eps,
+                                                  double merge_eps) {
+  std::vector<int> subset(points.size());
+  std::iota(subset.begin(), subset.end(), 0);
+  std::vector<int> groups_of_vertex(points.size());
+  std::vector<int> last_group(points.size());
+  for (int pass = 0;; ++pass) {
+    std::vector<std::array<int, 3>> triangles = IncrementalHull(points, hull_eps).run(subset);
+    const std::vector<std::vector<int>> groups = coplanar_groups(points, triangles, merge_eps);
+    // Distinct facets around each vertex; a group's triangles around one vertex are counted once.
+    std::fill(groups_of_vertex.begin(), groups_of_vertex.end(), 0);
+    std::fill(last_group.begin(), last_group.end(), -1);
     for (int g = 0; g < int(groups.size()); ++g)
       for (int t : groups[g])
-        for (int v : triangles[t]) {
-          std::vector<int>& list = groups_of_vertex[v];
-          if (std::find(list.begin(), list.end(), g) == list.end()) list.push_back(g);
-        }
+        for (int v : triangles[t])
+          if (last_group[v] != g) last_group[v] = g, ++groups_of_vertex[v];
     std::vector<int> corners;
-    for (const auto& entry : groups_of_vertex)
-      if (entry.second.size() >= 3) corners.push_back(entry.first);
-    if (corners.size() == groups_of_vertex.size()) return triangles;
-    std::sort(corners.begin(), corners.end());
-    first = corners;
+    bool all_corners = true;
+    for (int v = 0; v < int(points.size()); ++v) {
+      if (groups_of_vertex[v] >= 3) corners.push_back(v);
+      if (groups_of_vertex[v] > 0 && groups_of_vertex[v] < 3) all_corners = false;
+    }
+    if (all_corners || pass == kCornerPasses) return triangles;
+    subset = corners;
+    if (subset.size() < 4) throw DegenerateHull{};
   }
-  throw DegenerateHull{};
 }
 
 }  // namespace
@@ -290,22 +353,32 @@ Hull convex_hull_with_tolerance(const std::vector<Vec3d>& points, double rel_tol
   if (points.size() < 4)
     throw std::runtime_error("convex_hull: got " + std::to_string(points.size()) +
                              " points; a hull needs at least 4 non-coplanar points");
-  for (const Vec3d& p : points)
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3d& p = points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw std::runtime_error("convex_hull: a point has a non-finite coordinate");
+      throw std::runtime_error("convex_hull: point " + std::to_string(i) +
+                               " has a non-finite coordinate");
+  }
   if (!(rel_tol > 0)) throw std::invalid_argument("convex_hull: rel_tol must be positive");
-  double eps = hull_tolerance(points, rel_tol);
-  const double largest = std::max(eps, hull_tolerance(points, kLargestRaisedRelTol)) * 1.000001;
+  double merge_eps = hull_tolerance(points, rel_tol);
+  double hull_eps = std::min(merge_eps, hull_tolerance(points, kHullRelTol));
+  const double largest =
+      std::max(merge_eps, hull_tolerance(points, kLargestRaisedRelTol)) * 1.000001;
   // Points clustered a few tolerances apart make planes that round-off cannot resolve at this
   // tolerance; features that small are then merged by retrying at ten times the tolerance.
-  for (int attempt = 0; attempt <= kToleranceRaises && eps <= largest; ++attempt, eps *= 10) {
+  for (int attempt = 0; attempt <= kToleranceRaises && hull_eps <= largest; ++attempt) {
     try {
-      return {hull_at_tolerance(points, eps), eps};
+      return {hull_at_tolerance(points, hull_eps, merge_eps), merge_eps};
     } catch (const DegenerateHull&) {
     }
+    hull_eps *= 10;
+    merge_eps = std::max(merge_eps, hull_eps);
   }
-  throw std::runtime_error("convex_hull: round-off left the hull inconsistent even at " +
-                           std::to_string(eps / 10) + " m tolerance");
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g m", hull_eps / 10);
+  throw std::runtime_error("convex_hull: round-off left the hull of " +
+                           std::to_string(points.size()) + " points inconsistent even at " + text +
+                           " tolerance");
 }
 
 std::vector<std::array<int, 3>> convex_hull(const std::vector<Vec3d>& points, double rel_tol) {

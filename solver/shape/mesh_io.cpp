@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "solver/io/input_files.hpp"
 #include "solver/shape/builtins.hpp"
 #include "solver/shape/hull.hpp"
 #include "solver/shape/template_builder.hpp"
@@ -49,12 +50,6 @@ bool parse_long(const std::string& token, long& value) {
   char* end = nullptr;
   value = std::strtol(token.c_str(), &end, 10);
   return !token.empty() && end == token.c_str() + token.size();
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open the file for reading");
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 // Merges vertices with identical coordinates (STL stores each facet's corners separately).
@@ -139,46 +134,95 @@ void read_ascii_stl(const std::string& path, const std::string& data, TriangleMe
   }
 }
 
-void read_binary_stl(const std::string& data, std::uint32_t n_triangles, TriangleMesh& mesh) {
+void read_binary_stl(const std::string& path, const std::string& data, std::uint32_t n_triangles,
+                     TriangleMesh& mesh) {
   VertexMerger merger(mesh);
   for (std::uint32_t t = 0; t < n_triangles; ++t) {
-    const char* record = data.data() + 84 + 50 * std::size_t(t);
+    const std::size_t offset = 84 + 50 * std::size_t(t);
     float values[12];  // normal, then the three corners; little-endian IEEE floats
-    std::memcpy(values, record, sizeof values);
+    std::memcpy(values, data.data() + offset, sizeof values);
     std::array<Vec3d, 3> corners;
     for (int c = 0; c < 3; ++c)
-      corners[c] = {double(values[3 + 3 * c]), double(values[4 + 3 * c]),
-                    double(values[5 + 3 * c])};
+      for (int k = 0; k < 3; ++k) {
+        const float value = values[3 + 3 * c + k];
+        // The text readers refuse "nan" and "inf" the same way; a NaN would otherwise reach the
+        // hull as a point that is neither inside nor outside any plane.
+        if (!std::isfinite(value))
+          fail(path, "binary STL triangle " + std::to_string(t) + " (record at byte " +
+                         std::to_string(offset) + "): vertex " + std::to_string(c + 1) + " " +
+                         "xyz"[k] + " is " + (std::isnan(value) ? "NaN" : "infinite") +
+                         "; expected a finite number");
+        corners[c][k] = double(value);
+      }
     merger.add_triangle(corners);
   }
 }
 
-// True when the mesh is convex within tol: no triangle's plane has mesh vertices strictly on both
-// sides (either orientation is accepted), and no vertex lies strictly inside the hull.
+// Finds whether mesh points lie on the surface of its hull (a template), looking first at the
+// faces around nearby template vertices so that a convex mesh is checked in O(n) rather than
+// against every face.
+class SurfaceProbe {
+ public:
+  SurfaceProbe(const std::vector<Vec3d>& points, const TriangleMesh& mesh,
+               const ShapeTemplate& hull, double tol)
+      : hull_(hull),
+        tol_(tol),
+        vertex_of_point_(points.size(), -1),
+        neighbours_(points.size()),
+        faces_of_vertex_(hull.vertices.size()) {
+    for (std::size_t v = 0; v < hull.input_indices.size(); ++v)
+      vertex_of_point_[hull.input_indices[v]] = int(v);
+    for (const auto& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k) neighbours_[t[k]].push_back(t[(k + 1) % 3]);
+    for (std::size_t f = 0; f < hull.faces.size(); ++f)
+      for (int v : hull.faces[f].loop) faces_of_vertex_[v].push_back(int(f));
+  }
+
+  // True when the input-frame point x is within tol of some face plane (it cannot be outside:
+  // it is one of the hull's points or a triangle's centroid), trying the faces around the
+  // template vertices among `near` and their mesh neighbours before all faces.
+  bool on_surface(const Vec3d& x, const std::vector<int>& near) const {
+    const Vec3d body = rotate_inverse(hull_.body_to_input, x - hull_.input_centroid);
+    const auto touches = [&](int f) {
+      return dot(hull_.faces[f].normal, body) - hull_.faces[f].offset >= -tol_;
+    };
+    const auto around = [&](int point) {
+      const int v = vertex_of_point_[point];
+      if (v >= 0)
+        for (int f : faces_of_vertex_[v])
+          if (touches(f)) return true;
+      return false;
+    };
+    for (int p : near)
+      if (around(p)) return true;
+    for (int p : near)
+      for (int q : neighbours_[p])
+        if (around(q)) return true;
+    for (int f = 0; f < int(hull_.faces.size()); ++f)
+      if (touches(f)) return true;
+    return false;
+  }
+
+ private:
+  const ShapeTemplate& hull_;
+  const double tol_;
+  std::vector<int> vertex_of_point_;          // template vertex of each point, or -1
+  std::vector<std::vector<int>> neighbours_;  // mesh neighbours of each point
+  std::vector<std::vector<int>> faces_of_vertex_;
+};
+
+// True when the mesh is convex within tol: every vertex, and the centroid of every triangle, lies
+// on the surface of its hull (a vertex strictly inside is a dent; a triangle whose centroid is
+// strictly inside cuts through the body). Either orientation of the triangles is accepted. A
+// convex mesh costs O(n); the first point found strictly inside ends the check.
 bool is_convex(const std::vector<Vec3d>& points, const TriangleMesh& mesh,
                const ShapeTemplate& hull, double tol) {
-  for (const auto& t : mesh.triangles) {
-    const Vec3d& a = points[t[0]];
-    const Vec3d n = cross(points[t[1]] - a, points[t[2]] - a);
-    const double longest = std::max(
-        {norm(points[t[1]] - a), norm(points[t[2]] - a), norm(points[t[2]] - points[t[1]])});
-    if (norm(n) <= tol * longest) continue;  // a sliver: its plane is ill-defined
-    const Vec3d unit = n / norm(n);
-    bool above = false, below = false;
-    for (const Vec3d& p : points) {
-      const double d = dot(unit, p - a);
-      above = above || d > tol;
-      below = below || d < -tol;
-    }
-    if (above && below) return false;
-  }
-  for (const Vec3d& p : points) {
-    const Vec3d body = rotate_inverse(hull.body_to_input, p - hull.input_centroid);
-    double outermost = -1e300;
-    for (const Face& face : hull.faces)
-      outermost = std::max(outermost, dot(face.normal, body) - face.offset);
-    if (outermost < -tol) return false;
-  }
+  const SurfaceProbe probe(points, mesh, hull, tol);
+  for (int p = 0; p < int(points.size()); ++p)
+    if (!probe.on_surface(points[p], {p})) return false;
+  for (const auto& t : mesh.triangles)
+    if (!probe.on_surface((points[t[0]] + points[t[1]] + points[t[2]]) / 3.0, {t[0], t[1], t[2]}))
+      return false;
   return true;
 }
 
@@ -190,8 +234,7 @@ bool is_mesh_path(const std::string& path) {
 }
 
 TriangleMesh read_obj(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) fail(path, "cannot open the file for reading");
+  std::istringstream in(read_input_file(path));
   TriangleMesh mesh;
   struct FaceRef {
     long index;  // 0-based
@@ -259,7 +302,7 @@ TriangleMesh read_obj(const std::string& path) {
 }
 
 TriangleMesh read_stl(const std::string& path) {
-  const std::string data = read_bytes(path);
+  const std::string data = read_input_file(path);
   TriangleMesh mesh;
   std::uint64_t announced = 0;
   if (data.size() >= 84) {
@@ -267,7 +310,7 @@ TriangleMesh read_stl(const std::string& path) {
     std::memcpy(&n_triangles, data.data() + 80, 4);
     announced = n_triangles;
     if (84 + 50 * announced == data.size()) {
-      read_binary_stl(data, n_triangles, mesh);
+      read_binary_stl(path, data, n_triangles, mesh);
       if (mesh.triangles.empty()) fail(path, "binary STL has no facets");
       return mesh;
     }

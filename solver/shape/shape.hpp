@@ -21,6 +21,7 @@ struct ShapeTemplate {
   std::string name;
   // Geometry in the body frame: centroid at the origin, axes along the principal axes of inertia.
   std::vector<Vec3d> vertices;
+  std::vector<int> input_indices;  // each vertex's index in the points the template was built from
   std::vector<std::array<int, 3>> triangles;  // outward-oriented triangulation (output, §2.1)
   std::vector<Face> faces;                    // coplanar triangles merged
   std::vector<std::array<int, 2>> edges;      // edges between merged faces, i < j

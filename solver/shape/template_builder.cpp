@@ -135,28 +135,36 @@ Quatd quaternion_from_columns(const std::array<Vec3d, 3>& columns) {
 
 ShapeTemplate make_template(const std::string& name, const std::vector<Vec3d>& points,
                             double rel_tol) {
+  if (points.size() > kMaxTemplatePoints)
+    throw std::runtime_error("make_template(" + name + "): " + std::to_string(points.size()) +
+                             " points; a template is built from at most " +
+                             std::to_string(kMaxTemplatePoints));
   const Hull convex = convex_hull_with_tolerance(points, rel_tol);
   const std::vector<std::array<int, 3>>& hull = convex.triangles;
   const double eps = convex.tolerance;
 
-  // Hull vertices in input order, renumbered 0..n-1.
+  // Faces: coplanar hull triangles merged. A face's boundary loop holds corners, and, where
+  // convex_hull stopped its rebuilds short, a vertex on the edge between two faces; a hull vertex
+  // inside a face (on no loop) is not a template vertex.
+  std::vector<std::vector<int>> loops;
+  for (const std::vector<int>& group : coplanar_groups(points, hull, eps))
+    loops.push_back(group_boundary_loop(hull, group));
+  // Template vertices in input order, renumbered 0..n-1.
+  ShapeTemplate shape;
+  shape.name = name;
   std::vector<int> new_index(points.size(), -1);
-  for (const auto& t : hull)
-    for (int v : t) new_index[v] = 0;
+  for (const std::vector<int>& loop : loops)
+    for (int v : loop) new_index[v] = 0;
   std::vector<Vec3d> input_vertices;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (new_index[i] == 0) {
       new_index[i] = int(input_vertices.size());
       input_vertices.push_back(points[i]);
+      shape.input_indices.push_back(int(i));
     }
-
-  // Faces: coplanar hull triangles merged; each face's boundary loop holds only corners because
-  // convex_hull keeps no point lying inside a facet or an edge.
-  ShapeTemplate shape;
-  shape.name = name;
-  for (const std::vector<int>& group : coplanar_groups(points, hull, eps)) {
+  for (const std::vector<int>& loop : loops) {
     Face face;
-    for (int v : group_boundary_loop(hull, group)) face.loop.push_back(new_index[v]);
+    for (int v : loop) face.loop.push_back(new_index[v]);
     std::rotate(face.loop.begin(), std::min_element(face.loop.begin(), face.loop.end()),
                 face.loop.end());
     shape.faces.push_back(std::move(face));

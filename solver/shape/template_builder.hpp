@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -34,9 +35,15 @@ SymmetricEigen symmetric_eigen(const Matrix3d& matrix);
 // Unit quaternion of the rotation whose matrix has the given columns (a right-handed frame).
 Quatd quaternion_from_columns(const std::array<Vec3d, 3>& columns);
 
+// The most points a template is built from: the hull of 2 x 10^5 points takes several seconds
+// (docs/geometry.md has the timings); a cloud larger than this is refused rather than left to run
+// for minutes.
+constexpr std::size_t kMaxTemplatePoints = 250000;
+
 // The template of the convex hull of `points` (input frame, metres). Hull vertices keep the
 // order in which they appear in `points`. Faces are hull triangles merged where coplanar within
-// rel_tol times the cloud's extent. Throws std::runtime_error for a cloud without volume.
+// rel_tol times the cloud's extent. Throws std::runtime_error for a cloud without volume or of
+// more than kMaxTemplatePoints points.
 ShapeTemplate make_template(const std::string& name, const std::vector<Vec3d>& points,
                             double rel_tol = 1e-10);
 

@@ -1,6 +1,12 @@
 // Each class of scene error: the message names the file, the line and column, the key and what
 // was expected. The scenes are kValidScene (scene_test_util.hpp) with one edit each, so every
 // expected position below can be read off its text.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <utility>
+
 #include "tests/scene/scene_test_util.hpp"
 
 namespace talus {
@@ -160,7 +166,7 @@ TEST(SceneErrors, UnknownEffectOrContactModel) {
 TEST(SceneErrors, MissingFilesAreNamed) {
   EXPECT_STREQ(error_with("shape: dodecahedron:0.01", "shape: grains/missing.stl").what(),
                ("errors.yaml:12:12: templates.grain.shape: mesh file '" + scene_data_dir() +
-                "/grains/missing.stl' not found (relative paths start at the scene file's "
+                "/grains/missing.stl' does not exist (relative paths start at the scene file's "
                 "directory)")
                    .c_str());
   EXPECT_STREQ(error_with("effects:",
@@ -168,16 +174,52 @@ TEST(SceneErrors, MissingFilesAreNamed) {
                           "effects:")
                    .what(),
                ("errors.yaml:18:18: walls[0].mesh.file: mesh file '" + scene_data_dir() +
-                "/tray.stl' not found (relative paths start at the scene file's directory)")
+                "/tray.stl' does not exist (relative paths start at the scene file's "
+                "directory)")
                    .c_str());
   const std::string missing = scene_data_dir() + "/no_such_scene.yaml";
   try {
     load_scene(missing);
     ADD_FAILURE() << "no error for a missing scene file";
   } catch (const SceneError& e) {
-    EXPECT_EQ(e.what(), missing + ": scene file not found");
+    EXPECT_EQ(e.what(), missing + ": the scene file does not exist");
     EXPECT_EQ(e.line(), 0);
   }
+}
+
+TEST(SceneErrors, ScenesAndMeshesThatAreNotRegularFilesAreNamedAsWhatTheyAre) {
+  const std::string dir = testing::TempDir() + "talus_scene_specials_" + std::to_string(::getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/folder.stl");
+  const std::string fifo = dir + "/pipe.yaml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // A FIFO with no writer would block the load forever if it were opened; /dev/zero would be read
+  // forever; a directory would read as an empty scene.
+  for (const auto& [path, what] :
+       {std::pair<std::string, std::string>{fifo, "is a FIFO (named pipe), not a regular file"},
+        {dir + "/folder.stl", "is a directory, not a regular file"},
+        {"/dev/zero", "is a character device, not a regular file"}}) {
+    try {
+      load_scene(path);
+      ADD_FAILURE() << "loaded " << path;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.what(), path + ": the scene file " + what);
+    }
+  }
+  // A mesh file given as a directory or a FIFO, at the key that names it.
+  EXPECT_STREQ(error_with("shape: dodecahedron:0.01", "shape: " + dir + "/folder.stl").what(),
+               ("errors.yaml:12:12: templates.grain.shape: mesh file '" + dir +
+                "/folder.stl' is a directory, not a regular file (relative paths start at the "
+                "scene file's directory)")
+                   .c_str());
+  const std::string fifo_mesh = dir + "/pipe.obj";
+  ASSERT_EQ(::mkfifo(fifo_mesh.c_str(), 0600), 0);
+  EXPECT_STREQ(error_with("shape: dodecahedron:0.01", "shape: " + fifo_mesh).what(),
+               ("errors.yaml:12:12: templates.grain.shape: mesh file '" + fifo_mesh +
+                "' is a FIFO (named pipe), not a regular file (relative paths start at the "
+                "scene file's directory)")
+                   .c_str());
+  std::filesystem::remove_all(dir);
 }
 
 TEST(SceneErrors, YamlSyntaxErrorsGiveThePosition) {

@@ -5,9 +5,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "solver/shape/builtins.hpp"
@@ -139,6 +143,14 @@ TEST(MeshFiles, NonConvexMeshWarnsOnceAndUsesItsHull) {
   testing::internal::CaptureStderr();
   load_shape_file(obj);
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  // Every vertex on the hull, but one triangle cuts through the body: its centroid
+  // (-1/3, 1/3, -1/3) lies 2/3 inside the nearest face, so the mesh is reported.
+  mesh.triangles.push_back({0, 3, 6});
+  write_obj(obj, mesh);
+  testing::internal::CaptureStderr();
+  load_shape_file(obj);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            obj + ": mesh is not convex; using its convex hull\n");
 }
 
 TEST(MeshFiles, ObjErrorsNameFileLineAndExpectation) {
@@ -181,7 +193,7 @@ TEST(MeshFiles, ObjErrorsNameFileLineAndExpectation) {
   }
   const std::string missing = temp_path("missing.obj");
   EXPECT_HAS(error_of<std::runtime_error>([&] { read_obj(missing); }),
-             missing + ": cannot open the file for reading");
+             missing + ": does not exist");
 }
 
 TEST(MeshFiles, StlErrorsNameFileLineAndExpectation) {
@@ -239,10 +251,65 @@ TEST(MeshFiles, StlErrorsNameFileLineAndExpectation) {
   }
   const std::string missing = temp_path("missing.stl");
   EXPECT_HAS(error_of<std::runtime_error>([&] { read_stl(missing); }),
-             missing + ": cannot open the file for reading");
+             missing + ": does not exist");
   const std::string other = write_text("shape.ply", "ply\n");
   EXPECT_HAS(error_of<std::runtime_error>([&] { read_mesh(other); }),
              other + ": unknown mesh file type; expected a .obj or .stl file");
+}
+
+TEST(MeshFiles, BinaryStlWithANonFiniteVertexIsRefusedLikeTheTextFormats) {
+  // A tetrahedron; then one coordinate of one corner overwritten in the stored floats. Record t
+  // starts at byte 84 + 50 t; its corner c coordinate k at 12 (normal) + 12 c + 4 k after that.
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const std::string good = temp_path("tetra.stl");
+  write_stl(good, mesh, true);
+  std::ifstream in(good, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes.size(), 84u + 4 * 50);
+  ASSERT_EQ(read_stl(good).vertices.size(), 4u);  // the untouched file reads
+  const auto with_value = [&](const std::string& name, float value) {
+    std::string data = bytes;
+    std::memcpy(&data[84 + 2 * 50 + 12 + 12 * 2 + 4 * 2], &value, 4);  // triangle 2, corner 3, z
+    return write_text(name, data);
+  };
+  const std::string nan = with_value("nan.stl", std::nanf(""));
+  EXPECT_EQ(error_of<std::runtime_error>([&] { read_stl(nan); }),
+            nan +
+                ": binary STL triangle 2 (record at byte 184): vertex 3 z is NaN; expected a "
+                "finite number");
+  const std::string inf = with_value("inf.stl", -INFINITY);
+  EXPECT_EQ(error_of<std::runtime_error>([&] { load_shape_file(inf); }),
+            inf +
+                ": binary STL triangle 2 (record at byte 184): vertex 3 z is infinite; "
+                "expected a finite number");
+  // The ASCII reader refuses the same value the same way (line and expectation).
+  const std::string ascii = write_text(
+      "nan_ascii.stl",
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 nan\n"
+      "endloop\nendfacet\nendsolid t\n");
+  EXPECT_HAS(error_of<std::runtime_error>([&] { read_stl(ascii); }),
+             ascii + ":6: expected a number in 'vertex x y z', got 'nan'");
+}
+
+TEST(MeshFiles, DirectoriesFifosAndDevicesAreRefusedAsWhatTheyAre) {
+  const std::string directory = temp_path("folder.stl");
+  std::filesystem::create_directory(directory);
+  EXPECT_EQ(error_of<std::runtime_error>([&] { read_stl(directory); }),
+            directory + ": is a directory, not a regular file");
+  // A FIFO with no writer: opening it for reading would block forever.
+  const std::string fifo = temp_path("pipe.obj");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(error_of<std::runtime_error>([&] { load_shape_file(fifo); }),
+            fifo + ": is a FIFO (named pipe), not a regular file");
+  // /dev/zero never ends: read, it would fill memory.
+  EXPECT_EQ(error_of<std::runtime_error>([&] { read_stl("/dev/zero"); }),
+            "/dev/zero: is a character device, not a regular file");
+  EXPECT_EQ(error_of<std::runtime_error>([&] { read_obj("/dev/null"); }),
+            "/dev/null: is a character device, not a regular file");
+  std::filesystem::remove(directory);
+  std::filesystem::remove(fifo);
 }
 
 TEST(MeshFiles, ShapeLoadingErrorsNameTheFile) {
