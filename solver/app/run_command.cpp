@@ -29,6 +29,7 @@
 #include "solver/io/output_files.hpp"
 #include "solver/run/production_run.hpp"
 #include "solver/scene/builtin_scene.hpp"
+#include "solver/scene/scene_limits.hpp"
 #include "solver/scene/scene_loader.hpp"
 
 #if TALUS_HAVE_REFERENCE
@@ -324,6 +325,8 @@ std::string run_json(const RunArguments& given) {
     if (*args.end_time < scene.time_step)
       throw RunError("--end " + exact_decimal(*args.end_time) + " s is shorter than the scene's " +
                      "time step " + exact_decimal(scene.time_step) + " s");
+    const std::string problem = step_count_problem(*args.end_time, scene.time_step);
+    if (!problem.empty()) throw RunError("--end: " + problem);
     scene.end_time = *args.end_time;
   }
   if (builtin && args.solver == SolverKind::reference)
