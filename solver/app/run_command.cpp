@@ -31,6 +31,7 @@
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_limits.hpp"
 #include "solver/scene/scene_loader.hpp"
+#include "solver/scene/scene_memory.hpp"
 
 #if TALUS_HAVE_REFERENCE
 #include "reference/run/scene_run.hpp"
@@ -281,6 +282,7 @@ std::string resume_json(const RunArguments& args) {
     throw RunError(e.what());
   }
   Scene scene = load_scene(point.scene_file);
+  check_scene_memory(scene, physical_memory_bytes());
   scene.precision = point.precision == "float" ? Precision::float32 : Precision::float64;
   scene.backend =
       args.backend ? *args.backend : (point.backend == "cuda" ? Backend::cuda : Backend::cpu);
@@ -331,6 +333,8 @@ std::string run_json(const RunArguments& given) {
   }
   if (builtin && args.solver == SolverKind::reference)
     throw RunError("the built-in scene runs on the production solver; drop --solver reference");
+  // Before any particle is made: a scene too large for this machine is refused with its numbers.
+  check_scene_memory(scene, physical_memory_bytes());
   const TimeStepAdvice advice = check_time_step(args, scene);
 
   if (args.solver == SolverKind::production) {
