@@ -1,5 +1,6 @@
 // `talus run` and what a scene or --end asks for beyond the machine or the counters: a clear
-// one-line error and a non-zero exit status, never a silent run of 0 steps or a crash.
+// one-line error and a non-zero exit status, never a silent run of 0 steps or a crash; and the
+// warnings on a scene's initial particles, on stderr.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -93,6 +94,34 @@ TEST(TalusRunLimits, AnAllocationThatFailsAnywayIsOneLineAndExitStatus1) {
             "talus: error: out of memory: an allocation failed (std::bad_alloc); the run needs "
             "more memory than this process may use (the machine's, or a limit such as ulimit "
             "-v); run fewer particles\n");
+}
+
+TEST(TalusRunLimits, InitialOverlapsAreWarnedOnStderrAndDeepOnesRefused) {
+  const std::string pair =
+      "  - explicit:\n      - {template: ball, position: [0, 0, 0]}\n      - {template: ball, "
+      "position: [X, 0, 0]}";
+  const std::string x = "X";
+  // 9 mm apart: the 5 mm spheres overlap by 1 mm, a warning; the run goes on.
+  const SceneRun shallow =
+      run_scene("shallow", std::string(pair).replace(pair.find(x), 1, "0.009"));
+  EXPECT_EQ(shallow.run.exit_code, 0) << shallow.run.err;
+  EXPECT_EQ(shallow.run.err, "talus run: " + shallow.scene +
+                                 ":8:9: particles[0].explicit[0]: warning: 1 pair of particles "
+                                 "overlaps at the start with particles of " +
+                                 shallow.scene +
+                                 ":9:9: particles[0].explicit[1]; the contact law pushes them "
+                                 "apart at the first step, turning the overlap's elastic energy "
+                                 "into speed (id pairs: 0-1)\n");
+  // 1 nm apart: refused.
+  const SceneRun deep = run_scene("deep", std::string(pair).replace(pair.find(x), 1, "1.0e-9"));
+  EXPECT_EQ(deep.run.exit_code, 2);
+  EXPECT_TRUE(starts_with(deep.run.err, "talus: error: " + deep.scene +
+                                            ":8:9: particles[0].explicit[0]: particles 0 and 1 "
+                                            "(the second of " +
+                                            deep.scene +
+                                            ":9:9: particles[0].explicit[1]) start with the "
+                                            "centroid"))
+      << deep.run.err;
 }
 
 }  // namespace
