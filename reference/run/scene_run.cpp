@@ -12,6 +12,7 @@
 #include "solver/io/trajectory.hpp"
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/initial_particles.hpp"
+#include "solver/scene/scene_limits.hpp"
 #include "solver/scene/wall_meshes.hpp"
 
 namespace talus::reference {
@@ -249,7 +250,7 @@ SceneRunner::SceneRunner(const Scene& scene, SceneRunSettings settings)
   next_id_ = static_cast<long long>(world_.bodies().size());
   const std::vector<WallMesh> meshes = make_wall_meshes(scene);
   for (const WallMesh& mesh : meshes) plate_triangles_.push_back(mesh.plate_triangles);
-  total_steps_ = std::llround(scene.end_time / scene.time_step);
+  total_steps_ = scene_step_count(scene);  // at most kMaxSteps (the loader refused more)
 
   outputs_ = std::make_unique<OutputSchedule>(scene, settings_.output_root, "reference",
                                               world_.bodies().size());

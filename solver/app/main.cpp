@@ -3,6 +3,7 @@
 // line, with exit status 2.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,15 @@ int main(int argc, char** argv) {
   } catch (const talus::RunError& error) {
     std::fprintf(stderr, "talus: error: %s\n", error.what());
     return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    // What the scene's memory estimate (scene/scene_memory.hpp) let through: one line, not an
+    // abort, and nothing else is allocated to say it.
+    std::fputs(
+        "talus: error: out of memory: an allocation failed (std::bad_alloc); the run needs more "
+        "memory than this process may use (the machine's, or a limit such as ulimit -v); run "
+        "fewer particles\n",
+        stderr);
+    return kExitFailure;
   } catch (const std::exception& error) {
     // Not the user's arguments: an internal failure (e.g. out of memory).
     std::fprintf(stderr, "talus: error: %s\n", error.what());

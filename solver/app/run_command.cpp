@@ -30,7 +30,11 @@
 #include "solver/io/run_directory.hpp"
 #include "solver/run/production_run.hpp"
 #include "solver/scene/builtin_scene.hpp"
+#include "solver/scene/initial_particles.hpp"
+#include "solver/scene/initial_state_checks.hpp"
+#include "solver/scene/scene_limits.hpp"
 #include "solver/scene/scene_loader.hpp"
+#include "solver/scene/scene_memory.hpp"
 
 #if TALUS_HAVE_REFERENCE
 #include "reference/run/scene_run.hpp"
@@ -130,6 +134,14 @@ TimeStepAdvice check_time_step(const RunArguments& args, const Scene& scene) {
                                "(contact: {}); write time.step <= {:.1e} or step: auto, or pass "
                                "--allow-unstable-step to run anyway",
                                dt, stable, advice.limit, advice.model, stable));
+}
+
+// The initial particles, made once here and checked (scene/initial_state_checks.hpp): what cannot
+// run right is a SceneError, the rest a warning line each on stderr (also with --quiet). The
+// solvers make them again; the list is freed before they do, so the peak memory is not doubled.
+void check_initial_particles(const Scene& scene) {
+  for (const std::string& warning : check_initial_state(scene, initial_particles(scene)))
+    std::fprintf(stderr, "talus run: %s\n", warning.c_str());
 }
 
 // The advisor's numbers in a run's summary: dt_crit (null when nothing limits it) and dt / dt_crit.
@@ -284,6 +296,7 @@ std::string resume_json(const RunArguments& args) {
     throw RunError(e.what());
   }
   Scene scene = load_scene(point.scene_file);
+  check_scene_memory(scene, physical_memory_bytes());
   scene.precision = point.precision == "float" ? Precision::float32 : Precision::float64;
   scene.backend =
       args.backend ? *args.backend : (point.backend == "cuda" ? Backend::cuda : Backend::cpu);
@@ -332,10 +345,15 @@ std::string run_json(const RunArguments& given) {
     if (*args.end_time < scene.time_step)
       throw RunError("--end " + exact_decimal(*args.end_time) + " s is shorter than the scene's " +
                      "time step " + exact_decimal(scene.time_step) + " s");
+    const std::string problem = step_count_problem(*args.end_time, scene.time_step);
+    if (!problem.empty()) throw RunError("--end: " + problem);
     scene.end_time = *args.end_time;
   }
   if (builtin && args.solver == SolverKind::reference)
     throw RunError("the built-in scene runs on the production solver; drop --solver reference");
+  // Before any particle is made: a scene too large for this machine is refused with its numbers.
+  check_scene_memory(scene, physical_memory_bytes());
+  check_initial_particles(scene);
   const TimeStepAdvice advice = check_time_step(args, scene);
 
   if (args.solver == SolverKind::production) {

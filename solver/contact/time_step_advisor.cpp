@@ -7,6 +7,7 @@
 #include <string>
 
 #include "solver/contact/contact_laws.hpp"
+#include "solver/scene/scene_limits.hpp"
 
 namespace talus {
 namespace {
@@ -30,11 +31,8 @@ std::vector<int> template_counts(const Scene& scene) {
   std::vector<long long> count(scene.templates.size(), 0);
   for (const ParticleState& p : scene.particles) ++count[p.template_index];
   for (const LatticeRequest& lattice : scene.lattices) {
-    const Vec3d size = lattice.region.box_max - lattice.region.box_min;
-    long long points = 1;
-    for (int k = 0; k < 3; ++k)
-      points *= std::max(1LL, (long long)(std::floor(size[k] / lattice.spacing[k] * (1 + 1e-12))));
-    count[lattice.template_index] += std::min(points, 2LL);
+    const double points = lattice_point_count(lattice.region, lattice.spacing);
+    count[lattice.template_index] += points >= 2 ? 2 : 1;
   }
   for (const RandomFillRequest& fill : scene.random_fills)
     count[fill.template_index] += std::min(fill.count, 2LL);

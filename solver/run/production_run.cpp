@@ -16,6 +16,7 @@
 #include "solver/io/output_schedule.hpp"
 #include "solver/io/run_directory.hpp"
 #include "solver/run/any_step.hpp"
+#include "solver/scene/scene_limits.hpp"
 #include "solver/step/host/host_step.hpp"
 
 namespace talus {
@@ -249,7 +250,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.host_threads = host_thread_count(m.settings.host_threads);
     m.step = make_host_step(scene, m.host_threads);
   }
-  m.total_steps = std::llround(scene.end_time / scene.time_step);
+  m.total_steps = scene_step_count(scene);  // at most kMaxSteps (the loader refused more)
   m.initial_particles = m.step->particles();
   if (resume) {
     if (resume->text("run.precision") != to_string(scene.precision))

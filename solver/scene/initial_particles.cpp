@@ -1,21 +1,19 @@
 #include "solver/scene/initial_particles.hpp"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
 #include "solver/scene/placement.hpp"
+#include "solver/scene/scene_limits.hpp"
 
 namespace talus {
 
 std::vector<ParticleState> lattice_particles(const LatticeRequest& lattice) {
-  const Vec3d size = lattice.region.box_max - lattice.region.box_min;
+  // The loader refused lattices of more than kMaxParticles points, so the counts fit an int.
+  const std::array<double, 3> dimensions = lattice_dimensions(lattice.region, lattice.spacing);
   int count[3];
-  for (int k = 0; k < 3; ++k) {
-    // Points whose cell [i, i + 1) spacing lies in the box; the relative slack keeps a box
-    // written as an exact multiple of the spacing from losing its last point to round-off.
-    count[k] = int(std::floor(size[k] / lattice.spacing[k] * (1 + 1e-12)));
-    if (count[k] < 1) count[k] = 1;  // the loader checks that one spacing fits
-  }
+  for (int k = 0; k < 3; ++k) count[k] = static_cast<int>(dimensions[k]);
   PlacementRandom random(lattice.seed);
   std::vector<ParticleState> particles;
   particles.reserve(std::size_t(count[0]) * count[1] * count[2]);

@@ -191,13 +191,11 @@ bool PlacementGrid::is_free(const Vec3d& centre) const {
     if (norm2(centre - centres_[item]) < reach * reach) return false;
     i = next;
   }
-  for (int i = triangle_cells_.head[triangle_cells_.cell_of(centre)]; i >= 0;) {
-    const auto [next, item] = triangle_cells_.node[i];
-    const Vec3d* t = &triangle_vertices_[3 * std::size_t(item)];
-    if (point_triangle_distance2(centre, t[0], t[1], t[2]) < radius_ * radius_) return false;
-    i = next;
-  }
-  return true;
+  bool free = true;
+  for_each_triangle_near(centre, [&](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+    free = free && !(point_triangle_distance2(centre, a, b, c) < radius_ * radius_);
+  });
+  return free;
 }
 
 bool place_one(const CentreSampler& sampler, PlacementGrid& grid, PlacementRandom& random,

@@ -68,6 +68,17 @@ class PlacementGrid {
   // radius). Touching is allowed.
   bool is_free(const Vec3d& centre) const;
   double radius() const { return radius_; }
+  // Calls visit(a, b, c) for every stored triangle that may lie within the grid's radius of
+  // `centre` (inside the box): a superset, which the caller narrows with the exact distance.
+  template <class Visit>
+  void for_each_triangle_near(const Vec3d& centre, Visit visit) const {
+    for (int i = triangle_cells_.head[triangle_cells_.cell_of(centre)]; i >= 0;) {
+      const auto [next, item] = triangle_cells_.node[i];
+      const Vec3d* t = &triangle_vertices_[3 * std::size_t(item)];
+      visit(t[0], t[1], t[2]);
+      i = next;
+    }
+  }
 
  private:
   struct Cells {

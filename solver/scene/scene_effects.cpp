@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "solver/io/output_names.hpp"
+#include "solver/scene/scene_limits.hpp"
 #include "solver/scene/scene_sections.hpp"
 
 namespace talus {
@@ -92,13 +93,14 @@ void parse_effects(const SceneNode& node, Scene& scene) {
 
 namespace {
 
+// Steps between outputs; a run has at most kMaxSteps steps, so a larger `every` means nothing.
 const std::string kEvery = "a positive integer number of steps";
 
 TrajectoryOutput parse_trajectories(const SceneNode& node) {
   node.keys({"every", "directory", "format"},
             "trajectories: a map with keys every, directory, format");
   TrajectoryOutput output;
-  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.every = node.at("every", kEvery).integer(kEvery, 1, kMaxSteps);
   output.directory = "trajectories";
   if (auto directory = node.find("directory"))
     output.directory = directory->text("a directory path");
@@ -119,7 +121,7 @@ VtkOutput parse_vtk(const SceneNode& node) {
   node.keys({"every", "directory", "particles"},
             "vtk: a map with keys every, directory, particles");
   VtkOutput output;
-  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.every = node.at("every", kEvery).integer(kEvery, 1, kMaxSteps);
   output.directory = "vtk";
   if (auto directory = node.find("directory"))
     output.directory = directory->text("a directory path");
@@ -133,7 +135,7 @@ VtkOutput parse_vtk(const SceneNode& node) {
 CheckpointOutput parse_checkpoint(const SceneNode& node) {
   node.keys({"every", "directory", "keep"}, "checkpoint: a map with keys every, directory, keep");
   CheckpointOutput output;
-  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.every = node.at("every", kEvery).integer(kEvery, 1, kMaxSteps);
   output.directory = "checkpoints";
   if (auto directory = node.find("directory"))
     output.directory = directory->text("a directory path");
@@ -145,7 +147,7 @@ CheckpointOutput parse_checkpoint(const SceneNode& node) {
 ProbeOutput parse_probes(const SceneNode& node, const Scene& scene) {
   node.keys({"every", "file", "quantities"}, "probes: a map with keys every, file, quantities");
   ProbeOutput output;
-  output.every = node.at("every", kEvery).integer(kEvery, 1, 1LL << 62);
+  output.every = node.at("every", kEvery).integer(kEvery, 1, kMaxSteps);
   output.file = "probes.csv";
   if (auto file = node.find("file")) output.file = file->text("a file path");
   const std::vector<Probe> all = {Probe::kinetic_energy, Probe::wall_forces, Probe::contact_count,

@@ -11,6 +11,7 @@
 
 #include "solver/contact/time_step_advisor.hpp"
 #include "solver/io/input_files.hpp"
+#include "solver/scene/scene_limits.hpp"
 #include "solver/scene/scene_sections.hpp"
 
 namespace talus {
@@ -31,9 +32,14 @@ void parse_time(const SceneNode& node, Scene& scene) {
   scene.time_step_auto = step.text(kTimeStep) == "auto";
   if (!scene.time_step_auto)
     scene.time_step = step.number(kTimeStep, [](double v) { return v > 0; });
-  scene.end_time = node.at("end", "a positive number in s (the end time)").positive("s");
+  const SceneNode end = node.at("end", "a positive number in s (the end time)");
+  scene.end_time = end.positive("s");
   if (!scene.time_step_auto && scene.time_step > scene.end_time)
     step.fail_expected("a time step in s no longer than the end time");
+  if (!scene.time_step_auto) {
+    const std::string problem = step_count_problem(scene.end_time, scene.time_step);
+    if (!problem.empty()) end.fail(problem);
+  }
 }
 
 // `time: {step: auto}`: a safe fraction of the critical step of the time-step advisor
@@ -54,6 +60,9 @@ void resolve_auto_step(Scene& scene) {
                     "step in s",
                     scene.time_step, kAutoStepFraction, advice.critical_step, scene.end_time));
   }
+  const std::string problem = step_count_problem(scene.end_time, scene.time_step);
+  if (!problem.empty())
+    throw SceneError(at.file, at.line, at.column, at.key, "with step: auto, " + problem);
 }
 
 // The bounding box of a region (a cylinder's: its two discs' boxes together).
@@ -129,7 +138,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
   scene.directory = directory;
   parse_time(root.at("time", "a map with keys step, end (in s)"), scene);
   if (auto seed = root.find("seed"))
-    scene.seed = std::uint64_t(seed->integer("a non-negative integer", 0, 0x7fffffffffffffffLL));
+    scene.seed = std::uint64_t(seed->integer(kSeedExpected, 0, kMaxSeed));
   if (auto backend = root.find("backend")) {
     const std::string name = backend->choice({"auto", "cpu", "cuda"}, "a backend");
     scene.backend =

@@ -1,8 +1,12 @@
 // The `particles` section: an explicit list, lattices, random fills and feeds. Only the requests
 // are stored; the solver places the particles.
+#include <fmt/format.h>
+
+#include <array>
 #include <cmath>
 #include <sstream>
 
+#include "solver/scene/scene_limits.hpp"
 #include "solver/scene/scene_sections.hpp"
 
 namespace talus {
@@ -77,7 +81,7 @@ Vec3d optional_velocity(const SceneNode& body) {
 // An entry's seed: its own, else the scene's plus the entry's place in the list plus one.
 std::uint64_t entry_seed(const SceneNode& body, const Scene& scene, std::size_t index) {
   const std::optional<SceneNode> node = body.find("seed");
-  if (node) return std::uint64_t(node->integer("a non-negative integer", 0, 0x7fffffffffffffffLL));
+  if (node) return std::uint64_t(node->integer(kSeedExpected, 0, kMaxSeed));
   return scene.seed + index + 1;
 }
 
@@ -127,6 +131,15 @@ void parse_lattice(const SceneNode& body, Scene& scene, std::size_t index) {
       region.fail(
           "expected a box at least one spacing wide on every axis, to hold a lattice "
           "point");
+  // Counted in doubles and refused before any integer holds the count (8e9 points overflow int).
+  const std::array<double, 3> n = lattice_dimensions(lattice.region, lattice.spacing);
+  const double points = n[0] * n[1] * n[2];
+  if (points > double(kMaxParticles))
+    spacing.fail(
+        fmt::format("a lattice of {:.0f} x {:.0f} x {:.0f} = {:.4g} points, above the "
+                    "limit of {} particles in a scene; use a larger spacing or a "
+                    "smaller box",
+                    n[0], n[1], n[2], points, describe_limit(kMaxParticles)));
   lattice.velocity = optional_velocity(body);
   lattice.random_orientation = optional_bool(body, "random_orientation", false);
   lattice.seed = entry_seed(body, scene, index);
@@ -153,12 +166,18 @@ void parse_random_fill(const SceneNode& body, Scene& scene, std::size_t index) {
         "volume over region volume), not both or neither");
   const SceneNode& amount = count ? *count : *fraction;
   if (count) {
-    fill.count = count->integer("a positive integer", 1, 1LL << 40);
+    fill.count = count->integer("a positive integer number of particles", 1, kMaxParticles);
   } else {
     fill.volume_fraction =
         fraction->number("a number in (0, 1) (particle volume over region volume)",
                          [](double v) { return v > 0 && v < 1; });
-    fill.count = std::llround(fill.volume_fraction * fill.region.volume() / t.volume);
+    const double particles = std::round(fill.volume_fraction * fill.region.volume() / t.volume);
+    if (!(particles <= double(kMaxParticles)))
+      fraction->fail(
+          fmt::format("a volume fraction of {} of this region is {:.4g} particles of "
+                      "template '{}', above the limit of {} particles in a scene",
+                      fraction->text(""), particles, t.name, describe_limit(kMaxParticles)));
+    fill.count = static_cast<long long>(particles);
     if (fill.count < 1)
       fraction->fail("a volume fraction of " + fraction->text("") +
                      " of this region is less than one particle of template '" + t.name + "'");
@@ -200,6 +219,15 @@ void parse_feed(const SceneNode& body, Scene& scene, std::size_t index) {
   feed.stop = scene.end_time;
   if (auto stop = body.find("stop"))
     feed.stop = stop->number("a number in s after start", [&](double v) { return v > feed.start; });
+  // Feeder::due converts rate x time to an integer: bounded here, in doubles, before it can
+  // overflow.
+  const double total = feed_particle_count(feed.rate, feed.start, feed.stop);
+  if (total > double(kMaxParticles))
+    body.at("rate", "")
+        .fail(fmt::format(
+            "{:.6g} particles per second from {:.6g} s to {:.6g} s is {:.4g} particles, above the "
+            "limit of {} particles in a scene",
+            feed.rate, feed.start, feed.stop, total, describe_limit(kMaxParticles)));
   feed.velocity = optional_velocity(body);
   feed.random_orientation = optional_bool(body, "random_orientation", true);
   feed.seed = entry_seed(body, scene, index);
@@ -221,6 +249,12 @@ void parse_particles(const SceneNode& node, Scene& scene) {
     if (kind == "lattice") parse_lattice(body, scene, i);
     if (kind == "random") parse_random_fill(body, scene, i);
     if (kind == "feed") parse_feed(body, scene, i);
+    const double total = scene_particle_count(scene);
+    if (total > double(kMaxParticles))
+      body.fail(
+          fmt::format("this entry brings the scene to {:.4g} particles (initial ones and all "
+                      "that feeds insert), above the limit of {} particles in a scene",
+                      total, describe_limit(kMaxParticles)));
   }
 }
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "solver/scene/scene_limits.hpp"
+
 namespace talus {
 namespace {
 
@@ -223,18 +225,27 @@ double SceneNode::non_negative(const std::string& unit) const {
 long long SceneNode::integer(const std::string& expected, long long min, long long max) const {
   if (!node_.IsScalar()) fail_expected(expected);
   const std::string& text = node_.Scalar();
+  // An integer beyond the limit gets a message naming the limit, whether or not it fits a long
+  // long ("1e30", "99999999999999999999" alike).
+  const auto above_limit = [&] {
+    fail("expected " + expected + ", at most " + describe_limit(max) + ", got '" + text + "'");
+  };
   char* end = nullptr;
   errno = 0;
   long long value = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size() || errno != 0) {
+  const bool whole = !text.empty() && end == text.c_str() + text.size();
+  if (whole && errno == ERANGE && value > 0) above_limit();
+  if (!whole || errno != 0) {
     // Also "1e5": an integral double below 2^53, where doubles hold integers exactly.
     double as_double = 0;
-    if (!parse_double(text, as_double) || as_double != std::floor(as_double) ||
-        std::fabs(as_double) > 9007199254740992.0)
+    if (!parse_double(text, as_double) || as_double != std::floor(as_double))
       fail_expected(expected);
+    if (as_double > double(max)) above_limit();
+    if (std::fabs(as_double) > 9007199254740992.0) fail_expected(expected);
     value = static_cast<long long>(as_double);
   }
-  if (value < min || value > max) fail_expected(expected);
+  if (value > max) above_limit();
+  if (value < min) fail_expected(expected);
   return value;
 }
 

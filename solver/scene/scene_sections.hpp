@@ -9,6 +9,9 @@
 
 namespace talus {
 
+// A seed (the scene's, an entry's): SceneNode::integer names the limit, kMaxSeed.
+inline const std::string kSeedExpected = "a non-negative integer";
+
 void parse_materials(const SceneNode& node, Scene& scene);
 void parse_material_pairs(const SceneNode& node, Scene& scene);
 void parse_templates(const SceneNode& node, Scene& scene);

@@ -2,6 +2,7 @@
 // (arguments pass verbatim), stdout and stderr captured, the exit status decoded.
 #pragma once
 
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -43,8 +44,10 @@ inline std::string read_file(const std::string& path) {
 }
 
 // Runs <build>/talus with `args` (no shell: arguments pass verbatim), stdout and stderr captured in
-// temporary files so that neither can fill a pipe and stall the child.
-inline ProcessResult run_talus(const std::vector<std::string>& args) {
+// temporary files so that neither can fill a pipe and stall the child. `address_space_bytes`
+// (0: none) caps the child's virtual memory (RLIMIT_AS), so that an allocation fails there.
+inline ProcessResult run_talus(const std::vector<std::string>& args,
+                               rlim_t address_space_bytes = 0) {
   char out_path[] = "/tmp/talus_cli_out_XXXXXX";
   char err_path[] = "/tmp/talus_cli_err_XXXXXX";
   const int out_fd = mkstemp(out_path);
@@ -61,6 +64,10 @@ inline ProcessResult run_talus(const std::vector<std::string>& args) {
   argv.push_back(nullptr);
   const pid_t pid = fork();
   if (pid == 0) {
+    if (address_space_bytes > 0) {
+      const rlimit limit{address_space_bytes, address_space_bytes};
+      if (setrlimit(RLIMIT_AS, &limit) != 0) _exit(126);
+    }
     dup2(out_fd, STDOUT_FILENO);
     dup2(err_fd, STDERR_FILENO);
     execv(binary.c_str(), argv.data());
