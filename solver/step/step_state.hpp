@@ -232,12 +232,27 @@ void check_state_fits(const StepState<Real>& s, const Scene& scene, int count,
     refuse("particles.global_id",
            "global id " + std::to_string(*twin) + " is held by two particles");
 
-  // The particle arrays: finite, orientations of unit norm.
+  // The particle arrays: finite, bounding radii their templates', orientations of unit norm.
   for (const auto& [name, values] : s.arrays)
     for (std::size_t i = 0; i < values.size(); ++i)
       if (!std::isfinite(values[i]))
         refuse("particles." + name,
                detail::particle_text(s.global_ids, i) + " has " + detail::number_text(values[i]));
+  // Each bounding radius is its template's (HostStep::set_particle, the CUDA particles'): the
+  // broad phase sizes its cells by them. In Real, the template's radius is rounded and grown to
+  // cover its rounded vertices (shape_arrays.hpp), a few float epsilons at most: a relative 1e-5
+  // leaves room for that and refuses any other radius.
+  for (const auto& [name, values] : s.arrays) {
+    if (name != "bounding_radius") continue;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double expected = scene.templates[s.template_ids[i]].bounding_radius;
+      if (!(std::abs(values[i] - expected) <= 1e-5 * expected))
+        refuse("particles.bounding_radius",
+               detail::particle_text(s.global_ids, i) + " has " + detail::number_text(values[i]) +
+                   " m; its template '" + scene.templates[s.template_ids[i]].name + "' has " +
+                   detail::number_text(expected) + " m");
+    }
+  }
   const std::vector<Real>* q[4] = {};
   const char* parts[4] = {"orientation.w", "orientation.x", "orientation.y", "orientation.z"};
   for (const auto& [name, values] : s.arrays)

@@ -4,7 +4,8 @@
 // crafted values reach the code that uses them. Before writing the input, its file-size field and
 // checksum are set to fit its bytes: otherwise nearly every mutation would stop at the checksum
 // (the size and checksum checks themselves are tested in tests/step/test_restart.cpp). A
-// CheckpointError (or another std::runtime_error talus throws on purpose) is an answer; a crash,
+// CheckpointError (or another std::runtime_error talus throws on purpose, or the neighbour
+// search's std::invalid_argument for a position that a step made non-finite) is an answer; a crash,
 // a sanitizer report, another exception or a hang is a bug.
 //
 // With TALUS_FUZZ_WRITE_SEEDS=DIR in the environment the target first writes checkpoints of the
@@ -92,6 +93,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     step.step();
     step.step();
   } catch (const std::runtime_error&) {
+  } catch (const std::invalid_argument&) {  // the neighbour search's refusal of a diverged state
   }
   return 0;
 }
