@@ -56,9 +56,14 @@ class ByteReader {
 
 }  // namespace
 
+void throw_checkpoint_error(const std::string& path, const std::string& section,
+                            const std::string& what) {
+  throw CheckpointError((path.empty() ? std::string("checkpoint") : path) + ": section '" +
+                        section + "': " + what);
+}
+
 void Checkpoint::fail(const std::string& name, const std::string& what) const {
-  throw CheckpointError((path_.empty() ? std::string("checkpoint") : path_) + ": section '" + name +
-                        "': " + what);
+  throw_checkpoint_error(path_, name, what);
 }
 
 CheckpointSection& Checkpoint::section(const std::string& name) {

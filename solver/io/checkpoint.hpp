@@ -34,6 +34,11 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Throws the CheckpointError "<path>: section '<section>': <what>" ("checkpoint" for an empty
+// path): what every refusal of a section's contents says, whoever finds it.
+[[noreturn]] void throw_checkpoint_error(const std::string& path, const std::string& section,
+                                         const std::string& what);
+
 struct CheckpointSection {
   std::string name;
   std::uint32_t element_size = 1;

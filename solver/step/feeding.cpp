@@ -47,12 +47,19 @@ std::vector<std::string> Feeding::save() const {
   return states;
 }
 
-void Feeding::restore(const std::vector<std::string>& states) {
+void Feeding::restore(const std::vector<std::string>& states, const std::string& source) {
   if (states.size() != feeders_.size())
-    throw CheckpointError(
+    throw_checkpoint_error(
+        source, "feeds.states",
         "the checkpoint does not fit the scene: " + std::to_string(states.size()) +
-        " feed states, the scene has " + std::to_string(feeders_.size()) + " feeds");
-  for (std::size_t f = 0; f < feeders_.size(); ++f) feeders_[f].restore(states[f]);
+            " feed states, the scene has " + std::to_string(feeders_.size()) + " feeds");
+  for (std::size_t f = 0; f < feeders_.size(); ++f) {
+    try {
+      feeders_[f].restore(states[f]);
+    } catch (const std::runtime_error& e) {  // Feeder's message names the feed in the scene
+      throw_checkpoint_error(source, "feeds.states", "feed " + std::to_string(f) + ": " + e.what());
+    }
+  }
 }
 
 }  // namespace talus

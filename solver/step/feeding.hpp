@@ -34,8 +34,9 @@ class Feeding {
                                     const std::vector<int>& template_ids, const Domain& domain);
 
   std::vector<std::string> save() const;
-  // Throws CheckpointError when the number of states is not the scene's number of feeds.
-  void restore(const std::vector<std::string>& states);
+  // Throws CheckpointError naming `source` (the checkpoint file) and its section feeds.states
+  // when the number of states is not the scene's number of feeds or a state cannot be read.
+  void restore(const std::vector<std::string>& states, const std::string& source = "");
 
  private:
   const Scene& scene_;

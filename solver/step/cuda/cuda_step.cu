@@ -428,13 +428,13 @@ StepState<Real> CudaStep<Real>::export_state() const {
 template <class Real>
 void CudaStep<Real>::import_state(const StepState<Real>& s) {
   Impl& m = *impl_;
-  m.feeding.restore(s.feed_states);  // first: it refuses a checkpoint of other feeds
+  m.feeding.restore(s.feed_states, s.source);  // first: it refuses a checkpoint of other feeds
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
   // run with a domain box: less those removed.
   const bool resized =
       (!m.feeding.empty() && s.count > m.count()) || (m.scene.domain && s.count < m.count());
   if (resized) m.particles->resize(s.count);
-  check_state_fits(s, m.count(), m.particles->names(), static_cast<int>(m.host_bodies.size()));
+  check_state_fits(s, m.scene, m.count(), m.particles->names());
   m.particles->import_from(s);
   m.particles->set_next_id(s.next_id >= 0 ? s.next_id : s.count);
   m.removed = s.removed;

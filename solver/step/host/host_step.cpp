@@ -406,11 +406,11 @@ template <class Real>
 void HostStep<Real>::import_state(const StepState<Real>& s) {
   std::vector<std::string> names;
   for (const auto& entry : storage_) names.push_back(entry.first);
-  feeding_.restore(s.feed_states);  // first: it refuses a checkpoint of other feeds
+  feeding_.restore(s.feed_states, s.source);  // first: it refuses a checkpoint of other feeds
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
   // run with a domain box: less those removed.
   if ((!feeding_.empty() && s.count > count_) || (scene_.domain && s.count < count_)) grow(s.count);
-  check_state_fits(s, count_, names, static_cast<int>(bodies_.size()));
+  check_state_fits(s, scene_, count_, names);
   // Copied into the arrays in place: view_ keeps pointing at them.
   for (std::size_t k = 0; k < storage_.size(); ++k)
     std::copy(s.arrays[k].second.begin(), s.arrays[k].second.end(), storage_[k].second.begin());

@@ -98,7 +98,8 @@ class HostStep {
 
   // The state to go on from (restart; step_state.hpp), and setting it on a step made from the
   // same scene: the next step() continues as this one's would, to the bit. import_state throws
-  // CheckpointError when the state does not fit the step (particle count, arrays, ids).
+  // CheckpointError when the state does not fit the step (particle count, arrays, feeds) or holds
+  // a value no run writes (check_state_fits: ids, times, non-finite numbers, history keys).
   StepState<Real> export_state() const;
   void import_state(const StepState<Real>& state);
 
