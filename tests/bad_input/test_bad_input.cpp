@@ -226,7 +226,7 @@ std::vector<std::string> check_message(const Case& c, const ProcessResult& r) {
       failures.push_back("an unexpected line after the error: '" + lines[i] + "'");
   if (first_error < lines.size()) {
     const std::string& line = lines[first_error];
-    // A location given twice ("a.yaml:3:4: a.yaml:3:4: ...") or a second "error:".
+    // A location given twice ("FILE:3:4: FILE:3:4: ...") or a second "error:".
     static const std::regex doubled(R"(([^ :]+:[0-9]+(:[0-9]+)?: ).*\1)");
     if (std::regex_search(line, doubled)) failures.push_back("a location prefix twice");
     if (line.find("error:", 14) != std::string::npos) failures.push_back("'error:' twice");

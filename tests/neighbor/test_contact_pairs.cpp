@@ -83,6 +83,29 @@ TEST(ContactPairs, RandomCloudsMatchBruteForce) {
   }
 }
 
+// A packed cloud's cells are numbered densely (at most 4 cells a particle: 17^3 = 4913 for 2000
+// particles of 0.02 m cells in a 0.3 m box, with the margin), a sparse one's hashed (52^3 cells in
+// a 1 m box); both lists are the brute force's, and a dense particle's 27 buckets are distinct.
+TEST(ContactPairs, DenseAndHashedNumberingsGiveTheBruteForceList) {
+  const Cloud packed = random_cloud(2000, 0.3, 0.01, 0.01, 21);
+  const Cloud sparse = random_cloud(2000, 1.0, 0.01, 0.01, 22);
+  const NeighborGrid<double> dense = make_neighbor_grid(packed.input(), 0.0, true);
+  EXPECT_GT(dense.dims[0], 0);
+  EXPECT_EQ(make_neighbor_grid(sparse.input(), 0.0, true).dims[0], 0);
+  EXPECT_EQ(make_neighbor_grid(packed.input()).dims[0], 0);  // hashed unless asked (the GPU's)
+  for (int i = 0; i < 2000; i += 97) {
+    std::uint32_t buckets[27];
+    ASSERT_EQ(neighbour_buckets(packed.input(), dense, i, buckets), 27);
+    for (int k = 1; k < 27; ++k) EXPECT_LT(buckets[k - 1], buckets[k]);
+  }
+  for (const Cloud* cloud : {&packed, &sparse}) {
+    const std::vector<ContactPair> want = brute_force(*cloud, 0.002);
+    EXPECT_GT(want.size(), 0u);
+    expect_same_pairs(build_candidate_pairs(cloud->input(0.002)), want);
+    expect_same_pairs(build_candidate_pairs(cloud->input(0.002), nullptr, 0.0, 2), want);
+  }
+}
+
 // A size ratio of 1:100: the cells follow the largest sphere, and small ones all share a cell.
 TEST(ContactPairs, SizeRatioOneToHundred) {
   Cloud cloud = random_cloud(1500, 0.2, 0.0005, 0.0005, 5);
