@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <optional>
 #include <utility>
 
+#include "solver/core/host_parallel.hpp"
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/placement.hpp"
 #include "solver/scene/scene_loader.hpp"
@@ -208,7 +210,7 @@ bool crosses(const Body& bp, const ParticleState& p, const Vec3d& a, const Vec3d
 }
 
 // Where a centroid lies with respect to the space a wall holds its particles in.
-enum class Side {
+enum class Side : unsigned char {
   inside,   // where the particles belong
   outside,  // behind the wall: it can reach the particles' side only around the wall
   unknown,  // beyond an open end or an edge, or not decided (docs/scenes.md)
@@ -324,33 +326,43 @@ class NearestTriangle {
     if (!order_.empty()) build(0, static_cast<int>(order_.size()));
   }
 
-  // The triangle nearest to x (-1 for an empty mesh).
-  int nearest(const Vec3d& x) const {
-    int best = -1;
-    double best2 = INFINITY;
-    std::vector<int> stack = {0};
-    while (!nodes_.empty() && !stack.empty()) {
-      const Node& node = nodes_[stack.back()];
-      stack.pop_back();
-      if (!(box_distance2(node, x) < best2)) continue;
+  // The triangle nearest to x (-1 for an empty mesh). `hint`: a triangle likely near it (the
+  // previous particle's), whose distance starts the search's bound; -1 for none. Among equally
+  // near triangles the first found wins, so the answer depends on the hint only there.
+  int nearest(const Vec3d& x, int hint) const {
+    if (nodes_.empty()) return -1;
+    int best = hint;
+    double best2 = hint < 0 ? INFINITY : distance2(x, hint);
+    // Nodes still to search with their boxes' distances, the nearest on top. A median split
+    // keeps the depth below 32, so the stack below 64 entries.
+    std::array<std::pair<int, double>, 64> stack;
+    int top = 0;
+    stack[top++] = {0, box_distance2(nodes_[0], x)};
+    while (top > 0) {
+      const auto [index, box2] = stack[--top];
+      if (!(box2 < best2)) continue;
+      const Node& node = nodes_[index];
       if (node.right < 0) {
         for (int i = node.first; i < node.first + node.count; ++i) {
-          const std::size_t t = order_[i];
-          const double d2 = point_triangle_distance2(x, corner(t, 0), corner(t, 1), corner(t, 2));
-          if (d2 < best2) best2 = d2, best = static_cast<int>(t);
+          const double d2 = distance2(x, order_[i]);
+          if (d2 < best2) best2 = d2, best = order_[i];
         }
         continue;
       }
-      // The nearer child last, so that it is searched first.
-      const bool left_nearer =
-          box_distance2(nodes_[node.left], x) <= box_distance2(nodes_[node.right], x);
-      stack.push_back(left_nearer ? node.right : node.left);
-      stack.push_back(left_nearer ? node.left : node.right);
+      // The nearer child on top; a child no nearer than the best so far is left out.
+      std::pair<int, double> near{node.left, box_distance2(nodes_[node.left], x)};
+      std::pair<int, double> far{node.right, box_distance2(nodes_[node.right], x)};
+      if (far.second < near.second) std::swap(near, far);
+      if (far.second < best2) stack[top++] = far;
+      if (near.second < best2) stack[top++] = near;
     }
     return best;
   }
 
   Vec3d corner(std::size_t t, int k) const { return mesh_.vertices[mesh_.triangles[t][k]]; }
+  double distance2(const Vec3d& x, std::size_t t) const {
+    return point_triangle_distance2(x, corner(t, 0), corner(t, 1), corner(t, 2));
+  }
 
  private:
   struct Node {
@@ -406,8 +418,9 @@ class NearestTriangle {
 // nearest triangle (not onto an edge or a corner), by the side of that triangle it is on. A
 // closed mesh whose normals face in then gives inside or outside for every such point, an open
 // one (a funnel, a sheet) says outside only behind the triangles that x faces.
-Side mesh_side(const NearestTriangle& tree, const Vec3d& x) {
-  const int t = tree.nearest(x);
+Side mesh_side(const NearestTriangle& tree, const Vec3d& x, int& hint) {
+  const int t = tree.nearest(x, hint);
+  hint = t;
   if (t < 0) return Side::unknown;
   const Vec3d a = tree.corner(t, 0), b = tree.corner(t, 1), c = tree.corner(t, 2);
   const Vec3d normal = cross(b - a, c - a);
@@ -459,6 +472,22 @@ void check_walls(const Scene& scene, const std::vector<Body>& bodies,
     grid.add_mesh(walls[w]);
     std::optional<NearestTriangle> tree;
     if (spec.kind == WallKind::mesh) tree.emplace(walls[w]);
+    // A mesh wall's sides first, on all cores: fixed blocks of particles, each searched in order
+    // from its previous particle's nearest triangle (lattice and fill neighbours lie near each
+    // other), so the sides do not depend on the thread count.
+    std::vector<Side> mesh_sides;
+    if (tree) {
+      mesh_sides.resize(particles.size());
+      constexpr long long kBlock = 1024;
+      const long long blocks = (static_cast<long long>(particles.size()) + kBlock - 1) / kBlock;
+      parallel_for_dynamic(host_thread_count(), blocks, 1, [&](long long block) {
+        int hint = -1;
+        const std::size_t end =
+            std::min(particles.size(), std::size_t(block + 1) * std::size_t(kBlock));
+        for (std::size_t i = std::size_t(block * kBlock); i < end; ++i)
+          mesh_sides[i] = mesh_side(*tree, particles[i].position, hint);
+      });
+    }
     std::vector<long long> fill_inside(scene.random_fills.size());
     std::vector<std::vector<std::size_t>> fill_outside(scene.random_fills.size());
     const auto add_outside = [&](const SourceRef& entry, const std::string& id) {
@@ -512,7 +541,7 @@ void check_walls(const Scene& scene, const std::vector<Body>& bodies,
                            "pushes them out at the first step",
                        id);
       } else {
-        const Side side = tree ? mesh_side(*tree, p.position) : generated_side(spec, p.position);
+        const Side side = tree ? mesh_sides[i] : generated_side(spec, p.position);
         const int fill = fill_of[i];
         if (fill >= 0 && side != Side::unknown) {
           if (side == Side::inside)
