@@ -275,12 +275,8 @@ Side generated_side(const WallSpec& wall, const Vec3d& x) {
     return closed_container(wall) && side == Side::unknown ? Side::outside : side;
   }
   if (const auto* drum = std::get_if<DrumWall>(&wall.shape)) {
-    const Axial a{drum->center - drum->axis * (drum->length / 2),
-                  drum->axis,
-                  drum->length,
-                  0,
-                  drum->radius,
-                  drum->radius};
+    Axial a{drum->center - drum->axis * (drum->length / 2), drum->axis, drum->length};
+    a.bottom_outer = a.top_radius = drum->radius;
     const Side side = axial_side(a, x, [&](double) { return drum->radius; });
     return side == Side::unknown ? Side::outside : side;  // closed: outside everywhere else
   }
