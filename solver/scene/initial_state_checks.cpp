@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <utility>
 
+#include "solver/core/host_parallel.hpp"
 #include "solver/neighbor/contact_pairs.hpp"
 #include "solver/scene/placement.hpp"
 #include "solver/scene/scene_loader.hpp"
@@ -206,28 +209,225 @@ bool crosses(const Body& bp, const ParticleState& p, const Vec3d& a, const Vec3d
   return false;
 }
 
-// A closed container (no opening): a box without open_top, a drum, a capped cylinder. True when
-// x lies outside the solid it encloses (a drum's and cylinder's circle: its polygon's corners).
-bool outside_closed_container(const WallSpec& wall, const Vec3d& x) {
-  if (const auto* box = std::get_if<BoxWall>(&wall.shape)) {
-    if (box->open_top) return false;
-    for (int k = 0; k < 3; ++k)
-      if (x[k] < box->min[k] || x[k] > box->max[k]) return true;
-    return false;
-  }
-  const auto outside_cylinder = [&](const Vec3d& base, const Vec3d& axis, double radius,
-                                    double height) {
-    const double along = dot(x - base, axis);
-    const double radial = norm(x - base - axis * along);
-    return along < 0 || along > height || radial > radius;
-  };
-  if (const auto* drum = std::get_if<DrumWall>(&wall.shape))
-    return outside_cylinder(drum->center - drum->axis * (drum->length / 2), drum->axis,
-                            drum->radius, drum->length);
+// Where a centroid lies with respect to the space a wall holds its particles in.
+enum class Side : unsigned char {
+  inside,   // where the particles belong
+  outside,  // behind the wall: it can reach the particles' side only around the wall
+  unknown,  // beyond an open end or an edge, or not decided (docs/scenes.md)
+};
+
+// A closed container (no opening): a box without open_top, a drum, a capped cylinder.
+bool closed_container(const WallSpec& wall) {
+  if (const auto* box = std::get_if<BoxWall>(&wall.shape)) return !box->open_top;
   if (const auto* cylinder = std::get_if<CylinderWall>(&wall.shape))
-    return cylinder->bottom_cap && cylinder->top_cap &&
-           outside_cylinder(cylinder->base, cylinder->axis, cylinder->radius, cylinder->height);
-  return false;
+    return cylinder->bottom_cap && cylinder->top_cap;
+  return wall.kind == WallKind::drum;
+}
+
+// An axial wall in its own coordinates: `along` the axis from `base` and `radial` from it. The
+// side spans along in [0, height] with radius side_radius(along); a flat bottom at along = 0
+// covers radial in [bottom_inner, bottom_outer] (none when empty); a top cap of `top_radius` at
+// along = height, when there is one. Circles: the polygons' corners (the faces lie up to
+// r (1 - cos(pi / segments)) inside, counted as inside).
+struct Axial {
+  Vec3d base, axis;
+  double height = 0;
+  double bottom_inner = 0, bottom_outer = -1;
+  double top_radius = -1;  // negative: open top
+};
+
+template <class SideRadius>
+Side axial_side(const Axial& wall, const Vec3d& x, SideRadius side_radius) {
+  const double along = dot(x - wall.base, wall.axis);
+  const double radial = norm(x - wall.base - wall.axis * along);
+  if (along >= 0 && along <= wall.height)  // beside the side wall: it can never get in there
+    return radial <= side_radius(along) ? Side::inside : Side::outside;
+  if (along < 0)  // beneath the bottom's plate, cap or annulus
+    return radial >= wall.bottom_inner && radial <= wall.bottom_outer ? Side::outside
+                                                                      : Side::unknown;
+  return radial <= wall.top_radius ? Side::outside : Side::unknown;  // above a top cap
+}
+
+// Where x lies with respect to generated wall `wall` (not a mesh), at t = 0.
+Side generated_side(const WallSpec& wall, const Vec3d& x) {
+  if (const auto* plane = std::get_if<PlaneWall>(&wall.shape)) {
+    Vec3d u, v;
+    axis_basis(plane->normal, u, v);
+    const Vec3d r = x - plane->point;
+    const double h = plane->size / 2;
+    if (std::fabs(dot(r, u)) > h || std::fabs(dot(r, v)) > h) return Side::unknown;  // beside
+    return dot(r, plane->normal) < 0 ? Side::outside : Side::inside;
+  }
+  if (const auto* box = std::get_if<BoxWall>(&wall.shape)) {
+    bool in[3];
+    for (int k = 0; k < 3; ++k) in[k] = x[k] >= box->min[k] && x[k] <= box->max[k];
+    if (in[0] && in[1] && in[2]) return Side::inside;
+    if (!box->open_top) return Side::outside;
+    // Open top: beside the side walls, or beneath the floor; above the rim it may fall in.
+    if (x.z > box->max.z) return Side::unknown;
+    return in[2] || (in[0] && in[1]) ? Side::outside : Side::unknown;
+  }
+  if (const auto* cylinder = std::get_if<CylinderWall>(&wall.shape)) {
+    Axial a{cylinder->base, cylinder->axis, cylinder->height};
+    if (cylinder->bottom_cap) a.bottom_outer = cylinder->radius;
+    if (cylinder->top_cap) a.top_radius = cylinder->radius;
+    const Side side = axial_side(a, x, [&](double) { return cylinder->radius; });
+    return closed_container(wall) && side == Side::unknown ? Side::outside : side;
+  }
+  if (const auto* drum = std::get_if<DrumWall>(&wall.shape)) {
+    Axial a{drum->center - drum->axis * (drum->length / 2), drum->axis, drum->length};
+    a.bottom_outer = a.top_radius = drum->radius;
+    const Side side = axial_side(a, x, [&](double) { return drum->radius; });
+    return side == Side::unknown ? Side::outside : side;  // closed: outside everywhere else
+  }
+  if (const auto* hopper = std::get_if<HopperWall>(&wall.shape)) {
+    Axial a{hopper->base, hopper->axis, hopper->height};
+    if (outlet_closed_at(wall, 0.0)) a.bottom_outer = hopper->bottom_radius;  // the plate
+    return axial_side(a, x, [&](double along) {
+      return hopper->bottom_radius +
+             (hopper->top_radius - hopper->bottom_radius) * (along / hopper->height);
+    });
+  }
+  if (const auto* silo = std::get_if<SiloWall>(&wall.shape)) {
+    Axial a{silo->base, silo->axis, silo->cone_height + silo->height};
+    const bool plate = outlet_closed_at(wall, 0.0);
+    if (silo->cone_height == 0) {  // the flat annulus, and the plate inside it
+      a.bottom_inner = plate ? 0 : silo->outlet_radius;
+      a.bottom_outer = silo->radius;
+    } else if (plate) {
+      a.bottom_outer = silo->outlet_radius;
+    }
+    return axial_side(a, x, [&](double along) {
+      return along >= silo->cone_height
+                 ? silo->radius
+                 : silo->outlet_radius +
+                       (silo->radius - silo->outlet_radius) * (along / silo->cone_height);
+    });
+  }
+  return Side::unknown;
+}
+
+// The triangles of one mesh wall in a bounding-volume tree: the nearest triangle to a point in
+// O(log T). Leaves hold up to 4 triangles; nodes split at the median of the triangles' centroids
+// along the longest axis of their box.
+class NearestTriangle {
+ public:
+  explicit NearestTriangle(const TriangleMesh& mesh) : mesh_(mesh) {
+    order_.resize(mesh.triangles.size());
+    centroid_.resize(mesh.triangles.size());
+    for (std::size_t t = 0; t < order_.size(); ++t) {
+      order_[t] = static_cast<int>(t);
+      centroid_[t] = (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0;
+    }
+    if (!order_.empty()) build(0, static_cast<int>(order_.size()));
+  }
+
+  // The triangle nearest to x (-1 for an empty mesh). `hint`: a triangle likely near it (the
+  // previous particle's), whose distance starts the search's bound; -1 for none. Among equally
+  // near triangles the first found wins, so the answer depends on the hint only there.
+  int nearest(const Vec3d& x, int hint) const {
+    if (nodes_.empty()) return -1;
+    int best = hint;
+    double best2 = hint < 0 ? INFINITY : distance2(x, hint);
+    // Nodes still to search with their boxes' distances, the nearest on top. A median split
+    // keeps the depth below 32, so the stack below 64 entries.
+    std::array<std::pair<int, double>, 64> stack;
+    int top = 0;
+    stack[top++] = {0, box_distance2(nodes_[0], x)};
+    while (top > 0) {
+      const auto [index, box2] = stack[--top];
+      if (!(box2 < best2)) continue;
+      const Node& node = nodes_[index];
+      if (node.right < 0) {
+        for (int i = node.first; i < node.first + node.count; ++i) {
+          const double d2 = distance2(x, order_[i]);
+          if (d2 < best2) best2 = d2, best = order_[i];
+        }
+        continue;
+      }
+      // The nearer child on top; a child no nearer than the best so far is left out.
+      std::pair<int, double> near{node.left, box_distance2(nodes_[node.left], x)};
+      std::pair<int, double> far{node.right, box_distance2(nodes_[node.right], x)};
+      if (far.second < near.second) std::swap(near, far);
+      if (far.second < best2) stack[top++] = far;
+      if (near.second < best2) stack[top++] = near;
+    }
+    return best;
+  }
+
+  Vec3d corner(std::size_t t, int k) const { return mesh_.vertices[mesh_.triangles[t][k]]; }
+  double distance2(const Vec3d& x, std::size_t t) const {
+    return point_triangle_distance2(x, corner(t, 0), corner(t, 1), corner(t, 2));
+  }
+
+ private:
+  struct Node {
+    Vec3d low, high;
+    int first = 0, count = 0;
+    int left = -1, right = -1;  // right < 0: a leaf
+  };
+
+  int build(int first, int count) {
+    const int index = static_cast<int>(nodes_.size());
+    nodes_.push_back({});
+    Vec3d low = corner(order_[first], 0), high = low, clow = centroid_[order_[first]], chigh = clow;
+    for (int i = first; i < first + count; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const Vec3d c = corner(order_[i], k), m = centroid_[order_[i]];
+        for (int a = 0; a < 3; ++a) {
+          low[a] = std::min(low[a], c[a]), high[a] = std::max(high[a], c[a]);
+          clow[a] = std::min(clow[a], m[a]), chigh[a] = std::max(chigh[a], m[a]);
+        }
+      }
+    nodes_[index].low = low, nodes_[index].high = high;
+    nodes_[index].first = first, nodes_[index].count = count;
+    if (count <= 4) return index;
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (chigh[a] - clow[a] > chigh[axis] - clow[axis]) axis = a;
+    const int half = count / 2;
+    std::nth_element(order_.begin() + first, order_.begin() + first + half,
+                     order_.begin() + first + count,
+                     [&](int a, int b) { return centroid_[a][axis] < centroid_[b][axis]; });
+    const int left = build(first, half);
+    const int right = build(first + half, count - half);
+    nodes_[index].left = left, nodes_[index].right = right;
+    return index;
+  }
+
+  static double box_distance2(const Node& node, const Vec3d& x) {
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double d = std::max({node.low[a] - x[a], 0.0, x[a] - node.high[a]});
+      d2 += d * d;
+    }
+    return d2;
+  }
+
+  const TriangleMesh& mesh_;
+  std::vector<int> order_;
+  std::vector<Vec3d> centroid_;
+  std::vector<Node> nodes_;
+};
+
+// Where x lies with respect to a mesh wall: decided only when x projects onto the inside of its
+// nearest triangle (not onto an edge or a corner), by the side of that triangle it is on. A
+// closed mesh whose normals face in then gives inside or outside for every such point, an open
+// one (a funnel, a sheet) says outside only behind the triangles that x faces.
+Side mesh_side(const NearestTriangle& tree, const Vec3d& x, int& hint) {
+  const int t = tree.nearest(x, hint);
+  hint = t;
+  if (t < 0) return Side::unknown;
+  const Vec3d a = tree.corner(t, 0), b = tree.corner(t, 1), c = tree.corner(t, 2);
+  const Vec3d normal = cross(b - a, c - a);
+  const double area2 = dot(normal, normal);
+  if (!(area2 > 0)) return Side::unknown;
+  // Barycentric coordinates of x's projection: each of the three sub-triangles' signed areas.
+  const double margin = 1e-9;
+  const double wa = dot(cross(b - x, c - x), normal) / area2;
+  const double wb = dot(cross(c - x, a - x), normal) / area2;
+  if (!(wa > margin && wb > margin && 1 - wa - wb > margin)) return Side::unknown;
+  return dot(normal, x - a) < 0 ? Side::outside : Side::inside;
 }
 
 void check_walls(const Scene& scene, const std::vector<Body>& bodies,
@@ -241,6 +441,21 @@ void check_walls(const Scene& scene, const std::vector<Body>& bodies,
       low[k] = std::min(low[k], p.position[k]), high[k] = std::max(high[k], p.position[k]);
     reach = std::max(reach, bodies[p.template_index].bounding);
   }
+  // The random fill each particle comes from, -1 for none (initial_particles.hpp: the fills'
+  // particles come last, each fill's together).
+  std::vector<int> fill_of(particles.size(), -1);
+  for (std::size_t i = 0, f = 0; i < particles.size(); ++i) {
+    const SourceRef& s = particles[i].source;
+    const auto is_fill = [&](std::size_t k) {
+      const SourceRef& r = scene.random_fills[k].source;
+      return s.line == r.line && s.column == r.column && s.file == r.file && s.key == r.key;
+    };
+    while (f < scene.random_fills.size() && !is_fill(f)) ++f;
+    if (f == scene.random_fills.size())
+      f = 0;  // not from a fill: search from the first again
+    else
+      fill_of[i] = static_cast<int>(f);
+  }
   Groups straddling("ids"), outside("ids");
   long long behind = 0;
   std::size_t first_behind = 0, first_behind_wall = 0;
@@ -251,6 +466,43 @@ void check_walls(const Scene& scene, const std::vector<Body>& bodies,
     // Triangles within the largest bounding radius of any centroid, found in constant time.
     PlacementGrid grid(low, high, reach, 0);
     grid.add_mesh(walls[w]);
+    std::optional<NearestTriangle> tree;
+    if (spec.kind == WallKind::mesh) tree.emplace(walls[w]);
+    // A mesh wall's sides first, on all cores: fixed blocks of particles, each searched in order
+    // from its previous particle's nearest triangle (lattice and fill neighbours lie near each
+    // other), so the sides do not depend on the thread count.
+    std::vector<Side> mesh_sides;
+    if (tree) {
+      mesh_sides.resize(particles.size());
+      constexpr long long kBlock = 1024;
+      const long long blocks = (static_cast<long long>(particles.size()) + kBlock - 1) / kBlock;
+      parallel_for_dynamic(host_thread_count(), blocks, 1, [&](long long block) {
+        int hint = -1;
+        const std::size_t end =
+            std::min(particles.size(), std::size_t(block + 1) * std::size_t(kBlock));
+        for (std::size_t i = std::size_t(block * kBlock); i < end; ++i)
+          mesh_sides[i] = mesh_side(*tree, particles[i].position, hint);
+      });
+    }
+    std::vector<long long> fill_inside(scene.random_fills.size());
+    std::vector<std::vector<std::size_t>> fill_outside(scene.random_fills.size());
+    const auto add_outside = [&](const SourceRef& entry, const std::string& id) {
+      if (closed_container(spec))
+        outside.add(
+            entry,
+            "particle lies outside the closed container " + wall + ", which it can never enter",
+            "particles lie outside the closed container " + wall + ", which they can never enter",
+            id);
+      else
+        outside.add(entry,
+                    "particle lies behind wall " + wall +
+                        ", on the side away from the particles; it can reach their side only "
+                        "around the wall's edge, never through it",
+                    "particles lie behind wall " + wall +
+                        ", on the side away from the particles; they can reach their side only "
+                        "around the wall's edge, never through it",
+                    id);
+    };
     for (std::size_t i = 0; i < particles.size(); ++i) {
       const ParticleState& p = particles[i];
       const Body& body = bodies[p.template_index];
@@ -284,12 +536,35 @@ void check_walls(const Scene& scene, const std::vector<Body>& bodies,
                            " at the start, their centroids on the particles' side; the wall "
                            "pushes them out at the first step",
                        id);
-      } else if (outside_closed_container(spec, p.position)) {
-        outside.add(
-            p.source,
-            "particle lies outside the closed container " + wall + ", which it can never enter",
-            "particles lie outside the closed container " + wall + ", which they can never enter",
-            id);
+      } else {
+        const Side side = tree ? mesh_sides[i] : generated_side(spec, p.position);
+        const int fill = fill_of[i];
+        if (fill >= 0 && side != Side::unknown) {
+          if (side == Side::inside)
+            ++fill_inside[fill];
+          else
+            fill_outside[fill].push_back(i);
+        } else if (side == Side::outside) {
+          add_outside(p.source, id);
+        }
+      }
+    }
+    // A random fill with particles on both sides of the wall: its region reaches beyond it.
+    for (std::size_t f = 0; f < fill_outside.size(); ++f) {
+      const SourceRef& entry = scene.random_fills[f].source;
+      for (const std::size_t i : fill_outside[f]) {
+        if (fill_inside[f] == 0) {
+          add_outside(entry, std::to_string(i));
+          continue;
+        }
+        outside.add(entry,
+                    "particle of this random fill lies outside wall " + wall +
+                        ", which holds the fill's other particles: the fill's region reaches "
+                        "beyond the wall; keep it on the particles' side",
+                    "particles of this random fill lie outside wall " + wall +
+                        ", which holds the fill's other particles: the fill's region reaches "
+                        "beyond the wall; keep it on the particles' side",
+                    std::to_string(i));
       }
     }
   }

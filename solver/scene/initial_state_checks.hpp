@@ -1,7 +1,7 @@
 // Initial states that are not physical, named before a run starts (docs/scenes.md, "Initial
 // states checked"): particles placed through each other or through a wall, and particles that
-// lie outside a closed container. Both solvers start from initial_particles(); `talus run`
-// checks its result here before stepping.
+// lie behind a wall or outside a container. Both solvers start from initial_particles(); `talus
+// run` checks its result here before stepping.
 #pragma once
 
 #include <string>
@@ -23,9 +23,16 @@ namespace talus {
 //    first step, releasing the overlap's elastic energy as speed;
 //  - particles whose body crosses a wall with their centroid on the particles' side;
 //  - particles outside a closed container (a box without open_top, a drum, a cylinder with both
-//    caps), which they can never enter.
-// O(n): the broad phase's candidate pairs (neighbor/contact_pairs.hpp) and a grid of the walls'
-// triangles (placement.hpp).
+//    caps), which they can never enter;
+//  - particles wholly behind any other wall, where they can reach the particles' side only
+//    around it: behind a plane's square; outside an open box, cylinder, hopper or silo beside
+//    its side wall (within its axial extent) or beneath its floor, cap, flat bottom or closed
+//    outlet; behind the triangle of a mesh wall they are nearest to, projecting onto its inside;
+//  - a random fill with particles on both sides of a wall: its region reaches beyond it (one
+//    line on the fill's entry, in place of the line above).
+// docs/scenes.md lists what each wall kind leaves unchecked. O(n log n): the broad phase's
+// candidate pairs (neighbor/contact_pairs.hpp), a grid of the walls' triangles (placement.hpp),
+// the generated walls' shapes in closed form and a tree of each mesh wall's triangles.
 std::vector<std::string> check_initial_state(const Scene& scene,
                                              const std::vector<ParticleState>& particles);
 

@@ -1,9 +1,12 @@
 // Initial states that are not physical (solver/scene/initial_state_checks.hpp): particles through
-// each other or through a wall are errors or warnings naming the ids and the scene entries, and
-// states that are fine (the example scene, touching particles, particles above an open box) give
-// nothing.
+// each other or through a wall are errors or warnings naming the ids and the scene entries, as are
+// particles behind a wall (outside a container, behind a plane or a mesh) and random fills that
+// reach outside their container; states that are fine (the example scene, touching particles,
+// particles above an open box or below an open outlet) give nothing.
 #include <algorithm>
 #include <cmath>
+
+#include <fmt/format.h>
 
 #include "solver/scene/initial_particles.hpp"
 #include "solver/scene/initial_state_checks.hpp"
@@ -177,25 +180,162 @@ TEST(InitialState, ParticlesOutsideAClosedContainerAreAWarningOpenOnesAreNot) {
                   .empty());
 }
 
-TEST(InitialState, ARandomFillOverlappingTheContainerWallPlacesSomeOutsideAndSaysSo) {
+// One wall of `kind` with `keys` (and material steel), as the scene's line 10.
+std::string wall(const std::string& kind, const std::string& keys) {
+  return "walls:\n  - " + kind + ": {" + keys + ", material: steel}\n";
+}
+
+// The warning for the one explicit particle (line 13) behind wall 0, of `kind` at `column`.
+std::string behind(const std::string& kind, int column) {
+  return fmt::format(
+      "state.yaml:13:9: particles[0].explicit[0]: warning: 1 particle lies behind wall "
+      "'{0}_0' (state.yaml:10:{1}: walls[0].{0}), on the side away from the particles; it can "
+      "reach their side only around the wall's edge, never through it (ids: 0)",
+      kind, column);
+}
+
+// Whether a ball at `position` gets exactly that warning (true), or nothing (false).
+bool behind_wall(const std::string& walls, const std::string& kind, int column,
+                 const std::string& position) {
+  const std::vector<std::string> w = warnings_of(walls + one_ball(position));
+  EXPECT_LE(w.size(), 1u) << position;
+  if (w.size() == 1) EXPECT_EQ(w[0], behind(kind, column)) << position;
+  return !w.empty();
+}
+
+TEST(InitialState, AParticleBehindAPlaneWithinItsSquareIsAWarning) {
+  const std::string plane = wall("plane", "point: [0, 0, 0], normal: [0, 0, 1], size: 0.1");
+  EXPECT_TRUE(behind_wall(plane, "plane", 12, "[0.01, 0.02, -0.03]"));
+  EXPECT_FALSE(behind_wall(plane, "plane", 12, "[0.01, 0.02, 0.03]"));   // in front
+  EXPECT_FALSE(behind_wall(plane, "plane", 12, "[0.08, 0.02, -0.03]"));  // beside the square
+  // A tilted plane: the side is the normal's.
+  const std::string tilted = wall("plane", "point: [0, 0, 0], normal: [1, 0, 1], size: 0.1");
+  EXPECT_TRUE(behind_wall(tilted, "plane", 12, "[-0.02, 0, -0.02]"));
+  EXPECT_FALSE(behind_wall(tilted, "plane", 12, "[0.02, 0, 0.02]"));
+}
+
+TEST(InitialState, AnOpenBoxWarnsBesideAndBeneathItsWallsNotAboveTheRim) {
+  const std::string open = replaced(kBox, "material: steel", "open_top: true, material: steel");
+  EXPECT_TRUE(behind_wall(open, "box", 10, "[0.08, 0, 0.05]"));    // beside, below the rim
+  EXPECT_TRUE(behind_wall(open, "box", 10, "[0, 0.01, -0.02]"));   // beneath the floor
+  EXPECT_FALSE(behind_wall(open, "box", 10, "[0, 0, 0.05]"));      // inside
+  EXPECT_FALSE(behind_wall(open, "box", 10, "[0.08, 0, 0.2]"));    // above the rim: may fall in
+  EXPECT_FALSE(behind_wall(open, "box", 10, "[0.08, 0, -0.02]"));  // beside and beneath: undecided
+}
+
+TEST(InitialState, AnOpenCylinderWarnsBesideItsSideAndBeyondItsCaps) {
+  const std::string keys = "base: [0, 0, 0], radius: 0.05, height: 0.1";
+  const std::string open = wall("cylinder", keys);
+  EXPECT_TRUE(behind_wall(open, "cylinder", 15, "[0.08, 0, 0.05]"));
+  EXPECT_FALSE(behind_wall(open, "cylinder", 15, "[0.03, 0.02, 0.05]"));  // inside
+  EXPECT_FALSE(behind_wall(open, "cylinder", 15, "[0, 0, -0.05]"));       // beyond the open ends
+  EXPECT_FALSE(behind_wall(open, "cylinder", 15, "[0, 0, 0.2]"));
+  const std::string bottom = wall("cylinder", keys + ", bottom_cap: true");
+  EXPECT_TRUE(behind_wall(bottom, "cylinder", 15, "[0, 0.01, -0.05]"));  // beneath the cap
+  EXPECT_FALSE(behind_wall(bottom, "cylinder", 15, "[0, 0.01, 0.2]"));   // beyond the open top
+  const std::string top = wall("cylinder", keys + ", top_cap: true");
+  EXPECT_TRUE(behind_wall(top, "cylinder", 15, "[0, 0.01, 0.2]"));
+  EXPECT_FALSE(behind_wall(top, "cylinder", 15, "[0, 0.01, -0.05]"));
+  // Along x: beside is off the x axis.
+  const std::string along_x = wall("cylinder",
+                                   "base: [0, 0, 0], axis: [1, 0, 0], radius: 0.05, "
+                                   "height: 0.1");
+  EXPECT_TRUE(behind_wall(along_x, "cylinder", 15, "[0.05, 0, 0.08]"));
+  EXPECT_FALSE(behind_wall(along_x, "cylinder", 15, "[0.05, 0, 0.03]"));
+  // Both caps: a closed container, outside anywhere.
+  EXPECT_EQ(only_warning(wall("cylinder", keys + ", bottom_cap: true, top_cap: true") +
+                         one_ball("[0.08, 0, -0.05]")),
+            "state.yaml:13:9: particles[0].explicit[0]: warning: 1 particle lies outside the "
+            "closed container 'cylinder_0' (state.yaml:10:15: walls[0].cylinder), which it can "
+            "never enter (ids: 0)");
+}
+
+TEST(InitialState, ADrumIsAClosedContainerAboutItsAxis) {
+  const std::string drum =
+      wall("drum", "center: [0, 0, 0], axis: [0, 1, 0], radius: 0.05, length: 0.1");
+  const std::string outside = "closed container 'drum_0'";
+  EXPECT_NE(only_warning(drum + one_ball("[0, 0.08, 0]")).find(outside), std::string::npos);
+  EXPECT_NE(only_warning(drum + one_ball("[0.08, 0, 0]")).find(outside), std::string::npos);
+  EXPECT_TRUE(warnings_of(drum + one_ball("[0.02, 0.04, 0.02]")).empty());
+}
+
+TEST(InitialState, AHopperWarnsBesideItsConeAndBeneathAClosedOutlet) {
+  // The cone's radius is 0.01 m at z = 0, 0.05 m at z = 0.1: 0.03 m at z = 0.05.
+  const std::string keys = "base: [0, 0, 0], bottom_radius: 0.01, top_radius: 0.05, height: 0.1";
+  const std::string open = wall("hopper", keys);
+  EXPECT_TRUE(behind_wall(open, "hopper", 13, "[0.05, 0, 0.05]"));   // 1.9 cm behind the cone
+  EXPECT_TRUE(behind_wall(open, "hopper", 13, "[0, 0.2, 0.09]"));    // far beside it
+  EXPECT_FALSE(behind_wall(open, "hopper", 13, "[0.02, 0, 0.05]"));  // inside
+  EXPECT_FALSE(behind_wall(open, "hopper", 13, "[0, 0, -0.05]"));    // below the open outlet
+  EXPECT_FALSE(behind_wall(open, "hopper", 13, "[0.08, 0, 0.15]"));  // above the open top
+  const std::string closed = wall("hopper", keys + ", outlet: closed");
+  EXPECT_TRUE(behind_wall(closed, "hopper", 13, "[0, 0, -0.05]"));      // beneath the plate
+  EXPECT_FALSE(behind_wall(closed, "hopper", 13, "[0.03, 0, -0.05]"));  // not beneath it
+}
+
+TEST(InitialState, ASiloWarnsBesideItsBinAndConeAndBeneathAFlatBottom) {
+  // The cone from the outlet (0.01 m) at z = 0 to the bin (0.05 m) at z = 0.05; the bin to 0.15.
+  const std::string keys = "base: [0, 0, 0], radius: 0.05, height: 0.1, outlet_radius: 0.01";
+  const std::string coned = wall("silo", keys + ", cone_height: 0.05");
+  EXPECT_TRUE(behind_wall(coned, "silo", 11, "[0.08, 0, 0.1]"));   // beside the bin
+  EXPECT_TRUE(behind_wall(coned, "silo", 11, "[0.05, 0, 0.01]"));  // 2.5 cm behind the cone
+  EXPECT_FALSE(behind_wall(coned, "silo", 11, "[0, 0.03, 0.1]"));  // inside the bin
+  EXPECT_FALSE(behind_wall(coned, "silo", 11, "[0, 0, 0.02]"));    // inside the cone
+  EXPECT_FALSE(behind_wall(coned, "silo", 11, "[0, 0, -0.05]"));   // below the open outlet
+  EXPECT_TRUE(behind_wall(wall("silo", keys + ", cone_height: 0.05, outlet: closed"), "silo", 11,
+                          "[0, 0, -0.05]"));
+  const std::string flat = wall("silo", keys);
+  EXPECT_TRUE(behind_wall(flat, "silo", 11, "[0.03, 0, -0.02]"));  // beneath the flat bottom
+  EXPECT_FALSE(behind_wall(flat, "silo", 11, "[0, 0, -0.02]"));    // beneath the orifice
+  EXPECT_FALSE(behind_wall(flat, "silo", 11, "[0.03, 0, 0.02]"));  // inside
+}
+
+TEST(InitialState, AMeshWallWarnsBehindTheTriangleNearestToTheCentroid) {
+  // meshes/plate.obj: a square of 0.1 m facing +z. Behind its face: a warning; beyond its edge (the
+  // nearest point is on an edge) or in front: nothing.
+  const std::string plate = wall("mesh", "file: meshes/plate.obj, scale: 0.1");
+  EXPECT_TRUE(behind_wall(plate, "mesh", 11, "[0.01, 0.02, -0.03]"));
+  EXPECT_FALSE(behind_wall(plate, "mesh", 11, "[0.01, 0.02, 0.03]"));
+  EXPECT_FALSE(behind_wall(plate, "mesh", 11, "[0.08, 0.02, -0.03]"));
+  // meshes/tetra.obj at 0.01 m per unit: a closed tetrahedron with its normals out (particles live
+  // outside it), inradius 1.73 cm. Inside it: behind every face; beyond a face: in front of it.
+  const std::string tetra = wall("mesh", "file: meshes/tetra.obj, scale: 0.01");
+  EXPECT_TRUE(behind_wall(tetra, "mesh", 11, "[0.001, 0.002, -0.001]"));
+  EXPECT_FALSE(behind_wall(tetra, "mesh", 11, "[0.023, 0.023, -0.023]"));
+}
+
+TEST(InitialState, ARandomFillReachingOutsideItsContainerIsNamedOnTheEntry) {
   // Placement keeps bounding spheres inside the fill's region and off the walls' triangles, so a
-  // region across the box's side puts particles on both sides of it; those outside are named.
-  const Scene scene = load(kBox +
-                           "particles:\n  - random: {template: ball, region: {box: {min: [0.03, "
-                           "-0.05, 0], max: [0.08, 0.05, 0.1]}}, count: 40, seed: 5}\n");
-  const std::vector<ParticleState> particles = initial_particles(scene);
-  const long long outside =
-      std::count_if(particles.begin(), particles.end(),
-                    [](const ParticleState& p) { return p.position.x > 0.05; });
-  ASSERT_GT(outside, 0);  // the region is 3/5 outside the box: some land there
-  const std::vector<std::string> w = check_initial_state(scene, particles);
-  ASSERT_EQ(w.size(), 1u);
-  EXPECT_EQ(
-      w[0].rfind("state.yaml:12:13: particles[0].random: warning: " + std::to_string(outside) +
-                     " particles lie outside the closed container 'box_0'",
-                 0),
-      0u)
-      << w[0];
+  // region across a container's wall puts particles on both sides of it: one warning on the
+  // entry, with the count outside.
+  const auto check = [](const std::string& walls, const std::string& name, int column,
+                        const std::string& region, const auto& is_outside) {
+    const Scene scene = load(walls + "particles:\n  - random: {template: ball, region: " + region +
+                             ", count: 40, seed: 5}\n");
+    const std::vector<ParticleState> particles = initial_particles(scene);
+    const long long outside = std::count_if(particles.begin(), particles.end(), is_outside);
+    ASSERT_GT(outside, 0) << name;  // some land outside, and some inside
+    ASSERT_LT(outside, 40) << name;
+    const std::vector<std::string> w = check_initial_state(scene, particles);
+    ASSERT_EQ(w.size(), 1u) << name;
+    EXPECT_EQ(w[0].substr(0, w[0].find(" (ids: ")),
+              fmt::format("state.yaml:12:13: particles[0].random: warning: {} particles of this "
+                          "random fill lie outside wall '{}' (state.yaml:10:{}: walls[0].{}), "
+                          "which holds the fill's other particles: the fill's region reaches "
+                          "beyond the wall; keep it on the particles' side",
+                          outside, name + "_0", column, name));
+  };
+  const std::string across_x = "{box: {min: [0.03, -0.05, 0], max: [0.08, 0.05, 0.1]}}";
+  check(kBox, "box", 10, across_x, [](const ParticleState& p) { return p.position.x > 0.05; });
+  check(wall("cylinder", "base: [0, 0, 0], radius: 0.05, height: 0.1"), "cylinder", 15, across_x,
+        [](const ParticleState& p) { return std::hypot(p.position.x, p.position.y) > 0.05; });
+  check(wall("plane", "point: [0, 0, 0], normal: [0, 0, 1], size: 0.2"), "plane", 12,
+        "{box: {min: [-0.05, -0.05, -0.03], max: [0.05, 0.05, 0.07]}}",
+        [](const ParticleState& p) { return p.position.z < 0; });
+  // A fill inside its container: nothing.
+  EXPECT_TRUE(warnings_of(kBox + "particles:\n  - random: {template: ball, region: {box: {min: "
+                                 "[-0.05, -0.05, 0], max: [0.05, 0.05, 0.1]}}, count: 40}\n")
+                  .empty());
 }
 
 TEST(InitialState, TouchingNeighboursOfALatticeAreNotOverlaps) {
