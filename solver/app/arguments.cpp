@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "solver/io/input_files.hpp"
 #include "solver/shape/mesh_io.hpp"
 
 namespace talus {
@@ -13,7 +14,7 @@ namespace talus {
 namespace {
 
 std::string describe(const std::string& argument_name, const std::string& text) {
-  return argument_name + " '" + text + "'";
+  return argument_name + " '" + shown_input(text, kShownSpecLimit) + "'";
 }
 
 // Splits on commas, keeping empty fields so that "1,,2" and a trailing comma are caught.
@@ -47,18 +48,31 @@ Posed parse_pose(const std::string& argument_name, const std::string& text) {
     const double number = std::strtod(field.c_str(), &end);
     const bool consumed = !field.empty() && end == field.c_str() + field.size();
     if (!consumed || errno == ERANGE || !std::isfinite(number)) {
-      throw UsageError(describe(argument_name, text) + ": field " + kFieldNames[i] + " '" + field +
-                       "' is not a finite number; " + expected);
+      throw UsageError(describe(argument_name, text) + ": field " + kFieldNames[i] + " '" +
+                       shown_input(field) + "' is not a finite number; " + expected);
     }
     numbers[i] = number;
   }
   const Quatd q(numbers[3], numbers[4], numbers[5], numbers[6]);
   const double q_norm = q.norm();
+  const bool zero = numbers[3] == 0 && numbers[4] == 0 && numbers[5] == 0 && numbers[6] == 0;
+  const std::string rotation = "expected a rotation quaternion, e.g. 1,0,0,0 for no rotation";
   // A quaternion whose norm under- or overflows cannot be normalised reliably either.
-  if (!(q_norm > 1e-150) || !std::isfinite(q_norm)) {
+  if (!std::isfinite(q_norm)) {
     throw UsageError(describe(argument_name, text) +
-                     ": the quaternion (qw,qx,qy,qz) is zero; expected a non-zero rotation "
-                     "quaternion, e.g. 1,0,0,0 for no rotation");
+                     ": the quaternion (qw,qx,qy,qz) is too large: its norm is not a finite "
+                     "number (components up to 1e150 are taken); " +
+                     rotation);
+  }
+  if (zero) {
+    throw UsageError(describe(argument_name, text) + ": the quaternion (qw,qx,qy,qz) is zero; " +
+                     rotation);
+  }
+  if (!(q_norm > 1e-150)) {
+    throw UsageError(describe(argument_name, text) +
+                     ": the quaternion (qw,qx,qy,qz) is too small to normalise: its norm is "
+                     "below 1e-150; " +
+                     rotation);
   }
   Posed pose;
   pose.position = Vec3d(numbers[0], numbers[1], numbers[2]);
@@ -73,6 +87,20 @@ ShapeTemplate load_shape_argument(const std::string& argument_name, const std::s
     std::string reason = error.what();
     for (char& c : reason) {
       if (c == '\n' || c == '\r') c = ' ';  // the error stays on one line
+    }
+    // A built-in spec's message starts by quoting the spec, and a mesh file's by its path (then
+    // the line): the argument's name and text say the first already, "line N" the second.
+    const std::string quoted = "shape spec '" + shown_input(spec, kShownSpecLimit) + "': ";
+    if (reason.compare(0, quoted.size(), quoted) == 0) reason.erase(0, quoted.size());
+    const std::string path = spec.substr(0, is_mesh_path(spec) ? spec.size() : spec.rfind(':'));
+    if (is_mesh_path(path) && reason.compare(0, path.size() + 1, path + ":") == 0) {
+      const std::size_t digits = reason.find_first_not_of("0123456789", path.size() + 1);
+      if (reason.compare(path.size(), 2, ": ") == 0)
+        reason.erase(0, path.size() + 2);
+      else if (digits != std::string::npos && digits > path.size() + 1 &&
+               reason.compare(digits, 2, ": ") == 0)
+        reason = "line " + reason.substr(path.size() + 1, digits - path.size() - 1) + ": " +
+                 reason.substr(digits + 2);
     }
     // The loader's message already says what it expected.
     throw UsageError(describe(argument_name, spec) + ": " + reason);

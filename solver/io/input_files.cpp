@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 
 namespace talus {
@@ -34,7 +35,48 @@ struct Descriptor {
   }
 };
 
+// The length of the valid UTF-8 sequence (no overlong form, no surrogate, no C1 control)
+// starting at s[i], or 0.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char b = byte(i);
+  std::size_t n = 0;
+  unsigned char low = 0x80, high = 0xBF;  // the allowed range of the second byte
+  if (b >= 0xC2 && b <= 0xDF) n = 2, low = b == 0xC2 ? 0xA0 : 0x80;  // no C1 control
+  if (b >= 0xE0 && b <= 0xEF) n = 3, low = b == 0xE0 ? 0xA0 : 0x80, high = b == 0xED ? 0x9F : 0xBF;
+  if (b >= 0xF0 && b <= 0xF4) n = 4, low = b == 0xF0 ? 0x90 : 0x80, high = b == 0xF4 ? 0x8F : 0xBF;
+  if (n == 0 || i + n > s.size()) return 0;
+  if (byte(i + 1) < low || byte(i + 1) > high) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
+  return n;
+}
+
 }  // namespace
+
+std::string shown_input(const std::string& text, std::size_t limit) {
+  std::string shown;
+  std::size_t characters = 0, i = 0;
+  for (; i < text.size() && characters < limit; ++characters) {
+    const unsigned char b = static_cast<unsigned char>(text[i]);
+    if (b >= 0x20 && b < 0x7F) {
+      shown += text[i++];
+      continue;
+    }
+    const std::size_t n = b >= 0x80 ? utf8_length(text, i) : 0;
+    if (n > 0) {
+      shown += text.substr(i, n);
+      i += n;
+      continue;
+    }
+    char escaped[8];
+    std::snprintf(escaped, sizeof escaped, "\\x%02X", unsigned(b));
+    shown += escaped;
+    ++i;
+  }
+  if (i < text.size()) shown += "... (" + std::to_string(text.size()) + " bytes)";
+  return shown;
+}
 
 std::string input_file_problem(const std::string& path) {
   struct stat status;

@@ -4,6 +4,7 @@
 // "opens" fine with std::ifstream and then reads as empty.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -30,5 +31,13 @@ class InputFileError : public std::runtime_error {
 // with fstat(2) on the open descriptor (so a path swapped after input_file_problem is still
 // refused) before a single byte is read. Throws InputFileError.
 std::string read_input_file(const std::string& path);
+
+// `text` (a line or token of an input file, a spec the user wrote) as a message may show it: a
+// control byte or a byte that is not part of valid UTF-8 as \xNN, and a text longer than
+// `limit` characters cut there with "... (N bytes)" after it, so that a binary file or a
+// 100 kB line never reaches the terminal raw or whole.
+std::string shown_input(const std::string& text, std::size_t limit = 60);
+// The limit for a spec or a path, which may be long and still be what the user meant.
+constexpr std::size_t kShownSpecLimit = 200;
 
 }  // namespace talus

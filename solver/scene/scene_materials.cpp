@@ -152,11 +152,14 @@ void parse_polyhedron(const SceneNode& shape_node, const std::optional<SceneNode
     check_mesh_file_readable(shape_node, result.mesh_file);
     result.resolved_spec = result.mesh_file + (mesh_with_scale ? spec.substr(colon) : "");
   }
+  // The scale is read before the loader runs: its own error names the scale key, not the shape.
+  if (scale_node) {
+    result.mesh_scale = scale_node->number("a positive number of metres per file unit",
+                                           [](double v) { return v > 0; });
+    result.resolved_spec += ":" + scale_node->text("a scale");
+  }
   try {
     if (scale_node) {
-      result.mesh_scale = scale_node->number("a positive number of metres per file unit",
-                                             [](double v) { return v > 0; });
-      result.resolved_spec += ":" + scale_node->text("a scale");
       result.shape = load_shape_file(result.mesh_file, result.mesh_scale);
     } else {
       result.shape = make_shape(result.resolved_spec);  // checks the scale of "file:scale"

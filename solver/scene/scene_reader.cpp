@@ -298,8 +298,12 @@ Vec3d SceneNode::vec3(const std::string& expected) const {
 Vec3d SceneNode::direction(const std::string& what) const {
   const std::string expected = what + ", a nonzero vector [x, y, z]";
   const Vec3d v = vec3(expected);
-  if (!(norm(v) > 0)) fail_expected(expected);
-  return v / norm(v);
+  // Scaled by its largest component first, so that a huge vector ([1e300, 1e300, 0]) does not
+  // overflow its norm and a tiny one does not underflow it.
+  const double largest = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(largest > 0)) fail_expected(expected);
+  const Vec3d scaled = v / largest;
+  return scaled / norm(scaled);
 }
 
 Quatd SceneNode::orientation() const {

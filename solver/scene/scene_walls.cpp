@@ -1,7 +1,10 @@
 // The `walls` section: mesh files and generated shapes, each with a material and optional motion.
+#include <cmath>
+#include <cstdio>
 #include <exception>
 
 #include "solver/scene/scene_sections.hpp"
+#include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/mesh_io.hpp"
 
 namespace talus {
@@ -38,7 +41,7 @@ Vec3d axis_or_z(const SceneNode& body) {
 
 int segments(const SceneNode& body) {
   const std::optional<SceneNode> node = body.find("segments");
-  return node ? int(node->integer("an integer number of polygon sides from 3 to 100000", 3, 100000))
+  return node ? int(node->integer("an integer number of polygon sides, at least 3", 3, 100000))
               : kDefaultSegments;
 }
 
@@ -73,7 +76,7 @@ WallMotion parse_motion(const SceneNode& node) {
   return motion;
 }
 
-MeshWall parse_mesh(const SceneNode& body, const Scene& scene) {
+MeshWall parse_mesh(const SceneNode& body, const Scene& scene, const std::string& name) {
   const std::vector<std::string> keys = wall_keys({"file", "scale", "rotation", "translation"});
   body.keys(keys, expected_wall("mesh", keys));
   MeshWall wall;
@@ -88,12 +91,16 @@ MeshWall parse_mesh(const SceneNode& body, const Scene& scene) {
   if (auto rotation = body.find("rotation")) wall.rotation = rotation->orientation();
   if (auto translation = body.find("translation"))
     wall.translation = translation->vec3("a translation [x, y, z] in m");
+  // The reader's message names the file and, in a text file, the line.
   try {
     wall.mesh = read_mesh(wall.file);
   } catch (const std::exception& e) {
-    file.fail(e.what());
+    file.fail("wall '" + name + "': " + e.what());
   }
-  if (wall.mesh.triangles.empty()) file.fail("the mesh file '" + wall.file + "' has no triangles");
+  if (wall.mesh.triangles.empty())
+    file.fail("wall '" + name + "': the mesh file '" + wall.file + "' has " +
+              std::to_string(wall.mesh.vertices.size()) +
+              " vertices but no triangles (a wall needs faces: 'f a b c' lines in .obj)");
   return wall;
 }
 
@@ -191,6 +198,40 @@ SiloWall parse_silo(const SceneNode& body) {
   return wall;
 }
 
+std::string g_format(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
+// The wall's triangles at t = 0 must have finite corners within kMaxWallReach of the origin (a
+// huge size or coordinate once reached the contact as a corner it could not clip) and some area.
+void check_wall_mesh(const WallSpec& wall, const SceneNode& body) {
+  const WallMesh built = make_wall_mesh(wall);
+  const bool from_file = wall.kind == WallKind::mesh;
+  const std::string what =
+      "wall '" + wall.name +
+      "': " + (from_file ? "mesh file '" + std::get<MeshWall>(wall.shape).file + "': " : "");
+  const SceneNode at = from_file ? body.at("file", "an .obj or .stl file") : body;
+  for (std::size_t v = 0; v < built.mesh.vertices.size(); ++v) {
+    const Vec3d& p = built.mesh.vertices[v];
+    const double reach = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (!(reach <= kMaxWallReach))
+      at.fail(what +
+              (from_file ? "vertex " + std::to_string(v + 1) + ", placed by scale, " +
+                               "rotation and translation,"
+                         : "a corner") +
+              (std::isfinite(reach) ? " lies " + g_format(reach) + " m from the origin"
+                                    : " is not a finite point") +
+              ", beyond the largest distance talus supports, " + g_format(kMaxWallReach) + " m");
+  }
+  const std::size_t n = built.mesh.triangles.size();
+  if (!(mesh_area(built.mesh) > 0))
+    at.fail(what +
+            (n == 1 ? "its one triangle has" : "all " + std::to_string(n) + " triangles have") +
+            " zero area; a wall needs a surface");
+}
+
 }  // namespace
 
 void parse_walls(const SceneNode& node, Scene& scene) {
@@ -201,7 +242,9 @@ void parse_walls(const SceneNode& node, Scene& scene) {
   for (std::size_t i = 0; i < items.size(); ++i) {
     const auto [kind, body] = items[i].one_of(kinds, "wall");
     WallSpec wall;
-    if (kind == "mesh") wall.kind = WallKind::mesh, wall.shape = parse_mesh(body, scene);
+    const std::optional<SceneNode> name = body.is_map() ? body.find("name") : std::nullopt;
+    wall.name = name ? name->name("a wall name") : kind + "_" + std::to_string(i);
+    if (kind == "mesh") wall.kind = WallKind::mesh, wall.shape = parse_mesh(body, scene, wall.name);
     if (kind == "plane") wall.kind = WallKind::plane, wall.shape = parse_plane(body);
     if (kind == "box") wall.kind = WallKind::box, wall.shape = parse_box(body);
     if (kind == "cylinder") wall.kind = WallKind::cylinder, wall.shape = parse_cylinder(body);
@@ -210,13 +253,12 @@ void parse_walls(const SceneNode& node, Scene& scene) {
     if (kind == "silo") wall.kind = WallKind::silo, wall.shape = parse_silo(body);
     wall.material = material_reference(body.at("material", "a material name"), scene);
     if (auto motion = body.find("motion")) wall.motion = parse_motion(*motion);
-    const std::optional<SceneNode> name = body.find("name");
-    wall.name = name ? name->name("a wall name") : kind + "_" + std::to_string(i);
     for (const WallSpec& other : scene.walls)
       if (other.name == wall.name)
         (name ? *name : body)
             .fail("wall name '" + wall.name + "' is already used by " + other.source.key);
     wall.source = body.ref();
+    check_wall_mesh(wall, body);
     scene.walls.push_back(std::move(wall));
   }
 }

@@ -24,6 +24,10 @@ struct WallMesh {
   int plate_triangles = 0;
 };
 
+// How far from the origin a wall's corner may lie, in m (checked when the scene is read): far
+// beyond any container, and well within what the wall contact's clipping resolves.
+constexpr double kMaxWallReach = 1e6;
+
 // Two unit vectors u, v with u x v = axis (axis: unit). The same axis always gives the same
 // pair, so that meshes and random cylinder regions are reproducible.
 void axis_basis(const Vec3d& axis, Vec3d& u, Vec3d& v);

@@ -1,11 +1,14 @@
 #include "solver/shape/builtins.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 #include <stdexcept>
 
+#include "solver/io/input_files.hpp"
 #include "solver/shape/template_builder.hpp"
 
 namespace talus {
@@ -124,6 +127,20 @@ ShapeTemplate with_diameter(const std::string& spec, const std::vector<Vec3d>& u
   return make_template(spec, scaled(unit_points, diameter / (2 * unit.bounding_radius)));
 }
 
+// True when an unknown name looks like a file path with an extension talus does not read.
+bool looks_like_file(const std::string& name) {
+  const std::size_t dot = name.rfind('.');
+  if (name.find('/') != std::string::npos) return true;
+  return dot != std::string::npos && dot + 1 < name.size() &&
+         std::isalpha(static_cast<unsigned char>(name[dot + 1]));
+}
+
+// Throws when a size of the spec lies outside the range talus supports.
+void check_size(const std::string& quoted, const std::string& what, double metres) {
+  const std::string problem = shape_size_problem(metres);
+  if (!problem.empty()) throw std::invalid_argument(quoted + what + " " + problem);
+}
+
 std::string names_list() {
   std::string list;
   for (const std::string& name : builtin_names()) list += (list.empty() ? "" : ", ") + name;
@@ -165,22 +182,36 @@ TriangleMesh cylinder_mesh(double diameter, double length, int sides) {
 ShapeTemplate make_builtin(const std::string& spec) {
   const std::size_t colon = spec.find(':');
   const std::string name = spec.substr(0, colon);
-  const std::string quoted = "shape spec '" + spec + "': ";
+  const std::string quoted = "shape spec '" + shown_input(spec, kShownSpecLimit) + "': ";
   bool known = false;
   for (const std::string& n : builtin_names()) known = known || n == name;
+  if (!known && looks_like_file(name))
+    throw std::invalid_argument(quoted + "'" + shown_input(name) +
+                                "' is not a mesh file talus reads (.obj or .stl, any case) nor "
+                                "a built-in shape");
+  if (name == "sphere")
+    throw std::invalid_argument(quoted +
+                                "a sphere is not a polyhedron shape; a scene template takes "
+                                "'sphere: R' (the radius in m) in place of 'shape'");
   if (!known)
-    throw std::invalid_argument(quoted + "unknown shape '" + name + "'; expected one of " +
-                                names_list() + " (followed by ':size'), or an .obj/.stl file");
+    throw std::invalid_argument(quoted + "unknown shape '" + shown_input(name) +
+                                "'; expected one of " + names_list() +
+                                " (followed by ':size'), or an .obj/.stl file");
   std::vector<double> numbers;
   const bool parsed = colon != std::string::npos && parse_numbers(spec.substr(colon + 1), numbers);
   bool positive = parsed;
   for (double x : numbers) positive = positive && x > 0;
+  const std::string got = colon == std::string::npos
+                              ? ", got no size"
+                              : ", got '" + shown_input(spec.substr(colon + 1)) + "'";
 
   if (name == "cuboid") {
     if (!positive || numbers.size() != 3)
       throw std::invalid_argument(quoted +
                                   "cuboid needs three positive side lengths a,b,c in metres, "
-                                  "as in 'cuboid:0.01,0.02,0.03'");
+                                  "as in 'cuboid:0.01,0.02,0.03'" +
+                                  got);
+    for (int k = 0; k < 3; ++k) check_size(quoted, std::string("side ") + "abc"[k], numbers[k]);
     std::vector<Vec3d> points;
     for (int i = 0; i < 8; ++i)
       points.push_back({(i & 1 ? 0.5 : -0.5) * numbers[0], (i & 2 ? 0.5 : -0.5) * numbers[1],
@@ -188,14 +219,22 @@ ShapeTemplate make_builtin(const std::string& spec) {
     return make_template(spec, points);
   }
   if (name == "cylinder") {
+    const std::string usage =
+        "cylinder needs 'D,L' or 'D,L,N': positive diameter D and length L in metres and an "
+        "integer number of sides N from 3 to 100000, as in 'cylinder:0.008,0.0053,20'";
     const bool has_sides = numbers.size() == 3;
-    const bool sides_ok = !has_sides || (numbers[2] >= 3 && numbers[2] == std::floor(numbers[2]) &&
-                                         numbers[2] <= 100000);
-    if (!positive || (numbers.size() != 2 && !has_sides) || !sides_ok)
-      throw std::invalid_argument(quoted +
-                                  "cylinder needs 'D,L' or 'D,L,N': positive diameter D and length "
-                                  "L in metres and an integer number of sides N >= 3, as in "
-                                  "'cylinder:0.008,0.0053,20'");
+    if (!parsed || (numbers.size() != 2 && !has_sides))
+      throw std::invalid_argument(quoted + usage + got);
+    if (has_sides &&
+        !(numbers[2] >= 3 && numbers[2] <= 100000 && numbers[2] == std::floor(numbers[2]))) {
+      char got[32];
+      std::snprintf(got, sizeof got, "%g", numbers[2]);
+      throw std::invalid_argument(quoted + "N = " + got +
+                                  ": expected an integer number of sides from 3 to 100000");
+    }
+    if (!(numbers[0] > 0 && numbers[1] > 0)) throw std::invalid_argument(quoted + usage + got);
+    check_size(quoted, "diameter D", numbers[0]);
+    check_size(quoted, "length L", numbers[1]);
     const int sides = has_sides ? int(numbers[2]) : 20;
     return make_template(spec, cylinder_mesh(numbers[0], numbers[1], sides).vertices);
   }
@@ -203,8 +242,9 @@ ShapeTemplate make_builtin(const std::string& spec) {
     throw std::invalid_argument(quoted + name +
                                 " needs one positive size D, the circumscribed-sphere diameter "
                                 "in metres, as in '" +
-                                name + ":0.01'");
+                                name + ":0.01'" + got);
   const double diameter = numbers[0];
+  check_size(quoted, "size D", diameter);
   if (name == "corn") return with_diameter(spec, corn_points(), diameter);
   if (name == "mineral") {
     static const std::vector<Vec3d> unit_mineral = mineral_points();  // searched once

@@ -131,7 +131,7 @@ class IncrementalHull {
         if (dist2(extremes[a], extremes[b]) > dist2(i0, i1)) i0 = extremes[a], i1 = extremes[b];
     const std::string count = std::to_string(subset.size()) + " points ";
     if (std::sqrt(dist2(i0, i1)) <= eps_)
-      throw std::runtime_error("convex_hull: the " + count +
+      throw std::runtime_error("the " + count +
                                "all coincide; a hull needs at least 4 non-coplanar points");
     // The point farthest from the line i0-i1, then the one farthest from that plane.
     const Vec3d axis = (points_[i1] - points_[i0]) / std::sqrt(dist2(i0, i1));
@@ -142,7 +142,7 @@ class IncrementalHull {
       if (d > best) best = d, i2 = i;
     }
     if (best <= eps_)
-      throw std::runtime_error("convex_hull: the " + count +
+      throw std::runtime_error("the " + count +
                                "are collinear; a hull needs at least 4 non-coplanar points");
     Vec3d n = cross(points_[i1] - points_[i0], points_[i2] - points_[i0]);
     n = n / norm(n);
@@ -153,7 +153,7 @@ class IncrementalHull {
       if (d > best) best = d, i3 = i;
     }
     if (best <= eps_)
-      throw std::runtime_error("convex_hull: the " + count +
+      throw std::runtime_error("the " + count +
                                "are coplanar; a hull needs at least 4 non-coplanar points");
     if (dot(n, points_[i3] - points_[i0]) > 0) std::swap(i1, i2);  // (i0, i1, i2) faces away
     add_face(i0, i1, i2);
@@ -351,13 +351,12 @@ std::vector<std::array<int, 3>> hull_at_tolerance(const std::vector<Vec3d>& poin
 
 Hull convex_hull_with_tolerance(const std::vector<Vec3d>& points, double rel_tol) {
   if (points.size() < 4)
-    throw std::runtime_error("convex_hull: got " + std::to_string(points.size()) +
+    throw std::runtime_error("only " + std::to_string(points.size()) +
                              " points; a hull needs at least 4 non-coplanar points");
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3d& p = points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw std::runtime_error("convex_hull: point " + std::to_string(i) +
-                               " has a non-finite coordinate");
+      throw std::runtime_error("point " + std::to_string(i + 1) + " has a non-finite coordinate");
   }
   if (!(rel_tol > 0)) throw std::invalid_argument("convex_hull: rel_tol must be positive");
   double merge_eps = hull_tolerance(points, rel_tol);
@@ -376,9 +375,8 @@ Hull convex_hull_with_tolerance(const std::vector<Vec3d>& points, double rel_tol
   }
   char text[64];
   std::snprintf(text, sizeof text, "%.3g m", hull_eps / 10);
-  throw std::runtime_error("convex_hull: round-off left the hull of " +
-                           std::to_string(points.size()) + " points inconsistent even at " + text +
-                           " tolerance");
+  throw std::runtime_error("round-off left the hull of " + std::to_string(points.size()) +
+                           " points inconsistent even at " + text + " tolerance");
 }
 
 std::vector<std::array<int, 3>> convex_hull(const std::vector<Vec3d>& points, double rel_tol) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -48,8 +49,26 @@ bool parse_double(const std::string& token, double& value) {
 
 bool parse_long(const std::string& token, long& value) {
   char* end = nullptr;
+  errno = 0;
   value = std::strtol(token.c_str(), &end, 10);
-  return !token.empty() && end == token.c_str() + token.size();
+  return !token.empty() && end == token.c_str() + token.size() && errno != ERANGE;
+}
+
+// Why `token` is not a coordinate: "" when it is one, else "'abc' is not a number" or "'nan' is
+// not a finite number".
+std::string number_problem(const std::string& token) {
+  double value;
+  if (parse_double(token, value)) return "";
+  char* end = nullptr;
+  std::strtod(token.c_str(), &end);
+  const bool whole = !token.empty() && end == token.c_str() + token.size();
+  return "'" + shown_input(token) + (whole ? "' is not a finite number" : "' is not a number");
+}
+
+std::string g_format(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
 }
 
 // Merges vertices with identical coordinates (STL stores each facet's corners separately).
@@ -99,13 +118,13 @@ void read_ascii_stl(const std::string& path, const std::string& data, TriangleMe
   const auto expect = [&](const std::string& keyword, const std::string& context) {
     const Token& t = next("'" + context + "'");
     if (lower(t.text) != keyword)
-      fail(path, t.line, "expected '" + context + "', got '" + t.text + "'");
+      fail(path, t.line, "expected '" + context + "', got '" + shown_input(t.text) + "'");
   };
   const auto number = [&](const std::string& context) {
     const Token& t = next("'" + context + "'");
     double value;
     if (!parse_double(t.text, value))
-      fail(path, t.line, "expected a number in '" + context + "', got '" + t.text + "'");
+      fail(path, t.line, number_problem(t.text) + "; expected '" + context + "'");
     return value;
   };
   // 'solid' and the rest of its line (the solid's name).
@@ -118,7 +137,8 @@ void read_ascii_stl(const std::string& path, const std::string& data, TriangleMe
     const std::string keyword = lower(t.text);
     if (keyword == "endsolid") break;
     if (keyword != "facet")
-      fail(path, t.line, "expected 'facet normal nx ny nz' or 'endsolid', got '" + t.text + "'");
+      fail(path, t.line,
+           "expected 'facet normal nx ny nz' or 'endsolid', got '" + shown_input(t.text) + "'");
     expect("normal", "facet normal nx ny nz");
     for (int k = 0; k < 3; ++k) number("facet normal nx ny nz");
     expect("outer", "outer loop");
@@ -252,24 +272,37 @@ TriangleMesh read_obj(const std::string& path) {
     if (keyword == "v") {
       // x y z, optionally w or an r g b colour.
       double xyz[3];
-      bool ok = args.size() >= 3 && args.size() <= 7;
-      for (std::size_t k = 0; ok && k < args.size(); ++k) {
+      if (args.size() < 3 || args.size() > 7)
+        fail(path, line,
+             "expected 'v x y z' with three numbers (then an optional w or r g b), got " +
+                 std::to_string(args.size()) + " values");
+      for (std::size_t k = 0; k < args.size(); ++k) {
         double value;
-        ok = parse_double(args[k], value);
+        if (!parse_double(args[k], value))
+          fail(path, line,
+               std::string("vertex ") +
+                   (k < 3 ? std::string(1, "xyz"[k]) : "value " + std::to_string(k + 1)) + " " +
+                   number_problem(args[k]) + "; expected 'v x y z' with three numbers");
         if (k < 3) xyz[k] = value;
       }
-      if (!ok) fail(path, line, "expected 'v x y z' with three numbers, got '" + content + "'");
       mesh.vertices.push_back({xyz[0], xyz[1], xyz[2]});
     } else if (keyword == "f") {
       if (args.size() < 3)
         fail(path, line,
-             "expected 'f a b c' with at least three vertex indices, got '" + content + "'");
+             "expected 'f a b c' with at least three vertex indices, got " +
+                 std::to_string(args.size()));
       std::vector<FaceRef> face;
       for (const std::string& arg : args) {
         long ref;
-        if (!parse_long(arg.substr(0, arg.find('/')), ref) || ref == 0)
+        const std::string index_text = arg.substr(0, arg.find('/'));
+        if (!parse_long(index_text, ref) && errno == ERANGE)
           fail(path, line,
-               "expected a vertex index (1-based, or negative from the end) in '" + arg + "'");
+               "face vertex index '" + shown_input(index_text) +
+                   "' is beyond the vertices any file can hold");
+        if (!parse_long(index_text, ref) || ref == 0)
+          fail(path, line,
+               "expected a vertex index (1-based, or negative from the end), got '" +
+                   shown_input(arg) + "'");
         const long index = ref > 0 ? ref - 1 : long(mesh.vertices.size()) + ref;
         if (index < 0)
           fail(path, line,
@@ -281,7 +314,7 @@ TriangleMesh read_obj(const std::string& path) {
                keyword != "o" && keyword != "s" && keyword != "l" && keyword != "p" &&
                keyword != "usemtl" && keyword != "mtllib") {
       fail(path, line,
-           "unknown statement '" + keyword +
+           "unknown statement '" + shown_input(keyword) +
                "'; expected 'v' or 'f' (vt, vn, vp, g, o, s, l, p, usemtl and mtllib "
                "are ignored)");
     }
@@ -311,12 +344,19 @@ TriangleMesh read_stl(const std::string& path) {
     announced = n_triangles;
     if (84 + 50 * announced == data.size()) {
       read_binary_stl(path, data, n_triangles, mesh);
-      if (mesh.triangles.empty()) fail(path, "binary STL has no facets");
+      if (announced == 0) fail(path, "binary STL has no facets (its header announces 0)");
+      if (mesh.triangles.empty())
+        fail(path, "binary STL: all " + std::to_string(announced) +
+                       " facets collapse to a line or a point");
       return mesh;
     }
   }
   const std::size_t first = data.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && lower(data.substr(first, 5)) == "solid") {
+  // A binary STL whose 80-byte header starts with "solid" (some exporters write one) and whose
+  // size does not match its count is reported as a binary file: ASCII STL has no NUL bytes.
+  const bool binary_bytes = data.size() >= 84 && data.find('\0', 80) != std::string::npos;
+  const bool starts_solid = first != std::string::npos && lower(data.substr(first, 5)) == "solid";
+  if (starts_solid && !binary_bytes) {
     read_ascii_stl(path, data.substr(first), mesh);
     if (mesh.triangles.empty()) fail(path, "ASCII STL has no facets; expected 'facet normal ...'");
     return mesh;
@@ -328,14 +368,17 @@ TriangleMesh read_stl(const std::string& path) {
              std::to_string(data.size()) + " bytes");
   fail(path, "binary STL header announces " + std::to_string(announced) + " triangles (" +
                  std::to_string(84 + 50 * announced) + " bytes), but the file has " +
-                 std::to_string(data.size()) + " bytes (and it does not start with 'solid')");
+                 std::to_string(data.size()) + " bytes" +
+                 (starts_solid ? " (it starts with 'solid' but holds NUL bytes, so it is not an "
+                                 "ASCII STL)"
+                               : " (and it does not start with 'solid')"));
 }
 
 TriangleMesh read_mesh(const std::string& path) {
   const std::string l = lower(path);
   if (ends_with(l, ".obj")) return read_obj(path);
   if (ends_with(l, ".stl")) return read_stl(path);
-  fail(path, "unknown mesh file type; expected a .obj or .stl file");
+  fail(path, "unknown mesh file type; expected an .obj or .stl file");
 }
 
 void write_obj(const std::string& path, const TriangleMesh& mesh) {
@@ -396,10 +439,27 @@ void write_stl(const std::string& path, const TriangleMesh& mesh, bool binary) {
 ShapeTemplate load_shape_file(const std::string& path, double scale) {
   if (!(scale > 0) || !std::isfinite(scale))
     throw std::invalid_argument(path + ": scale must be a positive finite number, got " +
-                                std::to_string(scale));
+                                g_format(scale));
   const TriangleMesh mesh = read_mesh(path);
   std::vector<Vec3d> points = mesh.vertices;
   for (Vec3d& p : points) p *= scale;
+  // The size range of shapes (template_builder.hpp), on the scaled mesh: its extent and its
+  // farthest vertex from the origin (where round-off would swamp a small shape far away).
+  const std::string scaled = scale == 1 ? "" : " (scaled by " + g_format(scale) + ")";
+  double reach = 0;
+  Vec3d lo = points.front(), hi = points.front();
+  for (const Vec3d& p : points)
+    for (int k = 0; k < 3; ++k) {
+      reach = std::max(reach, std::abs(p[k]));
+      lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    }
+  if (!(reach <= kMaxShapeSize))
+    fail(path, "a vertex lies " + g_format(reach) + " m from the origin" + scaled +
+                   ", beyond the largest size talus supports, " + g_format(kMaxShapeSize) + " m");
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  if (extent > 0 && extent < kMinShapeSize)
+    fail(path, "the mesh is " + g_format(extent) + " m across" + scaled +
+                   ", below the smallest size talus supports, " + g_format(kMinShapeSize) + " m");
   ShapeTemplate shape;
   try {
     shape = make_template(path, points, kMeshFileRelTol);
@@ -417,9 +477,10 @@ ShapeTemplate make_shape(const std::string& spec) {
   if (colon != std::string::npos && is_mesh_path(spec.substr(0, colon))) {
     double scale;
     if (!parse_double(spec.substr(colon + 1), scale) || !(scale > 0))
-      throw std::invalid_argument("shape spec '" + spec +
+      throw std::invalid_argument("shape spec '" + shown_input(spec, kShownSpecLimit) +
                                   "': expected 'path:scale' with a positive scale factor (file "
-                                  "units to metres), as in 'grain.stl:0.001'");
+                                  "units to metres), as in 'grain.stl:0.001', got '" +
+                                  shown_input(spec.substr(colon + 1)) + "'");
     return load_shape_file(spec.substr(0, colon), scale);
   }
   return make_builtin(spec);

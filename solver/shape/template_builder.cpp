@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "solver/shape/hull.hpp"
@@ -136,7 +137,7 @@ Quatd quaternion_from_columns(const std::array<Vec3d, 3>& columns) {
 ShapeTemplate make_template(const std::string& name, const std::vector<Vec3d>& points,
                             double rel_tol) {
   if (points.size() > kMaxTemplatePoints)
-    throw std::runtime_error("make_template(" + name + "): " + std::to_string(points.size()) +
+    throw std::runtime_error(std::to_string(points.size()) +
                              " points; a template is built from at most " +
                              std::to_string(kMaxTemplatePoints));
   const Hull convex = convex_hull_with_tolerance(points, rel_tol);
@@ -181,12 +182,11 @@ ShapeTemplate make_template(const std::string& name, const std::vector<Vec3d>& p
   std::sort(shape.edges.begin(), shape.edges.end());
   const int n_vertices = int(input_vertices.size()), n_faces = int(shape.faces.size());
   if (n_vertices - int(shape.edges.size()) + n_faces != 2)
-    throw std::runtime_error("make_template(" + name + "): merged faces break Euler's formula");
+    throw std::runtime_error("the merged faces of the hull break Euler's formula");
 
   // Mass properties in the input frame, then the principal-axes body frame.
   const MassProperties props = mass_properties(input_vertices, shape.triangles);
-  if (!(props.volume > 0))
-    throw std::runtime_error("make_template(" + name + "): hull has no positive volume");
+  if (!(props.volume > 0)) throw std::runtime_error("the hull has no positive volume");
   const SymmetricEigen eigen = symmetric_eigen(props.inertia);
   shape.volume = props.volume;
   shape.principal_moments = eigen.values;
@@ -213,9 +213,22 @@ ShapeTemplate make_template(const std::string& name, const std::vector<Vec3d>& p
     for (int v : face.loop)
       face.offset = std::max(face.offset, dot(face.normal, shape.vertices[v]));
     if (!(face.offset > 0))
-      throw std::runtime_error("make_template(" + name + "): centroid is not inside a face plane");
+      throw std::runtime_error("the centroid is not inside a face plane of the hull");
   }
   return shape;
+}
+
+std::string shape_size_problem(double metres) {
+  const auto g = [](double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", x);
+    return std::string(text);
+  };
+  if (metres > kMaxShapeSize)
+    return g(metres) + " m is beyond the largest size talus supports, " + g(kMaxShapeSize) + " m";
+  if (metres < kMinShapeSize)
+    return g(metres) + " m is below the smallest size talus supports, " + g(kMinShapeSize) + " m";
+  return "";
 }
 
 Vec3d body_to_input_point(const ShapeTemplate& shape, const Vec3d& body_point) {

@@ -40,6 +40,18 @@ Quatd quaternion_from_columns(const std::array<Vec3d, 3>& columns);
 // for minutes.
 constexpr std::size_t kMaxTemplatePoints = 250000;
 
+// The sizes a particle shape may have, in metres (a built-in spec's sizes, a mesh's extent and its
+// vertices' distance from the origin after scaling). Within them the volume (~D^3) and the
+// principal moments (~D^5) stay normal numbers even in single precision for densities up to
+// ~10^4 kg/m^3, and the hull's tolerances resolve the shape; beyond them the hull sees round-off
+// (a cube:1e300 once read as "collinear") and the mass properties overflow.
+constexpr double kMinShapeSize = 1e-7;
+constexpr double kMaxShapeSize = 1e6;
+
+// "" when `metres` lies within [kMinShapeSize, kMaxShapeSize], else why not, as in "1e+300 m is
+// beyond the largest size talus supports, 1e+06 m".
+std::string shape_size_problem(double metres);
+
 // The template of the convex hull of `points` (input frame, metres). Hull vertices keep the
 // order in which they appear in `points`. Faces are hull triangles merged where coplanar within
 // rel_tol times the cloud's extent. Throws std::runtime_error for a cloud without volume or of

@@ -102,4 +102,14 @@ TEST(InputFiles, CheckpointTrajectoryAndProbeReadersUseIt) {
                 "beside its trajectory frames)");
 }
 
+TEST(InputFiles, ShownInputEscapesBadBytesAndCutsLongText) {
+  // Printable ASCII and valid UTF-8 as they are; a control byte, a C1 control (U+0085) and bytes
+  // that are not UTF-8 as \xNN.
+  EXPECT_EQ(shown_input(std::string("a\x1b[2Jb\xC3\xA9\xC2\x85\xFF\0", 12)),
+            "a\\x1B[2Jb\xC3\xA9\\xC2\\x85\\xFF\\x00");
+  EXPECT_EQ(shown_input("\xED\xA0\x80"), "\\xED\\xA0\\x80");  // a UTF-16 surrogate
+  EXPECT_EQ(shown_input(std::string(100, 'x'), 10), "xxxxxxxxxx... (100 bytes)");
+  EXPECT_EQ(shown_input(std::string(10, 'x'), 10), "xxxxxxxxxx");
+}
+
 }  // namespace talus

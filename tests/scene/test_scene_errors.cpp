@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <utility>
 
 #include "tests/scene/scene_test_util.hpp"
@@ -219,6 +220,37 @@ TEST(SceneErrors, ScenesAndMeshesThatAreNotRegularFilesAreNamedAsWhatTheyAre) {
                 "' is a FIFO (named pipe), not a regular file (relative paths start at the "
                 "scene file's directory)")
                    .c_str());
+  std::filesystem::remove_all(dir);
+}
+
+// A mesh wall's file that cannot be used: the message names the key, the wall, the file and (in a
+// text file) its line; a generated wall with a corner beyond kMaxWallReach names the wall.
+TEST(SceneErrors, WallMeshProblemsNameTheWallAndTheFile) {
+  const std::string dir = testing::TempDir() + "talus_wall_meshes_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir + "/" + name) << text;
+    return dir + "/" + name;
+  };
+  const auto wall_error = [](const std::string& wall) {
+    return std::string(error_with("effects:", "walls:\n  - " + wall + "\neffects:").what());
+  };
+  const std::string nan = write("nan.obj", "v 0 0 0\nv 1 nan 0\n");
+  EXPECT_EQ(wall_error("mesh: {name: chute, file: " + nan + ", material: glass}"),
+            "errors.yaml:18:31: walls[0].mesh.file: wall 'chute': " + nan +
+                ":2: vertex y 'nan' is not a finite number; expected 'v x y z' with three numbers");
+  const std::string line = write("line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  EXPECT_EQ(wall_error("mesh: {file: " + line + ", material: glass}"),
+            "errors.yaml:18:18: walls[0].mesh.file: wall 'mesh_0': mesh file '" + line +
+                "': its one triangle has zero area; a wall needs a surface");
+  const std::string tetra = write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(wall_error("mesh: {name: big, file: " + tetra + ", scale: 1e300, material: glass}"),
+            "errors.yaml:18:29: walls[0].mesh.file: wall 'big': mesh file '" + tetra +
+                "': vertex 2, placed by scale, rotation and translation, lies 1e+300 m from the "
+                "origin, beyond the largest distance talus supports, 1e+06 m");
+  EXPECT_EQ(wall_error("box: {name: bin, min: [-1e300, 0, 0], max: [1, 1, 1], material: glass}"),
+            "errors.yaml:18:10: walls[0].box: wall 'bin': a corner lies 1e+300 m from the origin, "
+            "beyond the largest distance talus supports, 1e+06 m");
   std::filesystem::remove_all(dir);
 }
 

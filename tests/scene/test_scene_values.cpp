@@ -133,6 +133,20 @@ TEST(SceneValues, PairPropertiesDefaultToTheMean) {
   EXPECT_EQ(scene.template_index("sand"), -1);
 }
 
+// A direction is normalised after scaling by its largest component: one of huge (or tiny)
+// components is still a direction, not the NaN its overflowing (or vanishing) norm once made.
+TEST(SceneValues, DirectionsOfHugeOrTinyComponentsAreNormalised) {
+  for (const std::string& normal : {"[1e300, 1e300, 0]", "[1e-300, 1e-300, 0]"}) {
+    const Scene scene =
+        with({{"effects:", "walls:\n  - plane: {point: [0, 0, 0], normal: " + normal +
+                               ", size: 1, material: glass}\neffects:"}});
+    const PlaneWall& plane = std::get<PlaneWall>(scene.walls.at(0).shape);
+    EXPECT_NEAR(plane.normal.x, std::sqrt(0.5), 1e-15) << normal;
+    EXPECT_NEAR(plane.normal.y, std::sqrt(0.5), 1e-15) << normal;
+    EXPECT_EQ(plane.normal.z, 0) << normal;
+  }
+}
+
 TEST(SceneValues, MeshTemplateScaleInTheSpec) {
   // Twice the scale of example.yaml: 8 times its 72 mm^3 volume; hull round-off only.
   const Scene scene = with({{"dodecahedron:0.01", "meshes/tetra.obj:0.002"}});

@@ -218,16 +218,16 @@ TEST(DenseHulls, CylinderOfTenThousandVerticesLoadsFromABinaryStl) {
   std::remove(path.c_str());
 }
 
-// Past kMaxTemplatePoints the build is refused at once, naming the shape and the limit, rather than
-// left to run for minutes; one point fewer is not refused for its size (here: for its flatness).
+// Past kMaxTemplatePoints the build is refused at once, naming the count and the limit (the caller
+// names the shape: load_shape_file puts the file first), rather than left to run for minutes; one
+// point fewer is not refused for its size (here: for its flatness).
 TEST(DenseHulls, CloudsAboveTheLimitAreRefusedNamingTheLimit) {
   std::vector<Vec3d> points(kMaxTemplatePoints + 1, Vec3d{1, 2, 3});
   try {
     make_template("huge.stl", points);
     ADD_FAILURE() << "built a template of " << points.size() << " points";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "make_template(huge.stl): 250001 points; a template is built from at most 250000");
+    EXPECT_EQ(std::string(e.what()), "250001 points; a template is built from at most 250000");
   }
   points.pop_back();
   try {

@@ -187,7 +187,7 @@ TEST(ConvexHull, FlatOrTooFewPointsAreRejectedWithAReason) {
     }
     return std::string("no exception");
   };
-  EXPECT_NE(message({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).find("got 3 points"), std::string::npos);
+  EXPECT_NE(message({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).find("only 3 points"), std::string::npos);
   EXPECT_NE(message({{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}}).find("coincide"),
             std::string::npos);
   EXPECT_NE(message({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {-1, -1, -1}}).find("collinear"),

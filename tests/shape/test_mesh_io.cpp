@@ -164,7 +164,7 @@ TEST(MeshFiles, ObjErrorsNameFileLineAndExpectation) {
   }
   {
     const auto [path, message] = obj_error("word_vertex.obj", "v 0 zero 0\n");
-    EXPECT_HAS(message, path + ":1: expected 'v x y z'");
+    EXPECT_HAS(message, path + ":1: vertex y 'zero' is not a number; expected 'v x y z'");
   }
   {
     const auto [path, message] = obj_error("short_face.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
@@ -212,7 +212,7 @@ TEST(MeshFiles, StlErrorsNameFileLineAndExpectation) {
   {
     const auto [path, message] = stl_error(
         "number.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 zero 0\n");
-    EXPECT_HAS(message, path + ":5: expected a number in 'vertex x y z', got 'zero'");
+    EXPECT_HAS(message, path + ":5: 'zero' is not a number; expected 'vertex x y z'");
   }
   {
     const auto [path, message] = stl_error("eof.stl", "solid x\n" + facet);
@@ -254,7 +254,7 @@ TEST(MeshFiles, StlErrorsNameFileLineAndExpectation) {
              missing + ": does not exist");
   const std::string other = write_text("shape.ply", "ply\n");
   EXPECT_HAS(error_of<std::runtime_error>([&] { read_mesh(other); }),
-             other + ": unknown mesh file type; expected a .obj or .stl file");
+             other + ": unknown mesh file type; expected an .obj or .stl file");
 }
 
 TEST(MeshFiles, BinaryStlWithANonFiniteVertexIsRefusedLikeTheTextFormats) {
@@ -290,7 +290,7 @@ TEST(MeshFiles, BinaryStlWithANonFiniteVertexIsRefusedLikeTheTextFormats) {
       "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 nan\n"
       "endloop\nendfacet\nendsolid t\n");
   EXPECT_HAS(error_of<std::runtime_error>([&] { read_stl(ascii); }),
-             ascii + ":6: expected a number in 'vertex x y z', got 'nan'");
+             ascii + ":6: 'nan' is not a finite number; expected 'vertex x y z'");
 }
 
 TEST(MeshFiles, DirectoriesFifosAndDevicesAreRefusedAsWhatTheyAre) {
@@ -323,6 +323,54 @@ TEST(MeshFiles, ShapeLoadingErrorsNameTheFile) {
              "shape spec 'grain.stl:big': expected 'path:scale' with a positive scale factor");
 }
 
+TEST(MeshFiles, BadBytesAndLongLinesAreNotEchoedRaw) {
+  const auto obj_error = [](const std::string& name, const std::string& text) {
+    const std::string path = write_text(name, text);
+    return std::make_pair(path, error_of<std::runtime_error>([&] { read_obj(path); }));
+  };
+  {
+    const auto [path, message] = obj_error("nul.obj", std::string("v 0 0 0\nv 1 0 0\0\n", 17));
+    EXPECT_EQ(message, path +
+                           ":2: vertex z '0\\x00' is not a number; expected 'v x y z' with "
+                           "three numbers");
+  }
+  {
+    const auto [path, message] = obj_error("latin1.obj", "v 0 0 \xE9\xFF\n");
+    EXPECT_HAS(message, path + ":1: vertex z '\\xE9\\xFF' is not a number");
+  }
+  {
+    const auto [path, message] = obj_error("long.obj", "v 0 0 " + std::string(5000, '7') + "x\n");
+    EXPECT_HAS(message, "... (5001 bytes)' is not a number");
+    EXPECT_LT(message.size(), 300u);
+  }
+  {
+    const auto [path, message] = obj_error("nan.obj", "v 0 0 0\nv 1 inf 0\n");
+    EXPECT_HAS(message, path + ":2: vertex y 'inf' is not a finite number");
+  }
+  {
+    const auto [path, message] =
+        obj_error("overflow.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n");
+    EXPECT_HAS(message, path +
+                            ":4: face vertex index '99999999999999999999999' is beyond the "
+                            "vertices any file can hold");
+  }
+}
+
+TEST(MeshFiles, ShapesFromFilesStayWithinTheSizeRange) {
+  const std::string tetra = write_text("unit_tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n");
+  EXPECT_EQ(error_of<std::runtime_error>([&] { load_shape_file(tetra, 1e300); }),
+            tetra +
+                ": a vertex lies 1e+300 m from the origin (scaled by 1e+300), beyond the "
+                "largest size talus supports, 1e+06 m");
+  EXPECT_EQ(error_of<std::runtime_error>([&] { load_shape_file(tetra, 1e-10); }),
+            tetra +
+                ": the mesh is 1e-10 m across (scaled by 1e-10), below the smallest size "
+                "talus supports, 1e-07 m");
+  const std::string far = write_text("far.obj", "v 2e6 0 0\nv 2e6 1 0\nv 2e6 0 1\nv 2e6 1 1\n");
+  EXPECT_HAS(error_of<std::runtime_error>([&] { load_shape_file(far); }),
+             far + ": a vertex lies 2e+06 m from the origin, beyond the largest size");
+}
+
 TEST(Builtins, BadSpecsNameTheSpecAndWhatWasExpected) {
   const auto spec_error = [](const std::string& spec) {
     return error_of<std::invalid_argument>([&] { make_builtin(spec); });
@@ -343,11 +391,25 @@ TEST(Builtins, BadSpecsNameTheSpecAndWhatWasExpected) {
              "lengths a,b,c");
   EXPECT_HAS(spec_error("cuboid:1,0,2"), "cuboid needs three positive side lengths");
   EXPECT_HAS(spec_error("cylinder:1"), "shape spec 'cylinder:1': cylinder needs 'D,L' or 'D,L,N'");
-  EXPECT_HAS(spec_error("cylinder:1,2,2.5"), "integer number of sides N >= 3");
-  EXPECT_HAS(spec_error("cylinder:1,2,2"), "integer number of sides N >= 3");
+  EXPECT_HAS(spec_error("cylinder:1,2,2.5"),
+             "shape spec 'cylinder:1,2,2.5': N = 2.5: expected an integer number of sides from 3 "
+             "to 100000");
+  EXPECT_HAS(spec_error("cylinder:1,2,2"), "N = 2: expected an integer number of sides");
+  EXPECT_HAS(spec_error("cylinder:1,2,100001"), "N = 100001: expected an integer number of sides");
+  // Sizes beyond the range talus supports are called that, not what the hull makes of them.
+  EXPECT_HAS(spec_error("cube:1e300"),
+             "shape spec 'cube:1e300': size D 1e+300 m is beyond the largest size talus supports, "
+             "1e+06 m");
+  EXPECT_HAS(spec_error("cuboid:1e200,1,1"), "side a 1e+200 m is beyond the largest size");
+  EXPECT_HAS(spec_error("cylinder:0.01,1e-12"),
+             "length L 1e-12 m is below the smallest size talus supports, 1e-07 m");
+  EXPECT_HAS(spec_error("cube:nan"), "cube needs one positive size D");
+  EXPECT_HAS(spec_error("cube:nan"), ", got 'nan'");
+  EXPECT_HAS(spec_error("grain.ply"),
+             "shape spec 'grain.ply': 'grain.ply' is not a mesh file talus reads");
   // make_shape passes a non-file spec on to make_builtin.
   EXPECT_HAS(error_of<std::invalid_argument>([] { make_shape("sphere:1"); }),
-             "unknown shape 'sphere'");
+             "a sphere is not a polyhedron shape");
   EXPECT_EQ(builtin_names().size(), 9u);
   for (const std::string& name : builtin_names()) {
     const std::string spec = name == "cuboid"     ? "cuboid:1,2,3"
