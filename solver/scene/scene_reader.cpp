@@ -214,6 +214,12 @@ void SceneNode::keys(const std::vector<std::string>& allowed, const std::string&
                            ", got a key that is a " + (it->first.IsMap() ? "map" : "list"));
     const std::string name = it->first.Scalar();
     const std::string path = child_key(key_, name);
+    // yaml-cpp does not expand YAML 1.1's merge key; an alias of a whole map (key: *name) works.
+    if (name == "<<")
+      throw SceneError(source_->file, line_of(mark), column_of(mark), key_,
+                       "expected keys among " + join_options(allowed) +
+                           ", got a merge key '<<', which talus does not expand; write the "
+                           "keys out, or use an alias of the whole map");
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
       throw SceneError(source_->file, line_of(mark), column_of(mark), path,
                        "unknown " + noun + "; expected one of " + join_options(allowed) +
