@@ -281,6 +281,7 @@ struct Scene {
   double time_step = 0;         // s (resolved from the time-step advisor when `step: auto`)
   bool time_step_auto = false;  // the scene wrote `time: {step: auto}`
   SourceRef time_step_source;   // where time.step was written (the advisor's errors name it)
+  SourceRef contact_source;     // where effects.contact was written (the step's refusals name it)
   double end_time = 0;          // s
   std::uint64_t seed = 0;
   Backend backend = Backend::automatic;

@@ -73,6 +73,7 @@ void parse_effects(const SceneNode& node, Scene& scene) {
     effects.gravity = gravity->vec3("a gravitational acceleration [x, y, z] in m/s^2");
   const std::optional<SceneNode> contact = node.find("contact");
   const bool has_tangential_damping = contact && parse_contact(*contact, effects);
+  if (contact) scene.contact_source = contact->ref();
   if (auto rotation = node.find("rotation")) effects.rotation = rotation->boolean();
   if (auto drag = node.find("drag")) {
     drag->keys({"alpha"}, "a quadratic drag: {alpha: a positive number in kg/m}");

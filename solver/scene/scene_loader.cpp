@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -117,21 +118,211 @@ void parse_domain(const SceneNode& node, Scene& scene) {
   for (const FeedRequest& f : scene.feeds) check_region(f.region, f.source, "the feed's region");
 }
 
+// The lines of `text` (without their '\n').
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// YAML is text: a NUL or another control character (a binary file, a paste gone wrong) or a byte
+// that is not UTF-8 is refused at its place, before the parser turns it into a misleading syntax
+// error or a value that would be echoed raw.
+void check_scene_bytes(const std::string& text, const std::string& file) {
+  int line = 1, column = 1;
+  for (std::size_t i = 0; i < text.size(); ++column) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      ++line, column = 0, ++i;
+      continue;
+    }
+    if (c == 0)
+      throw SceneError(file, line, column, "",
+                       "a NUL byte; a scene file is YAML text (is this a binary file?)");
+    if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
+      throw SceneError(file, line, column, "",
+                       fmt::format("a control character (byte 0x{:02X}); a scene file is YAML "
+                                   "text",
+                                   c));
+    std::size_t n = c < 0x80    ? 1
+                    : c >= 0xf5 ? 0
+                    : c >= 0xf0 ? 4
+                    : c >= 0xe0 ? 3
+                    : c >= 0xc2 ? 2
+                                : 0;
+    if (n > 1 && i + n > text.size()) n = 0;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) n = 0;
+    if (n == 0)
+      throw SceneError(file, line, column, "",
+                       fmt::format("a byte that is not UTF-8 (0x{:02X}); a scene file is UTF-8 "
+                                   "text",
+                                   c));
+    i += n;
+  }
+}
+
+bool is_document_marker(const std::string& line, const char* marker) {
+  return line.compare(0, 3, marker) == 0 &&
+         (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '\r');
+}
+
+bool is_content(const std::string& line) {
+  const std::size_t first = line.find_first_not_of(" \t\r");
+  return first != std::string::npos && line[first] != '#' && line[0] != '%' &&
+         !is_document_marker(line, "---") && !is_document_marker(line, "...");
+}
+
+// The line (from 1) where the second YAML document of `text` begins: its "---" or the "..."
+// that ended the first; 0 if no such line is found.
+int second_document_line(const std::vector<std::string>& lines) {
+  bool content = false, started = false;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const bool start = is_document_marker(lines[i], "---");
+    if ((start && (content || started)) || (content && is_document_marker(lines[i], "...")))
+      return int(i) + 1;
+    started = started || start;
+    content = content || is_content(lines[i]);
+  }
+  return 0;
+}
+
+// Where a flow collection or a quoted string still open at `end` (a byte offset) was opened:
+// the bracket or quote and its 0-based line and column; {0, -1, -1} if none is open. Quotes and
+// comments are skipped, so brackets inside them do not count.
+struct Opened {
+  char what = 0;
+  int line = -1, column = -1;
+};
+// Whether a scalar may begin at text[i]: only at the start of a line or after ':', '-', '?',
+// '[', '{' or ',' (and spaces) does a quote open a quoted string; elsewhere ("O'Brien", "a 'b")
+// it is part of a plain one.
+bool starts_scalar(const std::string& text, std::size_t i) {
+  while (i > 0 && (text[i - 1] == ' ' || text[i - 1] == '\t')) --i;
+  return i == 0 || std::string(":-?[{,\n").find(text[i - 1]) != std::string::npos;
+}
+
+Opened open_at(const std::string& text, std::size_t end) {
+  std::vector<Opened> stack;
+  Opened quote;
+  int line = 0, column = 0;
+  for (std::size_t i = 0; i < end && i < text.size(); ++i, ++column) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line, column = -1;
+      continue;
+    }
+    if (quote.what) {
+      if (c == '\\' && quote.what == '"')
+        ++i, ++column;
+      else if (c == quote.what)
+        quote.what = 0;
+      continue;
+    }
+    if (c == '#' && (i == 0 || text[i - 1] == ' ' || text[i - 1] == '\n')) {
+      while (i + 1 < end && text[i + 1] != '\n') ++i;
+    } else if ((c == '"' || c == '\'') && starts_scalar(text, i)) {
+      quote = {c, line, column};
+    } else if (c == '{' || c == '[') {
+      stack.push_back({c, line, column});
+    } else if ((c == '}' || c == ']') && !stack.empty()) {
+      stack.pop_back();
+    }
+  }
+  if (quote.what) return quote;
+  return stack.empty() ? Opened() : stack.back();
+}
+
+// yaml-cpp's message for a syntax error, with the likely cause where its words do not say it.
+// Returns the message and sets `at` to the place to name (the parser's, or where an unclosed
+// bracket or quote opened).
+std::string syntax_error(const YAML::ParserException& e, const std::vector<std::string>& lines,
+                         const std::string& text, YAML::Mark& at) {
+  at = e.mark;
+  const Opened open = open_at(text, e.mark.pos >= 0 ? std::size_t(e.mark.pos) : text.size());
+  const Opened at_end = open_at(text, text.size());
+  // A string open where the parser stopped and still open at the end of the file (one open only
+  // at the error is a string the error lies in: a bad escape).
+  if ((open.what == '"' || open.what == '\'') && at_end.what == open.what &&
+      at_end.line == open.line && at_end.column == open.column) {
+    at.line = open.line, at.column = open.column;
+    return std::string("invalid YAML: the quoted string that starts here has no closing ") +
+           open.what;
+  }
+  if (open.what && e.msg.find("flow not found") != std::string::npos) {
+    at.line = open.line, at.column = open.column;
+    return std::string("invalid YAML: this '") + open.what + "' has no matching '" +
+           (open.what == '{' ? '}' : ']') + "'";
+  }
+  const std::string line =
+      e.mark.line >= 0 && std::size_t(e.mark.line) < lines.size() ? lines[e.mark.line] : "";
+  const std::string indent = line.substr(0, line.find_first_not_of(" \t"));
+  if (indent.find('\t') != std::string::npos)
+    return "invalid YAML: a tab in the indentation; YAML indents with spaces only";
+  // YAML limits a key written without '?' to 1024 characters; yaml-cpp says "illegal map value".
+  const std::size_t colon = line.find(':');
+  if (colon != std::string::npos && colon > 1024 && line.find_first_of("{[\"'", 0) > colon) {
+    at.column = int(line.find_first_not_of(' '));
+    return "invalid YAML: a key of " + std::to_string(colon - std::size_t(at.column)) +
+           " characters; YAML allows at most 1024";
+  }
+  // "*name" where the anchor "&name" is missing: say which name.
+  if (e.msg.find("anchor is not defined") != std::string::npos && e.mark.column >= 0 &&
+      std::size_t(e.mark.column) < line.size() && line[e.mark.column] == '*') {
+    const std::size_t end = line.find_first_of(" ,]}\r", e.mark.column);
+    const std::string name =
+        line.substr(e.mark.column + 1, end == std::string::npos ? end : end - e.mark.column - 1);
+    return "invalid YAML: the alias *" + shown_text(name) + " names no anchor &" +
+           shown_text(name) + " written before it";
+  }
+  if (e.msg == "end of map not found")
+    return "invalid YAML: end of map not found; the indentation of this line or the one "
+           "before it does not match the keys above";
+  return "invalid YAML: " + e.msg;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
                   const std::string& directory) {
-  YAML::Node document;
+  check_scene_bytes(yaml_text, file_name);
+  const std::vector<std::string> lines = lines_of(yaml_text);
+  std::vector<YAML::Node> documents;
   try {
-    document = YAML::Load(yaml_text);
+    documents = YAML::LoadAll(yaml_text);
   } catch (const YAML::ParserException& e) {
-    throw SceneError(file_name, e.mark.line + 1, e.mark.column + 1, "",
-                     "YAML syntax error: " + e.msg);
+    YAML::Mark at;
+    const std::string message = syntax_error(e, lines, yaml_text, at);
+    throw SceneError(file_name, at.line + 1, at.column + 1, "", message);
   }
+  const std::string expected_scene = "a scene: a map with keys " + join_options(kTopLevelKeys);
+  // A second document would be ignored, and what the user wrote there lost without a word.
+  if (documents.size() > 1) {
+    int line = second_document_line(lines);
+    if (line == 0 && documents[1].Mark().line >= 0) line = documents[1].Mark().line + 1;
+    throw SceneError(file_name, line, 1, "",
+                     "expected one YAML document, got a second one beginning here; a scene "
+                     "file is one map, and talus would ignore the second document");
+  }
+  if (std::none_of(lines.begin(), lines.end(), is_content)) {
+    const bool blank = yaml_text.find_first_not_of(" \t\r\n") == std::string::npos;
+    throw SceneError(
+        file_name, 1, 1, "",
+        "expected " + expected_scene + ", got " + (blank ? "an empty file" : "only comments"));
+  }
+  // yaml-cpp takes a quoted string that is never closed to the end of the file without a word.
+  const Opened open = open_at(yaml_text, yaml_text.size());
+  if (open.what == '"' || open.what == '\'')
+    throw SceneError(file_name, open.line + 1, open.column + 1, "",
+                     std::string("invalid YAML: the quoted string that starts here has no "
+                                 "closing ") +
+                         open.what);
+  const YAML::Node document = documents.empty() ? YAML::Node() : documents[0];
   const SceneSource source{file_name, directory};
   const YAML::Mark start = document.IsNull() ? YAML::Mark() : document.Mark();
   const SceneNode root(document, "", start, &source);
-  root.keys(kTopLevelKeys, "a scene: a map with keys " + join_options(kTopLevelKeys));
+  root.keys(kTopLevelKeys, expected_scene);
 
   Scene scene;
   scene.file = file_name;

@@ -29,7 +29,8 @@ void check_name(const std::string& name, const SceneNode& at, const std::string&
   for (char c : name)
     ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-');
   if (!ok)
-    at.fail("expected a " + what + " name of letters, digits, '_' or '-', starting with a letter");
+    at.fail("expected a " + what +
+            " name of letters, digits, '_' or '-', starting with a letter, got " + quoted(name));
 }
 
 template <class Item>
@@ -46,7 +47,7 @@ int reference(const SceneNode& node, const std::vector<Item>& items, const std::
     if (items[i].name == name) return int(i);
   const std::vector<std::string> names = names_of(items);
   const std::optional<std::string> close = closest_option(name, names);
-  node.fail("unknown " + what + " '" + name + "'; defined: " + join_options(names) +
+  node.fail("unknown " + what + " " + quoted(name) + "; defined: " + join_options(names) +
             (close ? " (did you mean '" + *close + "'?)" : ""));
 }
 
@@ -117,7 +118,7 @@ void parse_material_pairs(const SceneNode& node, Scene& scene) {
     if (auto restitution = item.find("restitution"))
       pair.restitution = restitution->number(kRestitution, valid_restitution);
     if (!pair.friction && !pair.restitution)
-      item.fail("expected friction, restitution or both to override for this pair");
+      item.fail("expected friction, restitution or both to override for this pair, got neither");
     for (const MaterialPair& other : scene.material_pairs)
       if (other.material_a == pair.material_a && other.material_b == pair.material_b)
         names.fail("this pair of materials is already given on line " +
@@ -186,7 +187,8 @@ void parse_templates(const SceneNode& node, Scene& scene) {
     result.name = name;
     const std::optional<SceneNode> shape = body.find("shape"), sphere = body.find("sphere");
     if (shape.has_value() == sphere.has_value())
-      body.fail("expected either 'shape' (" + kShapeSpec + ") or 'sphere' (a radius in m)");
+      body.fail("expected either 'shape' (" + kShapeSpec + ") or 'sphere' (a radius in m), got " +
+                (shape ? "both" : "neither"));
     if (shape) {
       parse_polyhedron(*shape, body.find("scale"), scene, result);
     } else {

@@ -163,7 +163,8 @@ void parse_random_fill(const SceneNode& body, Scene& scene, std::size_t index) {
   if (count.has_value() == fraction.has_value())
     body.fail(
         "expected either count (a number of particles) or volume_fraction (particle "
-        "volume over region volume), not both or neither");
+        "volume over region volume), got " +
+        std::string(count ? "both" : "neither"));
   const SceneNode& amount = count ? *count : *fraction;
   if (count) {
     fill.count = count->integer("a positive integer number of particles", 1, kMaxParticles);
@@ -242,7 +243,7 @@ void parse_particles(const SceneNode& node, Scene& scene) {
   const std::vector<SceneNode> items = node.items(
       "a list of particle entries ({explicit: [...]}, {lattice: ...}, {random: ...}, "
       "{feed: ...})");
-  if (items.empty()) node.fail("expected at least one particle entry");
+  if (items.empty()) node.fail_expected("a list of particle entries (at least one)");
   for (std::size_t i = 0; i < items.size(); ++i) {
     const auto [kind, body] = items[i].one_of(kinds, "particle entry");
     if (kind == "explicit") parse_explicit(body, scene);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <fmt/format.h>
+
 #include "solver/scene/scene_limits.hpp"
 
 namespace talus {
@@ -19,7 +21,7 @@ std::string compose(const std::string& file, int line, int column, const std::st
 }
 
 std::string child_key(const std::string& parent, const std::string& name) {
-  return parent.empty() ? name : parent + "." + name;
+  return parent.empty() ? shown_text(name) : parent + "." + shown_text(name);
 }
 
 // yaml-cpp marks are 0-based, -1 when unknown; messages count from 1.
@@ -30,18 +32,44 @@ int column_of(const YAML::Mark& mark) {
   return mark.line >= 0 ? mark.column + 1 : 0;
 }
 
-// A whole scalar as a finite double (strtod accepts a prefix; we do not).
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// A whole scalar as a finite double (strtod accepts a prefix; we do not). strtod sets ERANGE on
+// underflow too: a subnormal result is still the number written (to fewer digits) and is kept,
+// a 0 from a nonzero literal ("1e-400") is not the number written and is refused.
 bool parse_double(const std::string& text, double& value) {
   if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return false;
   char* end = nullptr;
   errno = 0;
   value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size() && errno == 0 && std::isfinite(value);
+  if (end != text.c_str() + text.size() || !std::isfinite(value)) return false;
+  return errno != ERANGE || value != 0;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
+// Bytes in the UTF-8 sequence that starts at text[i], 0 if none does (a stray or overlong byte,
+// a sequence cut short).
+std::size_t utf8_length(const std::string& text, std::size_t i) {
+  const unsigned char c = static_cast<unsigned char>(text[i]);
+  if (c < 0x80) return 1;
+  const std::size_t n = c >= 0xf5 ? 0 : c >= 0xf0 ? 4 : c >= 0xe0 ? 3 : c >= 0xc2 ? 2 : 0;
+  if (n == 0 || i + n > text.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) return 0;
+  return n;
+}
+
+// The first scalar of `node`'s items that is a number a double cannot hold, as " (x: infinite)"
+// with `axes` naming the items; empty if none.
+std::string component_problem(const YAML::Node& node, const char* axes) {
+  for (std::size_t i = 0; node.IsSequence() && i < node.size() && axes[i]; ++i) {
+    if (!node[i].IsScalar()) continue;
+    const std::string problem = number_problem(node[i].Scalar());
+    if (!problem.empty()) return std::string(" (") + axes[i] + ": " + problem + ")";
+  }
+  return "";
 }
 
 int edit_distance(const std::string& a, const std::string& b) {
@@ -73,6 +101,59 @@ SceneError::SceneError(std::string file, int line, int column, std::string key, 
       column_(column),
       key_(std::move(key)),
       message_(std::move(message)) {}
+
+namespace {
+
+// `text` as shown_text shows it; `cut`: whether it was cut short.
+std::string shown_prefix(const std::string& text, bool& cut) {
+  // Enough for any name or number a scene needs; a longer one is shown by its start.
+  constexpr std::size_t kShownLength = 60;
+  std::string out;
+  std::size_t characters = 0, i = 0;
+  for (; i < text.size() && characters < kShownLength; ++characters) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const std::size_t n = utf8_length(text, i);
+    if (c < 0x20 || c == 0x7f || n == 0) {
+      out += fmt::format("\\x{:02X}", c);
+      ++i;
+    } else {
+      out.append(text, i, n);
+      i += n;
+    }
+  }
+  cut = i < text.size();
+  return cut ? out + "..." : out;
+}
+
+}  // namespace
+
+std::string shown_text(const std::string& text) {
+  bool cut = false;
+  return shown_prefix(text, cut);
+}
+
+std::string quoted(const std::string& text) {
+  bool cut = false;
+  const std::string shown = "'" + shown_prefix(text, cut) + "'";
+  return cut ? shown + " (" + std::to_string(text.size()) + " bytes)" : shown;
+}
+
+std::string number_problem(const std::string& text) {
+  const std::string word = lower(text);
+  // YAML's own spellings, which strtod does not read.
+  if (word == ".nan") return "not a number";
+  if (word == ".inf" || word == "+.inf" || word == "-.inf") return "infinite";
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return "";
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) return "";
+  if (std::isnan(value)) return "not a number";
+  if (std::isinf(value))
+    return errno == ERANGE ? "beyond the range of a double, about 1.8e308" : "infinite";
+  if (errno == ERANGE && value == 0) return "below the smallest double, so it would read as 0";
+  return "";
+}
 
 std::string join_options(const std::vector<std::string>& options) {
   std::string joined;
@@ -110,13 +191,13 @@ void SceneNode::fail_expected(const std::string& expected) const {
 
 std::string SceneNode::describe() const {
   if (node_.IsNull()) return "nothing";
-  if (node_.IsScalar()) return "'" + node_.Scalar() + "'";
-  if (node_.IsMap()) return "a map";
+  if (node_.IsScalar()) return quoted(node_.Scalar());
+  if (node_.IsMap()) return node_.size() == 0 ? "an empty map {}" : "a map";
   // A short list of scalars is shown as written, anything else by its kind.
   std::string shown = "[";
   for (std::size_t i = 0; i < node_.size(); ++i) {
     if (!node_[i].IsScalar() || node_.size() > 8) return "a list";
-    shown += (i ? ", " : "") + node_[i].Scalar();
+    shown += (i ? ", " : "") + shown_text(node_[i].Scalar());
   }
   return shown + "]";
 }
@@ -133,6 +214,12 @@ void SceneNode::keys(const std::vector<std::string>& allowed, const std::string&
                            ", got a key that is a " + (it->first.IsMap() ? "map" : "list"));
     const std::string name = it->first.Scalar();
     const std::string path = child_key(key_, name);
+    // yaml-cpp does not expand YAML 1.1's merge key; an alias of a whole map (key: *name) works.
+    if (name == "<<")
+      throw SceneError(source_->file, line_of(mark), column_of(mark), key_,
+                       "expected keys among " + join_options(allowed) +
+                           ", got a merge key '<<', which talus does not expand; write the "
+                           "keys out, or use an alias of the whole map");
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
       throw SceneError(source_->file, line_of(mark), column_of(mark), path,
                        "unknown " + noun + "; expected one of " + join_options(allowed) +
@@ -200,8 +287,15 @@ std::vector<SceneNode> SceneNode::items(const std::string& expected) const {
 
 std::pair<std::string, SceneNode> SceneNode::one_of(const std::vector<std::string>& kinds,
                                                     const std::string& what) const {
-  if (!node_.IsMap() || node_.size() != 1)
-    fail_expected(what + ": a map of one key, one of " + join_options(kinds));
+  const std::string expected = what + ": a map of one key, one of " + join_options(kinds);
+  if (node_.IsMap() && node_.size() > 1) {
+    std::vector<std::string> given;
+    for (auto it = node_.begin(); it != node_.end(); ++it)
+      given.push_back(it->first.IsScalar() ? shown_text(it->first.Scalar()) : "?");
+    fail("expected " + expected + ", got a map of " + std::to_string(node_.size()) + " keys (" +
+         join_options(given) + ")");
+  }
+  if (!node_.IsMap() || node_.size() != 1) fail_expected(expected);
   keys(kinds, what, what + " kind");
   const std::string kind = node_.begin()->first.Scalar();
   return {kind, *find(kind)};
@@ -209,8 +303,11 @@ std::pair<std::string, SceneNode> SceneNode::one_of(const std::vector<std::strin
 
 double SceneNode::number(const std::string& expected, const std::function<bool(double)>& ok) const {
   double value = 0;
-  if (!node_.IsScalar() || !parse_double(node_.Scalar(), value) || (ok && !ok(value)))
-    fail_expected(expected);
+  if (!node_.IsScalar() || !parse_double(node_.Scalar(), value) || (ok && !ok(value))) {
+    const std::string problem = node_.IsScalar() ? number_problem(node_.Scalar()) : "";
+    fail("expected " + expected + ", got " + describe() +
+         (problem.empty() ? "" : " (" + problem + ")"));
+  }
   return value;
 }
 
@@ -228,7 +325,7 @@ long long SceneNode::integer(const std::string& expected, long long min, long lo
   // An integer beyond the limit gets a message naming the limit, whether or not it fits a long
   // long ("1e30", "99999999999999999999" alike).
   const auto above_limit = [&] {
-    fail("expected " + expected + ", at most " + describe_limit(max) + ", got '" + text + "'");
+    fail("expected " + expected + ", at most " + describe_limit(max) + ", got " + quoted(text));
   };
   char* end = nullptr;
   errno = 0;
@@ -279,7 +376,7 @@ std::string SceneNode::choice(const std::vector<std::string>& options,
   const std::string expected = what + ", one of " + join_options(options);
   const std::string value = text(expected);
   if (std::find(options.begin(), options.end(), value) == options.end())
-    fail("expected " + expected + ", got '" + value + "'" + did_you_mean(value, options));
+    fail("expected " + expected + ", got " + quoted(value) + did_you_mean(value, options));
   return value;
 }
 
@@ -291,7 +388,7 @@ Vec3d SceneNode::vec3(const std::string& expected) const {
     ok = node_[i].IsScalar() && parse_double(node_[i].Scalar(), component);
     v[int(i)] = component;
   }
-  if (!ok) fail_expected(expected);
+  if (!ok) fail("expected " + expected + ", got " + describe() + component_problem(node_, "xyz"));
   return v;
 }
 
@@ -319,8 +416,22 @@ Quatd SceneNode::orientation() const {
   bool ok = node_.IsSequence() && node_.size() == 4;
   for (std::size_t i = 0; ok && i < 4; ++i)
     ok = node_[i].IsScalar() && parse_double(node_[i].Scalar(), q[i]);
+  if (!ok) fail("expected " + expected + ", got " + describe() + component_problem(node_, "wxyz"));
   const Quatd quaternion(q[0], q[1], q[2], q[3]);
-  if (!ok || !(quaternion.norm() > 0)) fail_expected(expected);
+  const double length = quaternion.norm();
+  // The components are finite; their squares may still overflow or underflow, and then there is
+  // no finite nonzero norm to normalise by.
+  if (!std::isfinite(length))
+    fail("expected " + expected + ", got " + describe() +
+         " (its norm overflows a double, too large to normalise; write it with smaller "
+         "components)");
+  if (!(length > 0)) {
+    if (q[0] == 0 && q[1] == 0 && q[2] == 0 && q[3] == 0)
+      fail("expected " + expected + ", got " + describe() + " (a zero quaternion is no rotation)");
+    fail("expected " + expected + ", got " + describe() +
+         " (its norm underflows to 0 in a double, too small to normalise; write it with larger "
+         "components)");
+  }
   return quaternion.normalized();
 }
 

@@ -80,6 +80,17 @@ class SceneNode {
   const SceneSource* source_;
 };
 
+// A scalar of the file as a message shows it: control characters and bytes that are not UTF-8
+// written as \xNN, and cut to kShownLength characters with "..." and the full length (a value
+// or key of 100 kB is not echoed whole).
+std::string shown_text(const std::string& text);
+// shown_text in quotes: 'abc'.
+std::string quoted(const std::string& text);
+// What is wrong with a scalar that does not read as a finite double although it is written as a
+// number: "not a number" (.nan), "infinite" (.inf), "beyond the range of a double" (1e400); empty
+// for anything else (a word, a finite number).
+std::string number_problem(const std::string& text);
+
 // "a, b or c"
 std::string join_options(const std::vector<std::string>& options);
 // The option closest to `word` by edit distance, if close enough to be a likely typo.

@@ -20,6 +20,13 @@ class StepNotSupported : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Where the scene wrote effects.contact ("scene.yaml:14:12: effects.contact"), for the step's
+// refusals of a contact model; the file and the key for a scene built in code.
+inline std::string contact_place(const Scene& scene) {
+  return scene.contact_source.line > 0 ? scene.contact_source.where()
+                                       : scene.file + ": effects.contact";
+}
+
 enum class Stage {
   integrate_begin,  // x_{k+1}, predicted v (and, with rotation, q_{k+1} and predicted w)
   clear_forces,     // forces (and torques) to zero

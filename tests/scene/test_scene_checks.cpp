@@ -115,7 +115,7 @@ TEST(SceneChecks, ParticleRequestsThatCannotBeMet) {
       {"random fill with both a count and a fraction",
        {{kOneParticle, random + "      count: 10\n      volume_fraction: 0.1"}},
        "errors.yaml:16:7: particles[0].random: expected either count (a number of particles) or "
-       "volume_fraction (particle volume over region volume), not both or neither"},
+       "volume_fraction (particle volume over region volume), got both"},
       {"a region smaller than one particle",
        {{kOneParticle,
          "  - random:\n      template: grain\n      region: {cylinder: {base: [0, 0, "
@@ -137,7 +137,8 @@ TEST(SceneChecks, ParticleRequestsThatCannotBeMet) {
       {"a zero quaternion",
        {{"position: [0, 0, 0.05]}", "position: [0, 0, 0.05], orientation: [0, 0, 0, 0]}"}},
        "errors.yaml:16:64: particles[0].explicit[0].orientation: expected an orientation: a "
-       "quaternion [w, x, y, z] or {axis: [x, y, z], degrees: angle}, got [0, 0, 0, 0]"},
+       "quaternion [w, x, y, z] or {axis: [x, y, z], degrees: angle}, got [0, 0, 0, 0] (a zero "
+       "quaternion is no rotation)"},
   };
   for (const CheckCase& c : cases) expect_message(c);
 }
@@ -232,7 +233,7 @@ TEST(SceneChecks, NamesAndChoices) {
       {"a pair that overrides nothing",
        {{"templates:", "material_pairs:\n  - {materials: [glass, glass]}\ntemplates:"}},
        "errors.yaml:11:5: material_pairs[0]: expected friction, restitution or both to override "
-       "for this pair"},
+       "for this pair, got neither"},
       {"an unknown backend",
        {{"seed: 3", "seed: 3\nbackend: metal"}},
        "errors.yaml:3:10: backend: expected a backend, one of auto, cpu, cuda, got 'metal'"},
@@ -242,7 +243,7 @@ TEST(SceneChecks, NamesAndChoices) {
       {"a material name that is not a name",
        {{"  glass:", "  2glass:"}, {"material: glass", "material: 2glass"}},
        "errors.yaml:5:5: materials.2glass: expected a material name of letters, digits, '_' or "
-       "'-', starting with a letter"},
+       "'-', starting with a letter, got '2glass'"},
   };
   for (const CheckCase& c : cases) expect_message(c);
   // Both a shape and a sphere: the message offers the two.

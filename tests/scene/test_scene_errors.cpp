@@ -86,7 +86,7 @@ TEST(SceneErrors, OutOfRangeValuesSayTheRange) {
        "'-2500'"},
       {"density: 2500", "density: .inf",
        "errors.yaml:5:14: materials.glass.density: expected a positive number in kg/m^3, got "
-       "'.inf'"},
+       "'.inf' (infinite)"},
       {"youngs_modulus: 6.0e7", "youngs_modulus: 0",
        "errors.yaml:6:21: materials.glass.youngs_modulus: expected a positive number in Pa "
        "(Young's modulus), got '0'"},
@@ -255,16 +255,17 @@ TEST(SceneErrors, WallMeshProblemsNameTheWallAndTheFile) {
 }
 
 TEST(SceneErrors, YamlSyntaxErrorsGiveThePosition) {
-  // yaml-cpp reports an unclosed flow list where it finds the next key (line 19).
+  // yaml-cpp finds an unclosed flow list at the next key (line 19); the message names the
+  // bracket that is not closed, where it opens.
   const SceneError unclosed = error_with("gravity: [0, 0, -9.81]", "gravity: [0, 0, -9.81");
   EXPECT_EQ(unclosed.file(), "errors.yaml");
-  EXPECT_EQ(unclosed.line(), 19);
+  EXPECT_EQ(unclosed.line(), 18);
   EXPECT_EQ(unclosed.key(), "");
-  EXPECT_EQ(unclosed.message().rfind("YAML syntax error: ", 0), 0u) << unclosed.what();
+  EXPECT_EQ(unclosed.message(), "invalid YAML: this '[' has no matching ']'") << unclosed.what();
   // A key indented under a scalar value.
   const SceneError indented = error_with("seed: 3", "seed: 3\n  extra: 4");
   EXPECT_EQ(indented.line(), 3);
-  EXPECT_EQ(indented.message().rfind("YAML syntax error: ", 0), 0u) << indented.what();
+  EXPECT_EQ(indented.message().rfind("invalid YAML: ", 0), 0u) << indented.what();
 }
 
 TEST(SceneErrors, EmptyOrNonMapDocument) {
@@ -272,7 +273,7 @@ TEST(SceneErrors, EmptyOrNonMapDocument) {
             "expected a scene: a map with keys time, seed, backend, precision, skin, "
             "deterministic, reorder, domain, materials, material_pairs, templates, particles, "
             "walls, effects, "
-            "outputs, got nothing");
+            "outputs, got an empty file");
   EXPECT_STREQ(scene_error("- 1\n- 2\n").what(),
                "errors.yaml:1:1: expected a scene: a map with keys time, seed, backend, precision, "
                "skin, deterministic, reorder, domain, materials, material_pairs, templates, "

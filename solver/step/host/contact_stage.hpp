@@ -60,9 +60,10 @@ class PairContactStage {
     }
     if (volume && any_sphere && any_polyhedron) {
       throw StepNotSupported(
-          scene.file +
-          ": effects.contact: the volume model has no sphere-polyhedron overlap; use "
-          "contact: linear for scenes that mix spheres and polyhedra");
+          contact_place(scene) + ": the " + to_string(model_) +
+          " model has no sphere-polyhedron overlap; expected contact: {model: linear, ...} for "
+          "scenes that mix spheres and polyhedra, got " +
+          to_string(model_));
     }
     for (const BodyProperties<Real>& b : bodies_) {
       for (const BodyProperties<Real>& c : bodies_) {

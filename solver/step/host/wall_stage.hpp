@@ -45,9 +45,10 @@ class WallContactStage {
     double max_radius = 0;  // the grid's cell size follows the largest bounding sphere
     for (const BodyProperties<Real>& b : bodies) {
       if (volume && b.sphere) {
-        throw StepNotSupported(scene.file +
-                               ": effects.contact: the volume model has no sphere-wall overlap; "
-                               "use contact: linear for spheres with walls");
+        throw StepNotSupported(contact_place(scene) + ": the " + to_string(*scene.effects.contact) +
+                               " model has no sphere-wall overlap; expected contact: {model: "
+                               "linear, ...} for spheres with walls, got " +
+                               to_string(*scene.effects.contact));
       }
       max_radius = std::max(max_radius, double(b.bounding_radius));
     }
