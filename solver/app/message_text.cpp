@@ -51,15 +51,17 @@ std::vector<std::string> printable_pieces(const std::string& text) {
 
 std::string shown(const std::string& text, std::size_t max) {
   const std::vector<std::string> pieces = printable_pieces(text);
-  const bool cut = pieces.size() > max;
-  const std::size_t head = cut ? max * 2 / 3 : pieces.size();
-  const std::size_t tail = cut ? max - head : 0;
-  std::string out;
-  for (std::size_t k = 0; k < head; ++k) out += pieces[k];
-  if (!cut) return out;
-  out += "[... " + std::to_string(text.size()) + " bytes in all ...]";
-  for (std::size_t k = pieces.size() - tail; k < pieces.size(); ++k) out += pieces[k];
-  return out;
+  std::string whole;
+  for (const std::string& piece : pieces) whole += piece;
+  if (whole.size() <= max) return whole;
+  // Whole pieces (an escape, a UTF-8 character) from each end, within max counted in bytes
+  // shown: two thirds at the beginning, a third at the end.
+  std::string head, tail;
+  for (std::size_t k = 0; k < pieces.size() && head.size() + pieces[k].size() <= max * 2 / 3; ++k)
+    head += pieces[k];
+  for (std::size_t k = pieces.size(); k > 0 && tail.size() + pieces[k - 1].size() <= max / 3; --k)
+    tail.insert(0, pieces[k - 1]);
+  return head + "[... " + std::to_string(text.size()) + " bytes in all ...]" + tail;
 }
 
 std::string printable_message(const std::string& message) {

@@ -10,8 +10,8 @@
 namespace talus {
 
 // `text` as a message quotes it: a tab, newline or carriage return written \t, \n, \r; any other
-// control byte, and each byte that is not part of valid UTF-8, written \xNN; a text longer than
-// `max` characters (an escape counts as one) cut in the middle: "aaa[... 100000 bytes in all
+// control byte, and each byte that is not part of valid UTF-8, written \xNN; a text that shows in
+// more than `max` bytes cut in the middle between whole characters: "aaa[... 100000 bytes in all
 // ...]aaa".
 std::string shown(const std::string& text, std::size_t max = 160);
 
