@@ -107,14 +107,15 @@ ShapeTemplate load_shape_argument(const std::string& argument_name, const std::s
   }
 }
 
-int parse_positive_count(const std::string& option, const std::string& text) {
-  const std::string expected = option + " '" + text + "': expected a whole number of at least 1";
+int parse_positive_count(const std::string& option, const std::string& text, int max) {
+  const std::string range = max == INT_MAX ? "of at least 1" : "from 1 to " + std::to_string(max);
+  const std::string expected = option + " '" + shown(text) + "': expected a whole number " + range;
   if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) {
     throw UsageError(expected);
   }
   errno = 0;
   const long value = std::strtol(text.c_str(), nullptr, 10);
-  if (errno == ERANGE || value > INT_MAX) throw UsageError(option + " '" + text + "': too large");
+  if (errno == ERANGE || value > max) throw UsageError(expected + "; it is too large");
   if (value < 1) throw UsageError(expected);
   return static_cast<int>(value);
 }

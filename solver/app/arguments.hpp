@@ -2,10 +2,12 @@
 // UsageError whose message names the argument and says what was expected.
 #pragma once
 
+#include <climits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "solver/app/message_text.hpp"
 #include "solver/core/quat.hpp"
 #include "solver/shape/shape.hpp"
 
@@ -26,9 +28,9 @@ Posed parse_pose(const std::string& argument_name, const std::string& text);
 // message is kept and prefixed with the argument's name and text.
 ShapeTemplate load_shape_argument(const std::string& argument_name, const std::string& spec);
 
-// A whole number >= 1 written in decimal (nothing else around it), or a UsageError naming the
-// option: "--threads '0': expected a whole number of at least 1".
-int parse_positive_count(const std::string& option, const std::string& text);
+// A whole number from 1 to `max` written in decimal (nothing else around it), or a UsageError
+// naming the option: "--threads '0': expected a whole number from 1 to 1024".
+int parse_positive_count(const std::string& option, const std::string& text, int max = INT_MAX);
 
 // One of `choices` (as written), or a UsageError naming the option and listing them.
 template <class Value, std::size_t N>
@@ -39,7 +41,7 @@ Value choose(const std::string& option, const std::string& text,
     if (text == name) return value;
     listed += (listed.empty() ? "" : ", ") + std::string(name);
   }
-  throw UsageError(option + " '" + text + "': expected one of " + listed);
+  throw UsageError(option + " '" + shown(text) + "': expected one of " + listed);
 }
 
 }  // namespace talus

@@ -41,6 +41,10 @@ const std::pair<const char*, const char*> kSynopses[] = {
     {"shape", "talus shape A"},
     {"help", "talus help | --help | -h | COMMAND --help"}};
 
+// The most host threads --threads takes: beyond any machine's cores, below what makes starting
+// them fail (a billion threads' stacks are more than any memory).
+constexpr int kMaxThreads = 1024;
+
 // Every option is read as text and checked here, so that one message style covers them all:
 // "--threads '0': expected a whole number of at least 1".
 struct RunText {
@@ -64,8 +68,11 @@ CLI::Option* text_option(CLI::App* app, const char* name, std::string& value, co
 double positive_number(const std::string& option, const std::string& text, const char* unit) {
   char* end = nullptr;
   const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value <= 0)
-    throw UsageError(option + " '" + text + "': expected a positive " + unit);
+  // A decimal number only: strtod would also take leading spaces, hexadecimal and "infinity".
+  const bool decimal = text.find_first_not_of("0123456789+-.eE") == std::string::npos;
+  if (!decimal || text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) ||
+      value <= 0)
+    throw UsageError(option + " '" + shown(text) + "': expected a positive " + unit);
   return value;
 }
 
@@ -74,8 +81,8 @@ double positive_number(const std::string& option, const std::string& text, const
 void refuse_extras(const CLI::App* app, const std::string& command, const char* expected) {
   const std::vector<std::string> extras = app->remaining();
   if (!extras.empty())
-    throw UsageError("unknown option '" + extras.front() + "' for " + command + "; expected " +
-                     expected);
+    throw UsageError("unknown option '" + shown(extras.front()) + "' for " + command +
+                     "; expected " + expected);
 }
 
 RunArguments run_arguments(const CLI::App* app, const RunText& t) {
@@ -91,9 +98,13 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
   const auto given = [&](const char* name) { return app->count(name) > 0; };
   RunArguments parsed;
   if (t.scenes.size() > 1)
-    throw UsageError("run expects one scene file, got '" + t.scenes[0] + "' and '" + t.scenes[1] +
-                     "'");
-  if (!t.scenes.empty()) parsed.scene_path = t.scenes[0];
+    throw UsageError("run expects one scene file, got '" + shown(t.scenes[0]) + "' and '" +
+                     shown(t.scenes[1]) + "'");
+  if (!t.scenes.empty()) {
+    // An empty path must not stand for "no scene": that runs the built-in one.
+    if (t.scenes[0].empty()) throw UsageError("run expects a scene file, got an empty path ''");
+    parsed.scene_path = t.scenes[0];
+  }
   if (given("--solver")) parsed.solver = choose("--solver", t.solver, kSolvers);
   if (given("--backend")) parsed.backend = choose("--backend", t.backend, kBackends);
   if (given("--precision")) parsed.precision = choose("--precision", t.precision, kPrecisions);
@@ -101,7 +112,8 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
     if (t.output.empty()) throw UsageError("--output expects a directory");
     parsed.output_root = t.output;
   }
-  if (given("--threads")) parsed.threads = parse_positive_count("--threads", t.threads);
+  if (given("--threads"))
+    parsed.threads = parse_positive_count("--threads", t.threads, kMaxThreads);
   if (given("--end")) parsed.end_time = positive_number("--end", t.end, "time in s");
   if (given("--resume")) {
     if (t.resume.empty())
@@ -116,7 +128,7 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
       throw UsageError("--resume continues the run's own outputs; drop --overwrite");
     if (!t.scenes.empty())
       throw UsageError("--resume continues the run its checkpoint names; drop the scene file '" +
-                       parsed.scene_path + "'");
+                       shown(parsed.scene_path) + "'");
     for (const char* fixed : {"--solver", "--precision", "--output"}) {
       if (given(fixed))
         throw UsageError(std::string("--resume continues the run as it was set up; drop ") + fixed +
@@ -144,13 +156,16 @@ RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
   if (t.directories.empty())
     throw UsageError("render expects a run directory (the trajectory directory talus run wrote)");
   if (t.directories.size() > 1)
-    throw UsageError("render expects one run directory, got '" + t.directories[0] + "' and '" +
-                     t.directories[1] + "'");
+    throw UsageError("render expects one run directory, got '" + shown(t.directories[0]) +
+                     "' and '" + shown(t.directories[1]) + "'");
+  if (t.directories[0].empty())
+    throw UsageError("render expects a run directory, got an empty path ''");
   s.run_directory = t.directories[0];
   if (given("--view")) s.view = choose("--view", t.view, kViews);
   if (given("--color")) s.color = choose("--color", t.color, kColors);
-  if (given("--width")) s.width = parse_positive_count("--width", t.width);
-  if (given("--height")) s.height = parse_positive_count("--height", t.height);
+  constexpr int kMaxSide = 16384;  // px: 16384^2 RGB is 800 MB, beyond what a frame needs
+  if (given("--width")) s.width = parse_positive_count("--width", t.width, kMaxSide);
+  if (given("--height")) s.height = parse_positive_count("--height", t.height, kMaxSide);
   if (given("--every")) s.every = parse_positive_count("--every", t.every);
   if (given("--fit")) s.fit_walls = choose("--fit", t.fit, kFits);
   if (given("--output")) {
@@ -166,9 +181,6 @@ RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
   s.last_only = t.last;
   s.label = !t.no_label;
   parsed.quiet = t.quiet;
-  constexpr int kMaxSide = 16384;  // px: 16384^2 RGB is 800 MB, beyond what a frame needs
-  if (s.width > kMaxSide || s.height > kMaxSide)
-    throw UsageError("--width and --height: expected at most " + std::to_string(kMaxSide) + " px");
   if (s.width <= 2 * s.margin || s.height <= 2 * s.margin)
     throw UsageError("--width and --height: expected more than " + std::to_string(2 * s.margin) +
                      " px (twice the margin)");
@@ -234,8 +246,9 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   text_option(run, "--backend", r.backend, "auto|cpu|cuda", "overrides the scene's backend");
   text_option(run, "--precision", r.precision, "double|float", "overrides the scene's precision");
   text_option(run, "--output", r.output, "DIR", "relative output paths of the scene go inside DIR");
-  text_option(run, "--threads", r.threads, "N",
-              "the host backend's threads (N >= 1; default: all cores, or OMP_NUM_THREADS)");
+  text_option(
+      run, "--threads", r.threads, "N",
+      "the host backend's threads (1 <= N <= 1024; default: all cores, or OMP_NUM_THREADS)");
   text_option(run, "--end", r.end, "T", "stop at T seconds instead of the scene's end time");
   text_option(run, "--resume", r.resume, "DIR|FILE",
               "continue the run from the newest checkpoint in DIR (outputs.checkpoint), or from "
@@ -290,6 +303,13 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   // Set last: a subcommand takes its parent's footer when it is added.
   app.footer(top_footer());
 
+  // "--threads=" with nothing after '=': CLI11 would take the next argument as its value.
+  for (const std::string& word : arguments) {
+    if (word == "--") break;
+    if (word.size() > 3 && word.rfind("--", 0) == 0 && word.back() == '=')
+      throw UsageError(shown(word.substr(0, word.size() - 1)) + " expects a value, got '" +
+                       shown(word) + "' with nothing after '='");
+  }
   std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
   try {
     app.parse(reversed);
@@ -304,10 +324,32 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
     if (colon != std::string::npos && what.find(" required ", colon) != std::string::npos &&
         what.size() >= 8 && what.compare(what.size() - 8, 8, " missing") == 0)
       throw UsageError(what.substr(0, colon) + " expects a value");
+    // An option given twice: "--output: At Most 1 required but received 2".
+    const std::size_t received = what.find(" but received ");
+    if (colon != std::string::npos && what.find(": At Most 1 required", colon) == colon &&
+        received != std::string::npos)
+      throw UsageError(what.substr(0, colon) + " is given " + what.substr(received + 14) +
+                       " times; give it once");
+    throw UsageError(what);
+  } catch (const CLI::ConversionError& error) {
+    // A flag given a value it does not take: "Could not convert: --quiet = maybe".
+    const std::string what = error.what();
+    const std::string prefix = "Could not convert: ";
+    const std::size_t equals = what.find(" = ");
+    if (what.rfind(prefix, 0) == 0 && equals != std::string::npos)
+      throw UsageError(what.substr(prefix.size(), equals - prefix.size()) + " '" +
+                       shown(what.substr(equals + 3)) +
+                       "': a flag takes no value (or one of true, false, yes, no, 1, 0)");
     throw UsageError(what);
   } catch (const CLI::ParseError& error) {
     throw UsageError(error.what());  // CLI11's words, which name the argument
   }
+  // A word before the command (CLI11 leaves it with talus itself): "talus -x run" must not run.
+  const std::vector<std::string> before = app.remaining();
+  if (!before.empty() && (*run || *render || *overlap || *shape))
+    throw UsageError("unknown option '" + shown(before.front()) +
+                     "' before the command; talus takes a command first and its options after "
+                     "it (e.g. 'talus run --quiet SCENE.yaml')");
   if (*help) {
     command.kind = ParsedCommand::help;
     const std::vector<std::string> topic = help->remaining();
@@ -316,7 +358,7 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
       try {
         about = app.get_subcommand(topic.front());
       } catch (const CLI::OptionNotFound&) {
-        throw UsageError("help '" + topic.front() +
+        throw UsageError("help '" + shown(topic.front()) +
                          "': expected one of run, render, overlap, shape");
       }
     }
@@ -338,7 +380,13 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
     command.operands = operands(shape, "shape", 1, "A");
   } else {
     const std::vector<std::string> words = app.remaining();
-    throw UsageError("unknown command '" + (words.empty() ? arguments.front() : words.front()) +
+    const std::string word = words.empty() ? arguments.front() : words.front();
+    // An option before any command: talus itself takes none but --help.
+    if (word.size() > 1 && word[0] == '-')
+      throw UsageError("unknown option '" + shown(word) +
+                       "'; expected a command first (run, render, overlap, shape or help), or "
+                       "--help");
+    throw UsageError("unknown command '" + shown(word) +
                      "'; expected run, render, overlap, shape or help");
   }
   return command;
@@ -351,7 +399,9 @@ std::string usage_line(const std::vector<std::string>& arguments) {
       return std::string("usage: ") + synopsis + " ('talus " + first +
              " --help' lists the options)\n";
   }
-  return synopses();
+  // "usage: " begins the first line, as for a command ("usage:" alone would read as a title).
+  std::string text = synopses();
+  return "usage: talus COMMAND ...: one of\n" + text.substr(text.find('\n') + 1);
 }
 
 }  // namespace talus

@@ -10,6 +10,8 @@
 #include "solver/app/arguments.hpp"
 #include "solver/app/command_line.hpp"
 #include "solver/app/commands.hpp"
+#include "solver/app/message_text.hpp"
+#include "solver/io/output_files.hpp"
 #include "solver/scene/scene_loader.hpp"
 
 namespace {
@@ -60,16 +62,21 @@ int main(int argc, char** argv) {
     }
     return status;
   } catch (const talus::UsageError& error) {
-    std::fprintf(stderr, "talus: error: %s\n%s", error.what(), talus::usage_line(args).c_str());
+    std::fprintf(stderr, "talus: error: %s\n%s", talus::printable_message(error.what()).c_str(),
+                 talus::usage_line(args).c_str());
     return kExitUsage;
   } catch (const talus::SceneError& error) {
-    std::fprintf(stderr, "talus: error: %s\n", error.what());
+    std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
     return kExitUsage;
   } catch (const talus::RunInterrupted& error) {
-    std::fprintf(stderr, "talus: %s\n", error.what());
+    std::fprintf(stderr, "talus: %s\n", talus::printable_message(error.what()).c_str());
     return 128 + error.signal();
   } catch (const talus::RunError& error) {
-    std::fprintf(stderr, "talus: error: %s\n", error.what());
+    std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
+    return kExitUsage;
+  } catch (const talus::OutputPathError& error) {
+    // An output path the user gave that cannot be used (a file where a directory must go).
+    std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
     return kExitUsage;
   } catch (const std::bad_alloc&) {
     // What the scene's memory estimate (scene/scene_memory.hpp) let through: one line, not an
@@ -82,7 +89,7 @@ int main(int argc, char** argv) {
     return kExitFailure;
   } catch (const std::exception& error) {
     // Not the user's arguments: an internal failure (e.g. out of memory).
-    std::fprintf(stderr, "talus: error: %s\n", error.what());
+    std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
     return kExitFailure;
   }
 }

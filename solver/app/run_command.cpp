@@ -321,6 +321,9 @@ std::string run_json(const RunArguments& given) {
   if (!given.resume_directory.empty()) return resume_json(given);
   RunArguments args = given;
   const bool builtin = args.scene_path.empty();
+  // Before the built-in scene is written out: a refused run leaves no file behind.
+  if (builtin && args.solver == SolverKind::reference)
+    throw RunError("the built-in scene runs on the production solver; drop --solver reference");
   if (builtin) {
     // The built-in scene, written out so that the run directory holds what produced it (and
     // `talus render` finds it through run.json).
@@ -343,14 +346,14 @@ std::string run_json(const RunArguments& given) {
   if (args.precision) scene.precision = *args.precision;
   if (args.end_time) {
     if (*args.end_time < scene.time_step)
-      throw RunError("--end " + exact_decimal(*args.end_time) + " s is shorter than the scene's " +
-                     "time step " + exact_decimal(scene.time_step) + " s");
+      throw RunError(fmt::format(
+          "--end {}: shorter than one time step of the scene (time.step = {} s in {}); expected "
+          "an end time of at least {} s",
+          *args.end_time, scene.time_step, scene.file, scene.time_step));
     const std::string problem = step_count_problem(*args.end_time, scene.time_step);
     if (!problem.empty()) throw RunError("--end: " + problem);
     scene.end_time = *args.end_time;
   }
-  if (builtin && args.solver == SolverKind::reference)
-    throw RunError("the built-in scene runs on the production solver; drop --solver reference");
   // Before any particle is made: a scene too large for this machine is refused with its numbers.
   check_scene_memory(scene, physical_memory_bytes());
   check_initial_particles(scene);

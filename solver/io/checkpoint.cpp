@@ -138,6 +138,10 @@ Checkpoint read_checkpoint(const std::string& path) {
   } catch (const InputFileError& e) {
     throw CheckpointError(path + ": cannot read the checkpoint: it " + e.problem());
   }
+  if (bytes.empty()) throw CheckpointError(path + ": an empty file (0 bytes), not a checkpoint");
+  if (bytes.size() < sizeof kMagic && std::memcmp(bytes.data(), kMagic, bytes.size()) == 0)
+    throw CheckpointError(path + ": truncated checkpoint (" + std::to_string(bytes.size()) +
+                          " bytes, shorter than its header)");
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw CheckpointError(path + ": not a talus checkpoint (no TALUSCKP header)");
   if (bytes.size() < kHeaderBytes + sizeof(std::uint64_t))
@@ -149,19 +153,48 @@ Checkpoint read_checkpoint(const std::string& path) {
   std::memcpy(&mark, bytes.data() + 12, 4);
   std::memcpy(&size, bytes.data() + 16, 8);
   std::memcpy(&sections, bytes.data() + 24, 8);
-  if (version != kCheckpointVersion)
+  // Whether the first `length` bytes are a whole checkpoint: their last 8 the checksum of the
+  // rest, with `size_field` in place of the file-size field.
+  const auto whole = [&](std::size_t length, std::uint64_t size_field) {
+    if (length < kHeaderBytes + sizeof(std::uint64_t) || length > bytes.size()) return false;
+    std::uint64_t hash = fnv1a64(bytes.data(), 16);
+    hash = fnv1a64(&size_field, sizeof size_field, hash);
+    hash = fnv1a64(bytes.data() + 24, length - 24 - sizeof(std::uint64_t), hash);
+    std::uint64_t stored = 0;
+    std::memcpy(&stored, bytes.data() + length - sizeof stored, sizeof stored);
+    return hash == stored;
+  };
+  const std::string corrupt = path + ": corrupt checkpoint (the checksum does not match its bytes";
+  // A header field that no intact file of ours holds is a damaged byte when the checksum fails
+  // too, and another talus's file only when it holds.
+  if (version != kCheckpointVersion) {
+    if (!whole(bytes.size(), size))
+      throw CheckpointError(corrupt + "; its version field reads " + std::to_string(version) + ")");
     throw CheckpointError(path + ": checkpoint format version " + std::to_string(version) +
                           "; this talus reads version " + std::to_string(kCheckpointVersion));
-  if (mark != kByteOrderMark)
+  }
+  if (mark != kByteOrderMark) {
+    if (!whole(bytes.size(), size))
+      throw CheckpointError(corrupt + "; its byte-order mark is damaged)");
     throw CheckpointError(path + ": written on a machine of another byte order");
-  if (bytes.size() != size)
-    throw CheckpointError(path + ": truncated checkpoint (" + std::to_string(bytes.size()) +
-                          " bytes of " + std::to_string(size) + ")");
+  }
+  if (bytes.size() != size) {
+    const std::string sizes =
+        std::to_string(bytes.size()) + " bytes, its header says " + std::to_string(size);
+    if (whole(bytes.size(), bytes.size()))
+      throw CheckpointError(path + ": corrupt checkpoint (a damaged file-size field: " + sizes +
+                            ", and its checksum matches the " + std::to_string(bytes.size()) + ")");
+    if (bytes.size() < size)
+      throw CheckpointError(path + ": truncated checkpoint (" + std::to_string(bytes.size()) +
+                            " bytes of " + std::to_string(size) + ")");
+    if (whole(size, size))
+      throw CheckpointError(path + ": " + std::to_string(bytes.size() - size) +
+                            (bytes.size() - size == 1 ? " byte was" : " bytes were") +
+                            " appended to the checkpoint (" + sizes + ")");
+    throw CheckpointError(corrupt + "; " + sizes + ")");
+  }
   const std::size_t body = bytes.size() - sizeof(std::uint64_t);
-  std::uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + body, sizeof stored);
-  if (fnv1a64(bytes.data(), body) != stored)
-    throw CheckpointError(path + ": corrupt checkpoint (the checksum does not match its bytes)");
+  if (!whole(bytes.size(), size)) throw CheckpointError(corrupt + ")");
   Checkpoint checkpoint;
   checkpoint.set_path(path);
   ByteReader reader(bytes, body, path);

@@ -22,8 +22,23 @@ std::string kind_problem(mode_t mode) {
   return "is not a regular file";
 }
 
-std::string errno_problem(int error) {
+std::string errno_problem(int error, const std::string& path) {
   if (error == ENOENT) return "does not exist";
+  if (error == ENOTDIR) {
+    // A file where the path needs a directory: name it (strerror says only "Not a directory").
+    // The path without its trailing slashes first ("scene.yaml/"), then each directory above.
+    std::string above = path;
+    while (above.size() > 1 && above.back() == '/') above.pop_back();
+    if (above == path) above.resize(above.rfind('/') == std::string::npos ? 0 : above.rfind('/'));
+    while (!above.empty()) {
+      struct stat status;
+      if (::stat(above.c_str(), &status) == 0 && !S_ISDIR(status.st_mode))
+        return "cannot be reached: '" + above + "' on its path is not a directory";
+      while (above.size() > 1 && above.back() == '/') above.pop_back();
+      const std::size_t slash = above.rfind('/');
+      above.resize(slash == std::string::npos ? 0 : slash);
+    }
+  }
   return std::string("cannot be accessed: ") + std::strerror(error);
 }
 
@@ -80,7 +95,7 @@ std::string shown_input(const std::string& text, std::size_t limit) {
 
 std::string input_file_problem(const std::string& path) {
   struct stat status;
-  if (::stat(path.c_str(), &status) != 0) return errno_problem(errno);
+  if (::stat(path.c_str(), &status) != 0) return errno_problem(errno, path);
   return kind_problem(status.st_mode);
 }
 
@@ -90,9 +105,9 @@ std::string read_input_file(const std::string& path) {
   const std::string problem = input_file_problem(path);
   if (!problem.empty()) throw InputFileError(path, problem);
   const Descriptor file{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
-  if (file.fd < 0) throw InputFileError(path, errno_problem(errno));
+  if (file.fd < 0) throw InputFileError(path, errno_problem(errno, path));
   struct stat status;
-  if (::fstat(file.fd, &status) != 0) throw InputFileError(path, errno_problem(errno));
+  if (::fstat(file.fd, &status) != 0) throw InputFileError(path, errno_problem(errno, path));
   const std::string kind = kind_problem(status.st_mode);
   if (!kind.empty()) throw InputFileError(path, kind);
   std::string bytes;

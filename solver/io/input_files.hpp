@@ -13,7 +13,8 @@ namespace talus {
 // Why `path` cannot be read as an input file, or "" when it is a regular file (symbolic links
 // followed): "does not exist", "is a directory, not a regular file", "is a FIFO (named pipe), not
 // a regular file", "is a character device, not a regular file", "is a block device, not a
-// regular file", "is a socket, not a regular file", or "cannot be accessed: <reason>".
+// regular file", "is a socket, not a regular file", "cannot be reached: '<dir>' on its path is
+// not a directory" (a file where a directory must be), or "cannot be accessed: <reason>".
 std::string input_file_problem(const std::string& path);
 
 // Thrown by read_input_file: what() is "<path>: <problem>"; problem() is the part after the path.

@@ -9,19 +9,44 @@
 #include <system_error>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace talus {
 
-void create_output_directory(const std::string& directory) {
+namespace {
+
+// What a path that is not a directory is: "a regular file", "a FIFO (named pipe)", ...
+std::string kind_of(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "a special file";
+}
+
+}  // namespace
+
+void create_output_directory(const std::string& directory, const std::string& role) {
   std::error_code error;
   std::filesystem::create_directories(directory, error);
-  if (error)
-    throw std::runtime_error("cannot create output directory '" + directory +
-                             "': " + error.message());
-  if (!std::filesystem::is_directory(directory, error))
-    throw std::runtime_error("cannot create output directory '" + directory +
-                             "': a file of that name is in the way");
+  if (!error && std::filesystem::is_directory(directory, error)) return;
+  const std::string what = "cannot create " + role + " '" + directory + "': ";
+  // What stands in the way: the path itself, or the nearest of its parents that exists and is
+  // not a directory.
+  for (std::filesystem::path p = directory; !p.empty(); p = p.parent_path()) {
+    struct stat status;
+    if (::stat(p.c_str(), &status) == 0) {
+      if (S_ISDIR(status.st_mode)) break;
+      const std::string kind = kind_of(status.st_mode);
+      if (p.string() == directory)
+        throw OutputPathError(what + "it is " + kind + ", not a directory");
+      throw OutputPathError(what + "'" + p.string() + "' is " + kind + ", not a directory");
+    }
+    if (p == p.parent_path()) break;
+  }
+  throw OutputPathError(what + (error ? error.message() : "a file of that name is in the way"));
 }
 
 void sync_directory_of(const std::string& path) {

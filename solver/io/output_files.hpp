@@ -3,14 +3,26 @@
 // (rename(2) replaces the target in one step within a file system).
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace talus {
 
-// Creates `directory` and its parents when missing. Throws std::runtime_error "cannot create
-// output directory '<dir>': <reason>".
-void create_output_directory(const std::string& directory);
+// An output path that cannot be used as the run asks: a file where a directory must go (or above
+// one), a directory where a file must go, a name too long, no permission. The user's setting, not
+// an internal failure: talus exits with status 2 for it.
+class OutputPathError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Creates `directory` and its parents when missing. Throws OutputPathError "cannot create <role>
+// '<dir>': <reason>", the reason naming what is in the way ("'out' is a regular file, not a
+// directory") where something is. `role` says which directory it is, e.g. "checkpoint directory
+// (outputs.checkpoint.directory)".
+void create_output_directory(const std::string& directory,
+                             const std::string& role = "output directory");
 
 // `path` under the run's output root: unchanged when it is absolute or the root is empty.
 std::string joined_path(const std::string& root, const std::string& path);

@@ -31,7 +31,7 @@ class TrajectoryWriter : public OutputWriter {
       : OutputWriter(scene.outputs.trajectories->every),
         directory_(joined_path(root, scene.outputs.trajectories->directory)),
         format_(trajectory_format(scene, particles)) {
-    create_output_directory(directory_);
+    create_output_directory(directory_, "trajectory directory (outputs.trajectories.directory)");
     if (resume && std::filesystem::exists(directory_ + "/run.json")) return;
     RunInfo info = run_info(scene, solver);
     info.trajectory_format = format_ == TrajectoryFormat::hdf5 ? "hdf5" : "csv";
@@ -62,7 +62,7 @@ class ProbeFileWriter : public OutputWriter {
       probes_ = std::make_unique<ProbeWriter>(file, std::move(columns));
     } else {
       const long long step = resume->get_value<long long>("step.steps");
-      ProbeResume expected{step, -1, 0};
+      ProbeResume expected{step, -1, 0, resume->path()};
       if (resume->has(kKey)) {
         const std::vector<std::uint64_t> state = resume->get<std::uint64_t>(kKey);
         if (state.size() != 2) resume->fail(kKey, "expected the probe file's length and hash");

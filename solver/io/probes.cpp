@@ -50,7 +50,8 @@ std::vector<std::string> probe_columns(const ProbeOutput& probes,
 ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns)
     : path_(path), columns_(std::move(columns)), hash_(fnv1a64(nullptr, 0)) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) create_output_directory(parent.string());
+  if (!parent.empty())
+    create_output_directory(parent.string(), "directory of the probe file (outputs.probes.file)");
   file_ = std::fopen(path.c_str(), "wb");
   if (!file_)
     throw std::runtime_error("cannot write probe file '" + path + "': " + std::strerror(errno));
@@ -65,30 +66,33 @@ ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> colum
 ProbeWriter::ProbeWriter(const std::string& path, std::vector<std::string> columns,
                          const ProbeResume& resume)
     : path_(path), columns_(std::move(columns)), hash_(fnv1a64(nullptr, 0)) {
+  // Each refusal is the checkpoint's: the file does not continue the run it saved.
+  const std::string refused = (resume.checkpoint.empty() ? "" : resume.checkpoint + ": ") +
+                              "cannot resume probe file '" + path + "': ";
   std::string text;
   try {
     text = read_input_file(path);
   } catch (const InputFileError& e) {
-    throw std::runtime_error("cannot resume probe file '" + path + "': it " + e.problem());
+    throw CheckpointError(refused + "it " + e.problem() + "; the run wrote its rows up to step " +
+                          std::to_string(resume.step) + " there");
   }
+  const std::string at = " (the checkpoint of step " + std::to_string(resume.step) + " counts " +
+                         std::to_string(resume.bytes) + " bytes of rows written by then)";
+  if (resume.bytes >= 0 && static_cast<long long>(text.size()) < resume.bytes)
+    throw CheckpointError(refused + "it holds " + std::to_string(text.size()) +
+                          " bytes, so it ends before the checkpoint's step" + at +
+                          "; it was cut or replaced since, and a resumed run would leave a gap");
   std::string header = "time,step";
   for (const std::string& column : columns_) header += "," + column;
   if (text.compare(0, header.size() + 1, header + "\n") != 0)
-    throw std::runtime_error("cannot resume probe file '" + path + "': its header is not '" +
-                             header + "'");
+    throw CheckpointError(refused + "its header is not '" + header +
+                          "', the one of the checkpoint's run");
   std::string kept;
   if (resume.bytes >= 0) {
-    const std::string at = " (the checkpoint of step " + std::to_string(resume.step) + " counts " +
-                           std::to_string(resume.bytes) + " bytes of rows written by then)";
-    if (static_cast<long long>(text.size()) < resume.bytes)
-      throw CheckpointError("cannot resume probe file '" + path + "': it holds " +
-                            std::to_string(text.size()) +
-                            " bytes, so it ends before the checkpoint's step" + at +
-                            "; it was cut or replaced since, and a resumed run would leave a gap");
     kept = text.substr(0, static_cast<std::size_t>(resume.bytes));
     if (fnv1a64(kept.data(), kept.size()) != resume.hash)
-      throw CheckpointError("cannot resume probe file '" + path +
-                            "': its rows up to the checkpoint's step are not the ones the "
+      throw CheckpointError(refused +
+                            "its rows up to the checkpoint's step are not the ones the "
                             "checkpoint's run wrote" +
                             at + "; another run has written it since");
   } else {

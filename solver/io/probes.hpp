@@ -28,6 +28,7 @@ struct ProbeResume {
   long long step = 0;      // the checkpoint's step
   long long bytes = -1;    // the file's length at the checkpoint; -1: not recorded
   std::uint64_t hash = 0;  // FNV-1a of those bytes (checkpoint.hpp)
+  std::string checkpoint;  // the checkpoint file, named first in the messages (empty: none)
 };
 
 class ProbeWriter {

@@ -138,12 +138,24 @@ OutputLock claim_output_root(const Scene& scene, const std::string& root, const 
   const Outputs& o = scene.outputs;
   if (!o.trajectories && !o.probes && !o.vtk && !o.checkpoint) return {};  // writes nothing
   OutputLock lock(root, run_holder_description(run_id, scene.file));
+  // A directory where the probe file goes is no earlier run's output: nothing may remove it.
+  std::error_code error;
+  if (o.probes && fs::is_directory(joined_path(root, o.probes->file), error))
+    throw OutputPathError("the probe file (outputs.probes.file) '" +
+                          joined_path(root, o.probes->file) +
+                          "' is a directory; remove it or give the probe file another name");
   if (resume) return lock;
   const std::vector<std::string> earlier = existing_outputs(scene, root);
   if (earlier.empty()) return lock;
   if (!overwrite) {
     std::string some;
-    for (std::size_t k = 0; k < earlier.size() && k < 3; ++k) some += (k ? ", " : "") + earlier[k];
+    // Named inside the root, which the message names first.
+    const std::string inside = root.empty() || root.back() == '/' ? root : root + "/";
+    for (std::size_t k = 0; k < earlier.size() && k < 3; ++k) {
+      const std::string& path = earlier[k];
+      some += (k ? ", " : "") +
+              (!inside.empty() && path.rfind(inside, 0) == 0 ? path.substr(inside.size()) : path);
+    }
     if (earlier.size() > 3) some += ", ...";
     throw OutputConflict(
         root_or_here(root) + " holds " + std::to_string(earlier.size()) + " output file" +

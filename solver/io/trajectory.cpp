@@ -66,8 +66,13 @@ TrajectoryFrame read_trajectory_frame(const std::string& path) {
   frame.step = std::stoll(match[1].str());
   std::istringstream in(read_input_file(path));
   std::string line;
-  if (!std::getline(in, line) || line != kTrajectoryHeader)
-    throw std::runtime_error(path + ":1: expected the header '" + kTrajectoryHeader + "'");
+  if (!std::getline(in, line) || line != kTrajectoryHeader) {
+    // A header cut short: the file ends inside it.
+    const bool cut =
+        in.eof() && !line.empty() && std::string(kTrajectoryHeader).rfind(line, 0) == 0;
+    throw std::runtime_error(path + ":1: expected the header '" + kTrajectoryHeader + "'" +
+                             (cut ? ", but the file ends inside it (truncated)" : ""));
+  }
   for (int line_number = 2; std::getline(in, line); ++line_number) {
     auto fail = [&](const std::string& what) {
       throw std::runtime_error(path + ":" + std::to_string(line_number) + ": expected " + what);

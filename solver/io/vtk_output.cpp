@@ -135,7 +135,7 @@ VtkSeriesWriter::VtkSeriesWriter(const Scene& scene, std::string directory, VtkP
       particles_(particles),
       meshes_(make_wall_meshes(scene)),
       written_triangles_(scene.walls.size(), -1) {
-  create_output_directory(directory_);
+  create_output_directory(directory_, "ParaView directory (outputs.vtk.directory)");
   if (particles_ == VtkParticles::surfaces)
     for (const ParticleTemplate& t : scene.templates) surfaces_.push_back(template_surface(t));
 }

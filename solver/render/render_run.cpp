@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "solver/io/input_files.hpp"
 #include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/trajectory.hpp"
@@ -21,10 +22,16 @@ namespace fs = std::filesystem;
 // DIR itself when it holds run.json, else its one subdirectory that does.
 std::string trajectory_directory(const std::string& dir) {
   std::error_code error;
-  if (!fs::is_directory(dir, error))
-    throw std::runtime_error(dir +
-                             ": no such directory (expected the trajectory directory of a "
-                             "run: outputs.trajectories.directory of its scene)");
+  if (!fs::is_directory(dir, error)) {
+    const std::string problem = input_file_problem(dir);  // what it is instead
+    throw std::runtime_error(
+        dir + ": " +
+        (problem == "does not exist" ? "no such directory"
+         : problem.empty()           ? "a regular file, not a directory"
+                                     : "not a directory: it " + problem) +
+        " (expected the trajectory directory of a run: outputs.trajectories.directory of its "
+        "scene)");
+  }
   if (fs::exists(fs::path(dir) / "run.json")) return dir;
   std::vector<std::string> found;
   for (const auto& entry : fs::directory_iterator(dir, error))
@@ -157,7 +164,9 @@ RenderReport render_run(const RenderSettings& settings,
   report.output_directory = settings.output_directory.empty()
                                 ? report.trajectory_directory + "/render"
                                 : settings.output_directory;
-  create_output_directory(report.output_directory);
+  create_output_directory(report.output_directory, settings.output_directory.empty()
+                                                       ? "picture directory"
+                                                       : "picture directory (--output)");
   std::vector<TemplateSurface> surfaces;
   for (const ParticleTemplate& t : scene.templates) surfaces.push_back(template_surface(t));
   DrawSettings draw;

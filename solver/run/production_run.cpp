@@ -12,6 +12,7 @@
 
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/checkpoint.hpp"
+#include "solver/io/input_files.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/output_schedule.hpp"
 #include "solver/io/run_directory.hpp"
@@ -264,7 +265,8 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   }
   if (scene.outputs.checkpoint) {
     m.checkpoint_dir = joined_path(m.settings.output_root, scene.outputs.checkpoint->directory);
-    create_output_directory(m.checkpoint_dir);
+    create_output_directory(m.checkpoint_dir,
+                            "checkpoint directory (outputs.checkpoint.directory)");
     // Resuming checks that the scene and its meshes are unchanged.
     m.input_files = scene_input_files(scene);
     for (const std::string& file : m.input_files) m.input_hashes.push_back(file_hash(file));
@@ -427,7 +429,10 @@ void check_input_files(const Checkpoint& checkpoint) {
     try {
       now = file_hash(files[k]);
     } catch (const CheckpointError&) {
-      throw CheckpointError(path + ": " + what + " cannot be read");
+      std::string problem = input_file_problem(files[k]);
+      if (problem.empty()) problem = "cannot be read";
+      throw CheckpointError(path + ": " + what + (k == 0 ? "" : ", which the scene reads,") + " " +
+                            problem + "; restore it, or start a new run");
     }
     if (now != hashes[k])
       throw CheckpointError(path + ": " + what + (k == 0 ? "" : ", which the scene reads,") +
@@ -443,17 +448,38 @@ ResumePoint read_resume_point(const std::string& path) {
   const bool one_file = std::filesystem::is_regular_file(path, error);
   const std::string directory =
       one_file ? std::filesystem::path(absolute_path(path)).parent_path().string() : path;
-  if (!one_file && !std::filesystem::is_directory(path, error))
-    throw CheckpointError(path + ": " +
-                          (std::filesystem::exists(path, error)
-                               ? "neither a checkpoint file nor a directory of checkpoints"
-                               : "no such checkpoint file or directory"));
+  if (!one_file && !std::filesystem::is_directory(path, error)) {
+    const std::string problem = input_file_problem(path);  // what it is instead
+    throw CheckpointError(
+        path + ": " +
+        (problem == "does not exist"
+             ? "no such checkpoint file or directory"
+             : "neither a checkpoint file nor a directory of checkpoints: it " + problem));
+  }
   const std::vector<std::string> files =
       one_file ? std::vector<std::string>{path} : list_checkpoints(directory);
-  if (files.empty())
+  if (files.empty()) {
+    // A checkpoint's name on something that is not a file (list_checkpoints skips it).
+    std::error_code ignored;
+    for (const auto& entry : std::filesystem::directory_iterator(directory, ignored)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("checkpoint_", 0) == 0 && name.size() > 15 &&
+          name.compare(name.size() - 4, 4, ".bin") == 0)
+        throw CheckpointError(entry.path().string() + ": cannot resume from it: it " +
+                              input_file_problem(entry.path().string()));
+    }
+    // The run's output root given instead of its checkpoint directory (the default name).
+    const std::string inside = (std::filesystem::path(directory) / "checkpoints").string();
+    const std::string hint = list_checkpoints(inside).empty()
+                                 ? ""
+                                 : "; " + inside +
+                                       " holds checkpoints: continue with 'talus run --resume " +
+                                       inside + "'";
     throw CheckpointError(directory +
                           ": no checkpoint to resume from (checkpoint_<step>.bin; a "
-                          "run writes them when its scene has outputs.checkpoint)");
+                          "run writes them when its scene has outputs.checkpoint)" +
+                          hint);
+  }
   ResumePoint r;
   r.checkpoint_path = files.back();
   std::shared_ptr<Checkpoint> checkpoint;

@@ -323,11 +323,15 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
       {{"run", "--backend=gpu", "a.yaml"}, "--backend 'gpu': expected one of auto, cpu, cuda"},
       {{"run", "--precision", "half", "a.yaml"}, "--precision 'half'"},
       {{"run", "a.yaml", "--output"}, "--output expects a value"},
-      {{"run", "--threads", "0", "a.yaml"}, "--threads '0': expected a whole number of at least 1"},
+      {{"run", "--threads", "0", "a.yaml"},
+       "--threads '0': expected a whole number from 1 to 1024"},
       {{"run", "--threads=-2", "a.yaml"}, "--threads '-2': expected a whole number"},
       {{"run", "--threads", "two", "a.yaml"}, "--threads 'two': expected a whole number"},
       {{"run", "--threads", "2.5", "a.yaml"}, "--threads '2.5': expected a whole number"},
-      {{"run", "--threads", "99999999999", "a.yaml"}, "--threads '99999999999': too large"},
+      {{"run", "--threads", "99999999999", "a.yaml"},
+       "--threads '99999999999': expected a whole number from 1 to 1024; it is too large"},
+      {{"run", "--threads", "2000000000", "a.yaml"}, "from 1 to 1024; it is too large"},
+      {{"-x", "run"}, "unknown option '-x' before the command"},
       {{"run", "a.yaml", "--threads"}, "--threads expects a value"},
       {{"run", "--resume", "d", "a.yaml"}, "drop the scene file 'a.yaml'"},
       {{"run", "--resume", "d", "--precision", "float"}, "drop --precision"},
@@ -345,6 +349,25 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
     EXPECT_NE(first_line.find(c.names), std::string::npos) << joined << "\n" << run.err;
     EXPECT_NE(run.err.find("usage:"), std::string::npos) << joined;
   }
+}
+
+// Bytes that are not UTF-8 and control bytes in an argument are shown escaped, and a long one
+// cut: the error line stays printable, one line and short (the bad-input table cannot write raw
+// bytes into its arguments: its YAML strings are UTF-8).
+TEST(TalusErrors, ArgumentsAreShownEscapedAndCut) {
+  const ProcessResult raw = run_talus({"run", "--solver", "ab\xff\xfe\x1b[0m\n"});
+  EXPECT_EQ(raw.exit_code, 2);
+  EXPECT_NE(raw.err.find("--solver 'ab\\xff\\xfe\\x1b[0m\\n': expected one of production"),
+            std::string::npos)
+      << raw.err;
+  const ProcessResult path = run_talus({"run", "--quiet", std::string(300, '\xe9') + ".yaml"});
+  EXPECT_EQ(path.exit_code, 2);
+  EXPECT_NE(path.err.find("\\xe9\\xe9\\xe9"), std::string::npos) << path.err;
+  EXPECT_NE(path.err.find(" bytes in all ...]"), std::string::npos) << path.err;
+  const std::string first_line = path.err.substr(0, path.err.find('\n'));
+  EXPECT_LT(first_line.size(), 600u) << path.err;
+  for (const char c : path.err)
+    EXPECT_TRUE(c == '\n' || (static_cast<unsigned char>(c) >= 0x20 && c != 0x7f)) << path.err;
 }
 
 // A scene file that cannot be loaded: exit 2, the loader's message with file:line:column and key,

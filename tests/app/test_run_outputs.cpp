@@ -60,8 +60,7 @@ TEST(TalusRunOutputs, ARerunIntoAUsedDirectoryIsRefusedOrOverwritten) {
   const ProcessResult again = run_scene(scene, dir + "/out");
   EXPECT_EQ(again.exit_code, 2);
   EXPECT_TRUE(has(again.err, dir + "/out holds ")) << again.err;
-  EXPECT_TRUE(has(again.err, " output files of an earlier run (" + dir + "/out/checkpoints/"))
-      << again.err;
+  EXPECT_TRUE(has(again.err, " output files of an earlier run (checkpoints/")) << again.err;
   EXPECT_TRUE(has(again.err, "or pass --overwrite to remove those files first")) << again.err;
   EXPECT_EQ(read_file(dir + "/out/probes.csv"), probes);                    // nothing of it touched
   EXPECT_EQ(talus::list_checkpoints(dir + "/out/checkpoints").size(), 2u);  // steps 40 and 80

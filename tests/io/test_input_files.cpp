@@ -58,8 +58,11 @@ TEST(InputFiles, EachKindOfPathIsNamed) {
   std::filesystem::create_symlink(s.fifo, s.dir + "/to_fifo");
   EXPECT_EQ(read_input_file(s.dir + "/to_file"), "two\nlines\n");
   EXPECT_EQ(input_file_problem(s.dir + "/to_fifo"), "is a FIFO (named pipe), not a regular file");
-  // A path through a regular file is not a missing file but a wrong one.
-  EXPECT_NE(input_file_problem(s.file + "/inside").find("cannot be accessed: "), std::string::npos);
+  // A path through a regular file is not a missing file but a wrong one, and the file is named.
+  EXPECT_EQ(input_file_problem(s.file + "/inside"),
+            "cannot be reached: '" + s.file + "' on its path is not a directory");
+  EXPECT_EQ(input_file_problem(s.file + "/"),
+            "cannot be reached: '" + s.file + "' on its path is not a directory");
 }
 
 TEST(InputFiles, ReadInputFileRefusesWithoutReadingAndCarriesTheProblem) {

@@ -96,9 +96,10 @@ TEST(RunDirectory, ANewRunRefusesAnEarlierRunsOutputsOrRemovesExactlyThose) {
   for (const std::string& path : others) touch(path);
   EXPECT_EQ(existing_outputs(scene, dir), ours);
   EXPECT_EQ(message_of([&] { claim_output_root(scene, dir, "B", false, false); }),
-            dir + " holds 7 output files of an earlier run (" + ours[0] + ", " + ours[1] + ", " +
-                ours[2] +
-                ", ...); a new run would mix its outputs with them. Give it another output "
+            dir +
+                " holds 7 output files of an earlier run (checkpoints/checkpoint_000000008.bin, "
+                "frames/run.json, frames/trajectory_000000002.h5, ...); a new run would mix its "
+                "outputs with them. Give it another output "
                 "directory (--output), continue the earlier run with 'talus run --resume' if it "
                 "was interrupted, or pass --overwrite to remove those files first");
   // A resume continues them.

@@ -97,17 +97,18 @@ TEST(TalusRunReference, RefusesFloatPrecisionAndTheUnbuiltCudaBackend) {
   EXPECT_NE(cuda.err.find("--backend cpu"), std::string::npos) << cuda.err;
 }
 
-// An output path that cannot be created stops the run with the path named (exit 1: not the
-// arguments' fault, nothing half-written under a final name): here the output root itself, which
-// the run creates first to hold its lock.
+// An output path that cannot be created stops the run with the path and what is in the way named
+// (exit 2: the user's setting, nothing half-written under a final name): here the output root
+// itself, which the run creates first to hold its lock.
 TEST(TalusRunReference, UnwritableOutputNamesThePath) {
   const std::string dir = test_directory("unwritable");
   const std::string scene = write_scene(dir, kTwoBalls);
   std::ofstream(dir + "/blocker") << "a file where a directory should go";
   const ProcessResult run =
       run_talus({"run", "--solver", "reference", "--output", dir + "/blocker", scene});
-  EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find("cannot create output directory '" + dir + "/blocker': "),
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("cannot create output directory '" + dir +
+                         "/blocker': it is a regular file, not a directory"),
             std::string::npos)
       << run.err;
 }

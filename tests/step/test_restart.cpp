@@ -273,8 +273,20 @@ TEST(Restart, CorruptCheckpointsAreRefusedWithTheReason) {
   expect_refused(directory, "not a talus checkpoint");
   std::string other_version = r.bytes;
   other_version[8] = 7;
+  r.write(other_version);  // a damaged byte: the checksum no longer matches
+  expect_refused(directory,
+                 "corrupt checkpoint (the checksum does not match its bytes; its "
+                 "version field reads 7)");
+  // Another talus's file: its checksum matches its bytes.
+  const std::size_t body = other_version.size() - sizeof(std::uint64_t);
+  const std::uint64_t hash = fnv1a64(other_version.data(), body);
+  std::memcpy(&other_version[body], &hash, sizeof hash);
   r.write(other_version);
   expect_refused(directory, "checkpoint format version 7; this talus reads version 1");
+  r.write(r.bytes + "extra");
+  expect_refused(directory, "5 bytes were appended to the checkpoint");
+  r.write("");
+  expect_refused(directory, "an empty file (0 bytes), not a checkpoint");
   r.write(r.bytes);
   std::ofstream(r.dir.path() + "/scene.yaml", std::ios::app) << "# edited\n";
   expect_refused(directory, "has changed since the checkpoint was written");
