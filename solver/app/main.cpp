@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     // What the scene's memory estimate (scene/scene_memory.hpp) let through: one line, not an
     // abort, and nothing else is allocated to say it.
     std::fputs(
-        "talus: error: out of memory: an allocation failed (std::bad_alloc); the run needs more "
+        "talus: error: out of memory: an allocation failed; the run needs more "
         "memory than this process may use (the machine's, or a limit such as ulimit -v); run "
         "fewer particles\n",
         stderr);

@@ -91,7 +91,7 @@ TEST(TalusRunLimits, AnAllocationThatFailsAnywayIsOneLineAndExitStatus1) {
                                {}, rlim_t(1) << 30);
   EXPECT_EQ(r.run.exit_code, 1);
   EXPECT_EQ(r.run.err,
-            "talus: error: out of memory: an allocation failed (std::bad_alloc); the run needs "
+            "talus: error: out of memory: an allocation failed; the run needs "
             "more memory than this process may use (the machine's, or a limit such as ulimit "
             "-v); run fewer particles\n");
 }

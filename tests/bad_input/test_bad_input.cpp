@@ -43,6 +43,7 @@ struct Case {
   int exit_code = 2;
   std::vector<std::string> fragments;  // each must appear in stderr
   std::size_t warnings = 0;            // warning lines allowed before the error
+  bool needs_opencv = false;           // `requires: opencv`: skipped where talus has no render
   std::string problem;                 // a malformed case: reported as the test's failure
 };
 
@@ -134,6 +135,12 @@ std::vector<Case> load_cases() {
         c.fragments = string_list(node["error"]);
         if (c.fragments.empty()) c.problem = "no expected message fragment ('error')";
         c.warnings = node["warnings"] ? node["warnings"].as<std::size_t>() : 0;
+        for (const std::string& need : string_list(node["requires"])) {
+          if (need == "opencv")
+            c.needs_opencv = true;
+          else
+            c.problem = "unknown requirement '" + need + "' (known: opencv)";
+        }
       } catch (const std::exception& e) {
         c.problem = std::string("malformed case: ") + e.what();
       }
@@ -253,6 +260,9 @@ class BadInput : public testing::TestWithParam<Case> {};
 TEST_P(BadInput, IsRefusedClearly) {
   const Case& c = GetParam();
   ASSERT_TRUE(c.problem.empty()) << c.group << "/" << c.name << ": " << c.problem;
+#ifndef TALUS_HAVE_OPENCV
+  if (c.needs_opencv) GTEST_SKIP() << "talus was built without OpenCV: no talus render to refuse";
+#endif
   const std::string dir = talus_test::fresh_directory("test-bad-input", c.group + "-" + c.name);
   std::string scene;
   if (!c.scene.empty()) scene = talus_test::write_scene(dir, c.scene);
