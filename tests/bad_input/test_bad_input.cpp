@@ -135,7 +135,9 @@ std::vector<Case> load_cases() {
         c.fragments = string_list(node["error"]);
         if (c.fragments.empty()) c.problem = "no expected message fragment ('error')";
         c.warnings = node["warnings"] ? node["warnings"].as<std::size_t>() : 0;
-        for (const std::string& need : string_list(node["requires"])) {
+        const std::vector<std::string> needs =
+            node["requires"] ? string_list(node["requires"]) : std::vector<std::string>{};
+        for (const std::string& need : needs) {
           if (need == "opencv")
             c.needs_opencv = true;
           else
