@@ -2,6 +2,8 @@
 #include "solver/scene/scene_loader.hpp"
 
 #include <fmt/format.h>
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
@@ -188,6 +190,34 @@ int second_document_line(const std::vector<std::string>& lines) {
   return 0;
 }
 
+// The start of each YAML document in `text` (at most three are read: the first, a second that is
+// an error, and one more to tell a parser that does not move on). yaml-cpp's LoadAll never ends on
+// some inputs (a lone ',' or '&a&,': the parser reports document after document at one place), so
+// the documents are counted with a handler that builds nothing, the calls bounded.
+struct DocumentStarts : YAML::EventHandler {
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+std::vector<YAML::Mark> document_starts(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStarts handler;
+  for (int k = 0; k < 3 && parser.HandleNextDocument(handler); ++k) {
+  }
+  return handler.starts;
+}
+
 // Where a flow collection or a quoted string still open at `end` (a byte offset) was opened:
 // the bracket or quote and its 0-based line and column; {0, -1, -1} if none is open. Quotes and
 // comments are skipped, so brackets inside them do not count.
@@ -288,19 +318,34 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
                   const std::string& directory) {
   check_scene_bytes(yaml_text, file_name);
   const std::vector<std::string> lines = lines_of(yaml_text);
-  std::vector<YAML::Node> documents;
+  YAML::Node document;
+  std::vector<YAML::Mark> starts;
   try {
-    documents = YAML::LoadAll(yaml_text);
+    document = YAML::Load(yaml_text);
+    starts = document_starts(yaml_text);
   } catch (const YAML::ParserException& e) {
     YAML::Mark at;
     const std::string message = syntax_error(e, lines, yaml_text, at);
     throw SceneError(file_name, at.line + 1, at.column + 1, "", message);
   }
   const std::string expected_scene = "a scene: a map with keys " + join_options(kTopLevelKeys);
+  // A parser that reports a second document where the first began (or before) is stuck on a
+  // character it cannot read past.
+  for (std::size_t k = 1; k < starts.size(); ++k) {
+    if (starts[k].pos <= starts[k - 1].pos) {
+      const YAML::Mark& at = starts[k];
+      const std::size_t pos = static_cast<std::size_t>(std::max(at.pos, 0));
+      const std::string what =
+          pos < yaml_text.size() ? "'" + shown_input(yaml_text.substr(pos, 1)) + "'" : "the end";
+      throw SceneError(file_name, at.line + 1, at.column + 1, "",
+                       "invalid YAML: the parser cannot read past " + what +
+                           " here (a ',' outside brackets, or an anchor without a node?)");
+    }
+  }
   // A second document would be ignored, and what the user wrote there lost without a word.
-  if (documents.size() > 1) {
+  if (starts.size() > 1) {
     int line = second_document_line(lines);
-    if (line == 0 && documents[1].Mark().line >= 0) line = documents[1].Mark().line + 1;
+    if (line == 0 && starts[1].line >= 0) line = starts[1].line + 1;
     throw SceneError(file_name, line, 1, "",
                      "expected one YAML document, got a second one beginning here; a scene "
                      "file is one map, and talus would ignore the second document");
@@ -318,7 +363,6 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
                      std::string("invalid YAML: the quoted string that starts here has no "
                                  "closing ") +
                          open.what);
-  const YAML::Node document = documents.empty() ? YAML::Node() : documents[0];
   const SceneSource source{file_name, directory};
   const YAML::Mark start = document.IsNull() ? YAML::Mark() : document.Mark();
   const SceneNode root(document, "", start, &source);
