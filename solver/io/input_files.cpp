@@ -14,12 +14,8 @@ namespace {
 // "" for a regular file, else what the file is instead.
 std::string kind_problem(mode_t mode) {
   if (S_ISREG(mode)) return "";
-  if (S_ISDIR(mode)) return "is a directory, not a regular file";
-  if (S_ISFIFO(mode)) return "is a FIFO (named pipe), not a regular file";
-  if (S_ISCHR(mode)) return "is a character device, not a regular file";
-  if (S_ISBLK(mode)) return "is a block device, not a regular file";
-  if (S_ISSOCK(mode)) return "is a socket, not a regular file";
-  return "is not a regular file";
+  const std::string kind = file_kind(mode);
+  return kind == "a special file" ? "is not a regular file" : "is " + kind + ", not a regular file";
 }
 
 std::string errno_problem(int error, const std::string& path) {
@@ -68,6 +64,16 @@ std::size_t utf8_length(const std::string& s, std::size_t i) {
 }
 
 }  // namespace
+
+std::string file_kind(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "a special file";
+}
 
 std::string shown_input(const std::string& text, std::size_t limit) {
   std::string shown;

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <sys/types.h>
+
 namespace talus {
 
 // Why `path` cannot be read as an input file, or "" when it is a regular file (symbolic links
@@ -16,6 +18,10 @@ namespace talus {
 // regular file", "is a socket, not a regular file", "cannot be reached: '<dir>' on its path is
 // not a directory" (a file where a directory must be), or "cannot be accessed: <reason>".
 std::string input_file_problem(const std::string& path);
+
+// What a file of this mode (stat's st_mode) is: "a regular file", "a directory", "a FIFO (named
+// pipe)", "a character device", "a block device", "a socket" or "a special file".
+std::string file_kind(mode_t mode);
 
 // Thrown by read_input_file: what() is "<path>: <problem>"; problem() is the part after the path.
 class InputFileError : public std::runtime_error {

@@ -1,5 +1,7 @@
 #include "solver/io/output_files.hpp"
 
+#include "solver/io/input_files.hpp"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -14,20 +16,6 @@
 
 namespace talus {
 
-namespace {
-
-// What a path that is not a directory is: "a regular file", "a FIFO (named pipe)", ...
-std::string kind_of(mode_t mode) {
-  if (S_ISREG(mode)) return "a regular file";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "a special file";
-}
-
-}  // namespace
-
 void create_output_directory(const std::string& directory, const std::string& role) {
   std::error_code error;
   std::filesystem::create_directories(directory, error);
@@ -39,7 +27,7 @@ void create_output_directory(const std::string& directory, const std::string& ro
     struct stat status;
     if (::stat(p.c_str(), &status) == 0) {
       if (S_ISDIR(status.st_mode)) break;
-      const std::string kind = kind_of(status.st_mode);
+      const std::string kind = file_kind(status.st_mode);
       if (p.string() == directory)
         throw OutputPathError(what + "it is " + kind + ", not a directory");
       throw OutputPathError(what + "'" + p.string() + "' is " + kind + ", not a directory");
