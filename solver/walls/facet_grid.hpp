@@ -123,6 +123,29 @@ class FacetCursor {
     for (int a = 0; a < 3; ++a) lo_[a] = lo[a], hi_[a] = hi[a], dims_[a] = grid.dims[a];
   }
 
+  // Drops every facet below `end` not yet returned (a planar patch's, planar_patch.hpp, once
+  // its stand-in is clipped): next() then returns the first at or above it.
+  TALUS_HD void skip_below(int end) {
+    if (mode_ == Mode::all) {
+      next_all_ = max_of(next_all_, end);
+    } else if (mode_ == Mode::merge) {
+      for (int k = 0; k < lists_; ++k) {
+        int first = begin_[k], last = end_[k];  // the first entry >= end (lists ascending)
+        while (first < last) {
+          const int mid = first + (last - first) / 2;
+          if (facets_[mid] < end) {
+            first = mid + 1;
+          } else {
+            last = mid;
+          }
+        }
+        begin_[k] = first;
+      }
+    } else {
+      last_ = max_of(last_, end - 1);
+    }
+  }
+
   TALUS_HD int next() {
     if (mode_ == Mode::all) return next_all_ < count_ ? next_all_++ : -1;
     int best = count_;  // facets at or above the present count are skipped (outlet plates)

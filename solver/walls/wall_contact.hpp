@@ -27,6 +27,7 @@
 #include "solver/geometry/simple_contact.hpp"
 #include "solver/geometry/wall_clip.hpp"
 #include "solver/walls/facet_grid.hpp"
+#include "solver/walls/planar_patch.hpp"
 
 namespace talus {
 
@@ -61,6 +62,10 @@ struct WallFacets {
   FacetGridView<Real> grid;
   Quat<Real> rotation;
   Vec3<Real> translation;
+  // The wall's planar patches (planar_patch.hpp, mesh frame; at most kMaxPatchesPerWall), each
+  // clipped as one plane where it holds a particle's circle.
+  const PlanarPatch<Real>* patches = nullptr;
+  int patch_count = 0;
 
   // The facets that the sphere (centre, radius) may reach, ascending.
   TALUS_HD FacetCursor<Real> near(const Vec3<Real>& centre, Real radius) const {
@@ -101,15 +106,38 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
   WallContactGeometry<Real> g;
   Vec3<Real> elastic, moment, force_moment;  // force_moment: sum c_i x F_i about the origin
   Real area_sum = 0;
-  FacetCursor<Real> near = facets.near(pose.position, shape.bounding_radius);
+  const Real radius = shape.bounding_radius;
+  // The patches that hold the particle's circle (bit k: patch k), clipped once each at their
+  // first facet that the search yields, their other facets skipped (planar_patch.hpp).
+  unsigned held = 0;
+  for (int k = 0; k < facets.patch_count; ++k) {
+    const PlanarPatch<Real>& patch = facets.patches[k];
+    if (patch.end <= facets.count &&
+        patch_hit(patch, facets.rotation, facets.translation, pose.position, radius).holds) {
+      held |= 1u << k;
+    }
+  }
+  FacetCursor<Real> near = facets.near(pose.position, radius);
   for (int t = near.next(); t >= 0; t = near.next()) {
-    const Vec3<Real>& a = facets.corners[3 * t];
-    const Vec3<Real>& b = facets.corners[3 * t + 1];
-    const Vec3<Real>& c = facets.corners[3 * t + 2];
-    // Facets beyond the bounding sphere cannot be reached.
-    if (norm(closest_point_on_triangle(pose.position, a, b, c) - pose.position) >
-        shape.bounding_radius) {
-      continue;
+    Vec3<Real> a, b, c;
+    bool stand_in = false;
+    for (int k = 0; held != 0 && k < facets.patch_count; ++k) {
+      const PlanarPatch<Real>& patch = facets.patches[k];
+      if ((held & (1u << k)) == 0 || t < patch.first || t >= patch.end) continue;
+      patch_stand_in(patch_hit(patch, facets.rotation, facets.translation, pose.position, radius),
+                     radius, a, b, c);
+      near.skip_below(patch.end);
+      stand_in = true;
+      break;
+    }
+    if (!stand_in) {
+      a = facets.corners[3 * t];
+      b = facets.corners[3 * t + 1];
+      c = facets.corners[3 * t + 2];
+      // Facets beyond the bounding sphere cannot be reached.
+      if (norm(closest_point_on_triangle(pose.position, a, b, c) - pose.position) > radius) {
+        continue;
+      }
     }
     const WallContact<Real> wc = clip_against_triangle(shape, pose, a, b, c);
     if (wc.status == WallContactStatus::degenerate) {

@@ -86,6 +86,16 @@ __global__ void place_wall_kernel(const Vec3d* __restrict__ mesh_corners, int n,
   corners[k] = Vec3<Real>(rotate(rotation, mesh_corners[k]) + translation);
 }
 
+// Wall w's view on the device where the wall is now: its present facets and transform, passed
+// as the launch's arguments (a copy from host memory would wait for the device).
+template <class Real>
+__global__ void set_wall_view_kernel(WallFacets<Real>* __restrict__ view, int count,
+                                     Quat<Real> rotation, Vec3<Real> translation) {
+  view->count = count;
+  view->rotation = rotation;
+  view->translation = translation;
+}
+
 // The next history store from the touching contacts (sorted afterwards).
 template <class Record, class Real>
 __global__ void copy_histories(const Record* __restrict__ contacts, int count,
@@ -136,7 +146,8 @@ void DeviceWallStage<Real>::upload(double time) {
   std::vector<Vec3<Real>> all;
   std::vector<Vec3d> moving;
   std::vector<int> cells, entries;
-  std::vector<std::size_t> cell_at(walls), entry_at(walls);
+  std::vector<PlanarPatch<Real>> patches;
+  std::vector<std::size_t> cell_at(walls), entry_at(walls), patch_at(walls);
   corner_at_.assign(walls, 0);
   mesh_corner_at_.assign(walls, -1);
   for (int w = 0; w < walls; ++w) {
@@ -151,6 +162,8 @@ void DeviceWallStage<Real>::upload(double time) {
     } else {
       all.insert(all.end(), hw.corners(w).begin(), hw.corners(w).end());
     }
+    patch_at[w] = patches.size();
+    patches.insert(patches.end(), hw.patches(w).begin(), hw.patches(w).end());
     cell_at[w] = cells.size();
     entry_at[w] = entries.size();
     if (const FacetGrid<Real>* g = hw.grid(w)) {
@@ -162,10 +175,13 @@ void DeviceWallStage<Real>::upload(double time) {
   mesh_corners_.upload(moving);
   grid_cells_.upload(cells);
   grid_facets_.upload(entries);
+  patches_.upload(patches);
   wall_views_.resize(walls);
   for (int w = 0; w < walls; ++w) {
     wall_views_[w] = hw.facets(w);
     wall_views_[w].corners = corners_.data() + corner_at_[w];
+    wall_views_[w].patches =
+        wall_views_[w].patch_count > 0 ? patches_.data() + patch_at[w] : nullptr;
     if (const FacetGrid<Real>* g = hw.grid(w)) {
       wall_views_[w].grid =
           g->view_of(grid_cells_.data() + cell_at[w], grid_facets_.data() + entry_at[w]);
@@ -175,13 +191,13 @@ void DeviceWallStage<Real>::upload(double time) {
 }
 
 // The walls at `time`: each moving wall's present corners placed by a kernel (one thread per
-// corner) with the transform computed here, in double as on the host; the per-wall views
-// uploaded again only when a count or a transform changed (a few hundred bytes).
+// corner) with the transform computed here, in double as on the host; a wall's device view set
+// again (by a one-thread kernel) only when its count or its transform changed.
 template <class Real>
 void DeviceWallStage<Real>::place(double time) {
   host_->locate(time);
-  bool changed = false;
   for (std::size_t w = 0; w < wall_views_.size(); ++w) {
+    bool changed = false;
     const WallFacets<Real>& now = host_->facets(static_cast<int>(w));
     WallFacets<Real>& view = wall_views_[w];
     if (mesh_corner_at_[w] >= 0) {
@@ -201,8 +217,12 @@ void DeviceWallStage<Real>::place(double time) {
       view.count = now.count;
       changed = true;
     }
+    if (changed) {
+      set_wall_view_kernel<<<1, 1>>>(facets_.data() + w, view.count, view.rotation,
+                                     view.translation);
+      TALUS_CUDA_LAUNCH_CHECK();
+    }
   }
-  if (changed) facets_.upload(wall_views_);
 }
 
 template <class Real>
@@ -231,14 +251,15 @@ void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
             touching_.data(), capacity, shared_.flags.data());
       });
       TALUS_CUDA_LAUNCH_CHECK();
-      const int bad = shared_.flags.read(degenerate_wall);
+      const std::array<int, flags> all = shared_.flags.read_all();  // one wait for both
+      const int bad = all[degenerate_wall];
       if (bad != INT_MAX) {
         throw std::runtime_error(shared_.scene.file + ": particle " +
                                  std::to_string(shared_.global_id(bad % count)) +
                                  " against wall '" + shared_.scene.walls[bad / count].name +
                                  "': a facet's clipping failed (section capacity)");
       }
-      contact_count_ = shared_.flags.read(touching_walls);
+      contact_count_ = all[touching_walls];
       if (contact_count_ <= capacity) break;
       touching_.grow_to(std::min<long long>(n, 2LL * contact_count_));
       shared_.flags.clear(touching_walls);
@@ -326,7 +347,7 @@ template <class Real>
 std::size_t DeviceWallStage<Real>::bytes() const {
   return corners_.size() * sizeof(Vec3<Real>) + mesh_corners_.size() * sizeof(Vec3d) +
          (grid_cells_.size() + grid_facets_.size() + materials_.size()) * sizeof(int) +
-         facets_.size() * sizeof(WallFacets<Real>) +
+         facets_.size() * sizeof(WallFacets<Real>) + patches_.size() * sizeof(PlanarPatch<Real>) +
          motions_.size() * sizeof(WallMotionData<Real>) + history_.bytes() +
          (touching_.size() + contacts_.size()) * sizeof(WallContactRecord<Real>) +
          (keys_.size() + sorted_keys_.size()) * sizeof(long long) +

@@ -59,6 +59,7 @@ class DeviceWallStage {
   DeviceBuffer<Vec3<Real>> corners_;            // all walls', wall after wall, 3 per triangle
   DeviceBuffer<Vec3d> mesh_corners_;            // the moving walls' corners in their mesh frames
   DeviceBuffer<int> grid_cells_, grid_facets_;  // all walls' grids (CSR), wall after wall
+  DeviceBuffer<PlanarPatch<Real>> patches_;     // all walls' planar patches, wall after wall
   std::vector<long long> corner_at_, mesh_corner_at_;  // per wall, offsets into those
   std::vector<WallFacets<Real>> wall_views_;  // per wall, device pointers: a copy of `facets_`
   DeviceBuffer<WallFacets<Real>> facets_;

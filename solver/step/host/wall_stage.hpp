@@ -7,7 +7,8 @@
 // contacts, in order. A particle's facets come from the wall's bin grid (walls/facet_grid.hpp,
 // built once in the mesh's frame at construction), or, with WallSearch::brute_force, from
 // testing every facet: the same contacts to the bit, at a cost that no longer grows with the
-// wall's facets (benchmarks/bench_step_cpu.cpp measures both).
+// wall's facets (benchmarks/bench_step_cpu.cpp measures both). A flat part of many facets (a
+// cap's fan) is clipped as one plane where it holds the particle (walls/planar_patch.hpp).
 //
 // Threads (core/host_parallel.hpp): the (particle, wall) records are computed on all of them, each
 // into its own slot of a wall-major array, then compacted serially in that order; the forces are
@@ -30,6 +31,7 @@
 #include "solver/step/step_plan.hpp"
 #include "solver/step/wall_kernels.hpp"
 #include "solver/walls/facet_grid_build.hpp"
+#include "solver/walls/planar_patch_build.hpp"
 
 namespace talus {
 
@@ -66,10 +68,10 @@ class WallContactStage {
       }
       motion_.push_back(d);
       plate_.push_back(meshes_[w].plate_triangles);
-      if (search == WallSearch::grid) {
-        const TriangleMesh& mesh = meshes_[w].mesh;
+      const TriangleMesh& mesh = meshes_[w].mesh;
+      if (search == WallSearch::grid)
         grids_.emplace_back(mesh.vertices, mesh.triangles, max_radius);
-      }
+      patches_.push_back(find_planar_patches<Real>(mesh.vertices, mesh.triangles));
     }
     corners_.resize(scene.walls.size());
     placed_.assign(scene.walls.size(), false);
@@ -95,6 +97,8 @@ class WallContactStage {
       f.count = static_cast<int>(meshes_[w].mesh.triangles.size()) -
                 (plate_[w] > 0 ? 0 : meshes_[w].plate_triangles);
       f.grid = grids_.empty() ? FacetGridView<Real>() : grids_[w].view();
+      f.patches = patches_[w].data();
+      f.patch_count = static_cast<int>(patches_[w].size());
       f.rotation = Quat<Real>(transform.rotation);
       f.translation = Vec3<Real>(transform.translation);
     }
@@ -183,6 +187,7 @@ class WallContactStage {
   const std::vector<Vec3<Real>>& corners(int w) const { return corners_.at(w); }
   const TriangleMesh& mesh(int w) const { return meshes_.at(w).mesh; }
   const FacetGrid<Real>* grid(int w) const { return grids_.empty() ? nullptr : &grids_.at(w); }
+  const std::vector<PlanarPatch<Real>>& patches(int w) const { return patches_.at(w); }
   bool moves(int w) const { return scene_.walls.at(w).motion.kind != WallMotion::Kind::none; }
   // The touching records of the last compute, wall-major (the serial order).
   const std::vector<WallContactRecord<Real>>& contacts() const { return contacts_; }
@@ -214,6 +219,7 @@ class WallContactStage {
   std::vector<int> plate_;  // per wall: its closed plate's triangles while present, else 0
   int threads_;
   std::vector<FacetGrid<Real>> grids_;  // per wall, in its mesh frame; empty: brute force
+  std::vector<std::vector<PlanarPatch<Real>>> patches_;  // per wall, in its mesh frame
   std::vector<std::vector<Vec3<Real>>> corners_;
   std::vector<bool> placed_;  // whether a static wall's corners are placed
   std::vector<WallFacets<Real>> facets_;
