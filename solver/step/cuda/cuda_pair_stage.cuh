@@ -29,11 +29,16 @@ class DevicePairStage {
   DevicePairStage(const DevicePairStage&) = delete;
   DevicePairStage& operator=(const DevicePairStage&) = delete;
 
-  // Every slot of the list. Throws std::runtime_error naming the two particles when a pair's
-  // geometry is degenerate. spring_dt: 0 in the evaluation at t = 0, else the step.
+  // Every slot of the list. spring_dt: 0 in the evaluation at t = 0, else the step. A pair whose
+  // geometry is degenerate raises flag degenerate_pair, which the step reads at its end
+  // (check_flags).
   void compute(Real spring_dt);
+  // The flags read at the end of the step (DeviceFlags::read_all): throws std::runtime_error
+  // naming the two particles when a pair's geometry was degenerate; keeps the touching count.
+  void check_flags(const std::array<int, flags>& all);
 
-  // Pairs touching at the last evaluation (read from the device on the first call after it).
+  // Pairs touching at the last evaluation (read from the device on the first call after it, if
+  // check_flags has not given it).
   long long touching_count() const;
   // Device bytes of the phased path's masks, keys, orders and deferral list.
   std::size_t bytes() const;

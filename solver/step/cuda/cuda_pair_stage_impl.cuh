@@ -411,13 +411,21 @@ void DevicePairStage<Real>::compute(Real spring_dt) {
   spring_dt_ = spring_dt;
   with_contact_law(*shared_.scene.effects.contact,
                    [&](auto law) { launch_all<decltype(law)>(candidates); });
-  const int bad = shared_.flags.read(degenerate_pair);
+  contact_count_ready_ = false;  // flag[touching_pairs], read when asked or at check_flags
+}
+
+template <class Real>
+void DevicePairStage<Real>::check_flags(const std::array<int, flags>& all) {
+  const int bad = all[degenerate_pair];
   if (bad != INT_MAX) {
     const ContactPair pair = download(list_.pairs() + bad, 1)[0];
     throw std::runtime_error(degenerate_pair_message(shared_.scene, shared_.pose_report(pair.a),
                                                      shared_.pose_report(pair.b)));
   }
-  contact_count_ready_ = false;  // flag[touching_pairs], read when asked
+  if (!contact_count_ready_) {
+    contact_count_ = all[touching_pairs];
+    contact_count_ready_ = true;
+  }
 }
 
 template <class Real>

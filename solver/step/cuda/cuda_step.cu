@@ -145,7 +145,11 @@ struct CudaStep<Real>::Impl {
         domain(make_scene_domain(s)) {
     shared.domain = domain.get();
   }
-  ~Impl() { release_template_region(shared.constant_region); }
+  ~Impl() {
+    release_template_region(shared.constant_region);
+    for (const StageMark& mark : marks) cudaEventDestroy(mark.start), cudaEventDestroy(mark.stop);
+    for (const cudaEvent_t e : spare) cudaEventDestroy(e);
+  }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
@@ -167,12 +171,65 @@ struct CudaStep<Real>::Impl {
   void set_up_pairs(const PairLawTables<Real>& host_tables);
   void feed();
 
+  // Each stage's time from a pair of CUDA events around its work on the default stream (which
+  // the pair stage's blocking streams join), read at the end of the step, when the device has
+  // caught up anyway: timing never makes the host wait for the device. The time is the device's,
+  // from the stage's start to its end, with the gaps where the device waited for the host's
+  // next launch (a small scene's step is mostly such gaps).
+  struct StageMark {
+    Stage stage;
+    cudaEvent_t start, stop;
+  };
+  std::vector<StageMark> marks;    // recorded this step, not read yet
+  std::vector<cudaEvent_t> spare;  // created and free
+
+  cudaEvent_t take_event() {
+    if (spare.empty()) {
+      cudaEvent_t e = nullptr;
+      TALUS_CUDA_CHECK(cudaEventCreate(&e));
+      return e;
+    }
+    const cudaEvent_t e = spare.back();
+    spare.pop_back();
+    return e;
+  }
+
   template <class Body>
   void timed(Stage stage, Body&& body) {
-    const double start = clock_seconds();
+    StageMark mark{stage, take_event(), take_event()};
+    spare.reserve(spare.size() + 2);  // so that handing them back cannot throw
+    marks.push_back(mark);
+    TALUS_CUDA_CHECK(cudaEventRecord(mark.start, 0));
     body();
-    TALUS_CUDA_CHECK(cudaDeviceSynchronize());
-    stage_seconds[static_cast<int>(stage)] += clock_seconds() - start;
+    TALUS_CUDA_CHECK(cudaEventRecord(mark.stop, 0));
+  }
+
+  // The recorded stages' times into stage_seconds (waits for the last one's end).
+  void collect_stage_times() {
+    for (const StageMark& mark : marks) {
+      TALUS_CUDA_CHECK(cudaEventSynchronize(mark.stop));
+      float ms = 0;
+      TALUS_CUDA_CHECK(cudaEventElapsedTime(&ms, mark.start, mark.stop));
+      stage_seconds[static_cast<int>(mark.stage)] += 1e-3 * double(ms);
+      spare.push_back(mark.start);
+      spare.push_back(mark.stop);
+    }
+    marks.clear();
+  }
+
+  // The flags the step's kernels raised (one read, at its end): a rotation that did not converge,
+  // a pair whose geometry failed (the walls' are read by their stage, which waits for its count
+  // anyway); the pairs' touching count kept.
+  void check_flags() {
+    const std::array<int, flags> all = shared.flags.read_all();
+    const int failed = all[failed_rotation];
+    if (failed != INT_MAX) {
+      throw std::runtime_error(
+          scene.file + ": particle " + std::to_string(shared.global_id(failed)) +
+          " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
+    }
+    if (pairs) pairs->check_flags(all);
+    collect_stage_times();
   }
 
   void accumulate() {
@@ -372,6 +429,7 @@ void CudaStep<Real>::evaluate_forces() {
   Impl& m = *impl_;
   m.shared.flags.reset();
   m.run_force_stages_with_energy(Real(0), true);
+  m.check_flags();
   m.forces_ready = true;
 }
 
@@ -388,12 +446,6 @@ void CudaStep<Real>::step() {
                                                                 m.shared.flags.data());
       TALUS_CUDA_LAUNCH_CHECK();
     });
-    const int failed = m.shared.flags.read(failed_rotation);
-    if (failed != INT_MAX) {
-      throw std::runtime_error(
-          m.scene.file + ": particle " + std::to_string(m.shared.global_id(failed)) +
-          " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
-    }
   }
   m.time += m.scene.time_step;
   ++m.steps;
@@ -404,6 +456,7 @@ void CudaStep<Real>::step() {
       TALUS_CUDA_LAUNCH_CHECK();
     });
   }
+  m.check_flags();
   if (m.scene.domain) m.remove_outside();
 }
 
@@ -474,6 +527,7 @@ long long CudaStep<Real>::removed_count() const {
 }
 template <class Real>
 const StageSeconds& CudaStep<Real>::stage_seconds() const {
+  impl_->collect_stage_times();  // none left after a step; a caller between stages may see some
   return impl_->stage_seconds;
 }
 template <class Real>

@@ -4,6 +4,8 @@
 // and DeviceStepShared, the device state every stage reads. Included only from .cu files.
 #pragma once
 
+#include <array>
+
 #include <chrono>
 #include <climits>
 #include <vector>
@@ -37,8 +39,10 @@ std::vector<T> download(const T* device, std::size_t count) {
   return host;
 }
 
-// Flags the kernels raise (the lowest index wins: atomicMin) or count in (atomicAdd), read after
-// their stage.
+// Flags the kernels raise (the lowest index wins: atomicMin) or count in (atomicAdd). A stage
+// reads what it needs to go on (a count it must size launches by); the failures and the counts
+// only reported are read once, all together, at the end of the step (read_all): every read waits
+// for the device, and a small scene's step is made of such waits.
 enum Flag {
   failed_rotation = 0,
   degenerate_pair = 1,
@@ -55,9 +59,14 @@ class DeviceFlags {
   // On the device once the scene's checks have passed (the step allocates nothing before).
   void allocate() { values_.resize(flags); }
   // Before each evaluation: no failure (INT_MAX, as atomicMin wants), no counts.
-  void reset() {
-    const int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0, 0};
-    TALUS_CUDA_CHECK(cudaMemcpy(values_.data(), none, sizeof(none), cudaMemcpyHostToDevice));
+  // By a one-thread kernel: a copy from host memory would wait for the device.
+  void reset();
+  // Every flag, in one copy.
+  std::array<int, flags> read_all() const {
+    std::array<int, flags> all{};
+    TALUS_CUDA_CHECK(
+        cudaMemcpy(all.data(), values_.data(), sizeof(int) * flags, cudaMemcpyDeviceToHost));
+    return all;
   }
   int read(Flag which) const {
     int value = 0;
@@ -72,6 +81,18 @@ class DeviceFlags {
  private:
   DeviceBuffer<int> values_;
 };
+
+// A template, so that every .cu file including this header may instantiate it.
+template <class Int>
+__global__ void reset_flags_kernel(Int* values) {
+  const Int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0, 0};
+  for (int k = 0; k < flags; ++k) values[k] = none[k];
+}
+
+inline void DeviceFlags::reset() {
+  reset_flags_kernel<int><<<1, 1>>>(values_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+}
 
 // What a touching candidate slot k holds for the accumulation (deterministic mode): the force on
 // its ordered A, the contact point and the patch's couple; slot_state[k] says whether it touches
