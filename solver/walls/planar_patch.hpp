@@ -41,11 +41,13 @@ struct PlanarPatch {
 template <class Real>
 struct PatchHit {
   bool holds = false;  // the sphere's circle in the plane lies inside the patch
+  bool clear = false;  // the sphere does not reach the plane: no facet of the patch counts
   Vec3<Real> foot;     // the sphere's centre projected onto the plane (world), m
   Vec3<Real> normal;   // the patch's normal (world)
 };
 
-// Whether the sphere (centre, radius; world) meets patch `p`'s plane only inside the patch, the
+// Whether the sphere (centre, radius; world) meets patch `p`'s plane only inside the patch, or
+// not at all, the
 // wall's mesh being at world = rotate(rotation, mesh) + translation. The test keeps a margin for
 // the round-off of mapping the centre back, as the facet grid's query does (facet_grid_margin of
 // the magnitudes involved; 2.3e-13 of them in double, 1.2e-4 in float).
@@ -60,11 +62,16 @@ TALUS_HD inline PatchHit<Real> patch_hit(const PlanarPatch<Real>& p, const Quat<
   const Vec3<Real> offset = local - p.centre;
   const Real height = dot(offset, p.normal);
   const Vec3<Real> in_plane = offset - p.normal * height;
+  if (!is_finite(local)) return hit;
+  // A sphere clear of the plane (by more than the round-off of the height) is farther than its
+  // radius from each of the patch's facets, which the wall contact would each test and skip.
+  if (abs_of(height) > radius + margin) {
+    hit.clear = true;
+    return hit;
+  }
   // Only a sphere that reaches the plane: then the facet under the foot is within the sphere's
-  // box, so the facet grid yields one of the patch's facets as brute force does (and a sphere
-  // that does not reach it gets nothing from any of its facets either way).
-  if (!is_finite(local) || !(abs_of(height) <= radius) ||
-      !(norm(in_plane) + radius + margin <= p.inradius)) {
+  // box, so the facet grid yields one of the patch's facets as brute force does.
+  if (!(abs_of(height) <= radius) || !(norm(in_plane) + radius + margin <= p.inradius)) {
     return hit;
   }
   hit.holds = true;

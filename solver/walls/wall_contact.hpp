@@ -107,30 +107,38 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
   Vec3<Real> elastic, moment, force_moment;  // force_moment: sum c_i x F_i about the origin
   Real area_sum = 0;
   const Real radius = shape.bounding_radius;
-  // The patches that hold the particle's circle (bit k: patch k), clipped once each at their
-  // first facet that the search yields, their other facets skipped (planar_patch.hpp).
-  unsigned held = 0;
+  // The patches that hold the particle's circle (bit k of `held`: patch k), clipped once each at
+  // their first facet that the search yields, and those whose plane it does not reach (`clear`),
+  // none of whose facets count; either way the patch's other facets are skipped
+  // (planar_patch.hpp).
+  unsigned held = 0, clear = 0;
   for (int k = 0; k < facets.patch_count; ++k) {
     const PlanarPatch<Real>& patch = facets.patches[k];
-    if (patch.end <= facets.count &&
-        patch_hit(patch, facets.rotation, facets.translation, pose.position, radius).holds) {
-      held |= 1u << k;
-    }
+    if (patch.end > facets.count) continue;
+    const PatchHit<Real> hit =
+        patch_hit(patch, facets.rotation, facets.translation, pose.position, radius);
+    if (hit.holds) held |= 1u << k;
+    if (hit.clear) clear |= 1u << k;
   }
   FacetCursor<Real> near = facets.near(pose.position, radius);
   for (int t = near.next(); t >= 0; t = near.next()) {
     Vec3<Real> a, b, c;
-    bool stand_in = false;
-    for (int k = 0; held != 0 && k < facets.patch_count; ++k) {
+    int patch_state = 0;  // 1: the stand-in of a held patch; 2: a clear patch's facet
+    for (int k = 0; (held | clear) != 0 && k < facets.patch_count; ++k) {
       const PlanarPatch<Real>& patch = facets.patches[k];
-      if ((held & (1u << k)) == 0 || t < patch.first || t >= patch.end) continue;
-      patch_stand_in(patch_hit(patch, facets.rotation, facets.translation, pose.position, radius),
-                     radius, a, b, c);
+      if (((held | clear) & (1u << k)) == 0 || t < patch.first || t >= patch.end) continue;
       near.skip_below(patch.end);
-      stand_in = true;
+      if (held & (1u << k)) {
+        patch_stand_in(patch_hit(patch, facets.rotation, facets.translation, pose.position, radius),
+                       radius, a, b, c);
+        patch_state = 1;
+      } else {
+        patch_state = 2;
+      }
       break;
     }
-    if (!stand_in) {
+    if (patch_state == 2) continue;
+    if (patch_state == 0) {
       a = facets.corners[3 * t];
       b = facets.corners[3 * t + 1];
       c = facets.corners[3 * t + 2];
