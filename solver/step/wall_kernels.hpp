@@ -26,32 +26,35 @@ struct WallContactRecord {
   Real wall_power = 0;         // power the moving wall gives the particle, F . v_wall(point), W
 };
 
-// A sphere's contact is the nearest-facet rule's depth under the linear law whatever Law is (the
-// volume laws refuse spheres with walls: WallContactStage).
+// The scales of particle i's facet sums against a wall under Law (WallGeometrySum): K = E/R
+// (volume laws) or K_N (linear), G = E / (2 (1 + nu) R), A_ref = pi R^2.
 template <class Law, class Real>
-TALUS_HD inline WallContactRecord<Real> wall_contact(
+TALUS_HD inline WallGeometrySum<Law, Real> wall_geometry_sum(const ParticleView<Real>& p,
+                                                             const PairLawTables<Real>& t, int i) {
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  const int material = p.material_id[i];
+  const Real youngs = t.youngs_modulus[material];
+  const Real stiffness =
+      Law::kVolumeGeometry ? youngs / body.equivalent_radius : t.linear.stiffness;
+  const Real shear =
+      youngs / (Real(2) * (Real(1) + t.poisson_ratio[material]) * body.equivalent_radius);
+  const Real reference_area = volume_reference_area(body.equivalent_radius, body.equivalent_radius);
+  return WallGeometrySum<Law, Real>(stiffness, shear, reference_area);
+}
+
+// The contact of particle i with a wall from its geometry g (sphere_wall_geometry, or a
+// polyhedron's WallGeometrySum): the force law with the wall as a rigid body of infinite mass.
+template <class Law, class Real>
+TALUS_HD inline WallContactRecord<Real> wall_contact_with_geometry(
     const ParticleView<Real>& p, const PairLawTables<Real>& t, int i, int wall, int wall_material,
-    const WallFacets<Real>& facets, const WallMotionData<Real>& motion, Real spring_dt,
-    const PairKey* old_keys, const ContactHistoryData<Real>* old_histories, int old_count) {
+    const WallMotionData<Real>& motion, Real spring_dt, const PairKey* old_keys,
+    const ContactHistoryData<Real>* old_histories, int old_count,
+    const WallContactGeometry<Real>& g) {
   WallContactRecord<Real> r;
   r.particle = i;
   r.wall = wall;
   const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
   const int material = p.material_id[i];
-  const Real youngs = t.youngs_modulus[material];
-  WallContactGeometry<Real> g;
-  if (body.sphere) {
-    g = sphere_wall_geometry(p.position.get(i), body.sphere_radius, facets, t.linear.stiffness);
-  } else {
-    const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
-    const Real stiffness =
-        Law::kVolumeGeometry ? youngs / body.equivalent_radius : t.linear.stiffness;
-    const Real shear =
-        youngs / (Real(2) * (Real(1) + t.poisson_ratio[material]) * body.equivalent_radius);
-    const Real reference_area =
-        volume_reference_area(body.equivalent_radius, body.equivalent_radius);
-    g = polyhedron_wall_geometry<Law>(body.shape, pose, facets, stiffness, shear, reference_area);
-  }
   r.degenerate = g.degenerate;
   if (!g.in_contact) return r;
   NormalContactData<Real> c;
@@ -98,6 +101,30 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
   // The wall's power: its force and couple on the particle at the wall's velocities.
   r.wall_power = dot(r.force, wall_velocity) + dot(r.couple, motion.angular_velocity());
   return r;
+}
+
+// A sphere's contact is the nearest-facet rule's depth under the linear law whatever Law is (the
+// volume laws refuse spheres with walls: WallContactStage).
+template <class Law, class Real>
+TALUS_HD inline WallContactRecord<Real> wall_contact(
+    const ParticleView<Real>& p, const PairLawTables<Real>& t, int i, int wall, int wall_material,
+    const WallFacets<Real>& facets, const WallMotionData<Real>& motion, Real spring_dt,
+    const PairKey* old_keys, const ContactHistoryData<Real>* old_histories, int old_count) {
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  WallContactGeometry<Real> g;
+  if (body.sphere) {
+    g = sphere_wall_geometry(p.position.get(i), body.sphere_radius, facets, t.linear.stiffness);
+  } else {
+    const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
+    WallGeometrySum<Law, Real> sum = wall_geometry_sum<Law>(p, t, i);
+    visit_wall_facets(pose.position, body.shape.bounding_radius, facets,
+                      [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
+                        return sum.add(clip_against_triangle(body.shape, pose, a, b, c));
+                      });
+    g = sum.finish();
+  }
+  return wall_contact_with_geometry<Law>(p, t, i, wall, wall_material, motion, spring_dt, old_keys,
+                                         old_histories, old_count, g);
 }
 
 template <class Real>

@@ -94,33 +94,29 @@ struct WallContactGeometry {
   Vec3<Real> couple;
 };
 
-// A polyhedron against one wall under the contact law Law (contact/laws/: each facet's elastic
-// part, Law::facet_elastic). `stiffness` is K = E/R (volume laws) or K_N (linear), `shear`
-// G = E / (2 (1 + nu) R) and `reference_area` A_ref = pi R^2 (volume laws only).
-template <class Law, class Real>
-TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexView<Real>& shape,
-                                                                   const Pose<Real>& pose,
-                                                                   const WallFacets<Real>& facets,
-                                                                   Real stiffness, Real shear,
-                                                                   Real reference_area) {
-  WallContactGeometry<Real> g;
-  Vec3<Real> elastic, moment, force_moment;  // force_moment: sum c_i x F_i about the origin
-  Real area_sum = 0;
-  const Real radius = shape.bounding_radius;
+// The facets a polyhedron of bounding radius `radius` at `position` is clipped against, in order:
+// each facet the search yields within the bounding sphere, or for a planar patch that holds the
+// particle its stand-in (planar_patch.hpp; the patch's other facets skipped, and all of a patch
+// whose plane the particle does not reach). `visit(a, b, c)` gets each triangle's corners and
+// returns false to stop. The wall stage runs this and the clipping in one loop on the host
+// (polyhedron_wall_geometry) and as separate kernels on the GPU, where a particle's facets are
+// clipped by threads of their own (step/cuda/cuda_wall_stage.cu).
+template <class Real, class Visit>
+TALUS_HD inline void visit_wall_facets(const Vec3<Real>& position, Real radius,
+                                       const WallFacets<Real>& facets, Visit&& visit) {
   // The patches that hold the particle's circle (bit k of `held`: patch k), clipped once each at
   // their first facet that the search yields, and those whose plane it does not reach (`clear`),
-  // none of whose facets count; either way the patch's other facets are skipped
-  // (planar_patch.hpp).
+  // none of whose facets count.
   unsigned held = 0, clear = 0;
   for (int k = 0; k < facets.patch_count; ++k) {
     const PlanarPatch<Real>& patch = facets.patches[k];
     if (patch.end > facets.count) continue;
     const PatchHit<Real> hit =
-        patch_hit(patch, facets.rotation, facets.translation, pose.position, radius);
+        patch_hit(patch, facets.rotation, facets.translation, position, radius);
     if (hit.holds) held |= 1u << k;
     if (hit.clear) clear |= 1u << k;
   }
-  FacetCursor<Real> near = facets.near(pose.position, radius);
+  FacetCursor<Real> near = facets.near(position, radius);
   for (int t = near.next(); t >= 0; t = near.next()) {
     Vec3<Real> a, b, c;
     int patch_state = 0;  // 1: the stand-in of a held patch; 2: a clear patch's facet
@@ -129,7 +125,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
       if (((held | clear) & (1u << k)) == 0 || t < patch.first || t >= patch.end) continue;
       near.skip_below(patch.end);
       if (held & (1u << k)) {
-        patch_stand_in(patch_hit(patch, facets.rotation, facets.translation, pose.position, radius),
+        patch_stand_in(patch_hit(patch, facets.rotation, facets.translation, position, radius),
                        radius, a, b, c);
         patch_state = 1;
       } else {
@@ -143,16 +139,33 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
       b = facets.corners[3 * t + 1];
       c = facets.corners[3 * t + 2];
       // Facets beyond the bounding sphere cannot be reached.
-      if (norm(closest_point_on_triangle(pose.position, a, b, c) - pose.position) > radius) {
-        continue;
-      }
+      if (norm(closest_point_on_triangle(position, a, b, c) - position) > radius) continue;
     }
-    const WallContact<Real> wc = clip_against_triangle(shape, pose, a, b, c);
+    if (!visit(a, b, c)) return;
+  }
+}
+
+// The area-weighted sum of a polyhedron's clipped facets under the contact law Law (contact/laws/:
+// each facet's elastic part, Law::facet_elastic), added facet by facet in visit_wall_facets'
+// order, then finished into one contact. `stiffness` is K = E/R (volume laws) or K_N (linear),
+// `shear` G = E / (2 (1 + nu) R) and `reference_area` A_ref = pi R^2 (volume laws only).
+template <class Law, class Real>
+struct WallGeometrySum {
+  WallContactGeometry<Real> g;
+  Vec3<Real> elastic, moment, force_moment;  // force_moment: sum c_i x F_i about the origin
+  Real area_sum = 0;
+  Real stiffness = 0, shear = 0, reference_area = 0;
+
+  TALUS_HD WallGeometrySum(Real stiffness_, Real shear_, Real reference_area_)
+      : stiffness(stiffness_), shear(shear_), reference_area(reference_area_) {}
+
+  // One facet's clipping; false (and g.degenerate) when it failed: the sum stops there.
+  TALUS_HD bool add(const WallContact<Real>& wc) {
     if (wc.status == WallContactStatus::degenerate) {
       g.degenerate = true;
-      return g;
+      return false;
     }
-    if (!(wc.overlap_area > Real(0)) || !(wc.section_area > Real(0))) continue;
+    if (!(wc.overlap_area > Real(0)) || !(wc.section_area > Real(0))) return true;
     // The weight is not clamped to 1: the clipped area never exceeds the section's but for
     // round-off, and the weights must be the reference's definition to agree with it.
     const Real w = wc.overlap_area / wc.section_area;
@@ -161,7 +174,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
     // clipped section's centroid moved by the volume's offset from the section's (wall_clip.hpp).
     Vec3<Real> point = wc.overlap_centroid;
     if constexpr (Law::kVolumeGeometry) {
-      if (!(wc.volume_below > Real(0))) continue;
+      if (!(wc.volume_below > Real(0))) return true;
       const NormalElastic<Real> e =
           Law::facet_elastic(w, stiffness, reference_area, wc.volume_below, wc.section_area);
       elastic += wc.normal * e.force;
@@ -173,7 +186,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
       // centroid (the overlap's boundary on the particle and the section have opposite moments).
       if constexpr (!Law::kPatchCouple) point = wc.overlap_centroid + wc.volume_offset;
     } else {
-      if (!(wc.depth > Real(0))) continue;
+      if (!(wc.depth > Real(0))) return true;
       const NormalElastic<Real> e = Law::facet_elastic(w, stiffness, wc.depth);
       elastic += wc.normal * e.force;
       g.potential += e.energy;
@@ -182,15 +195,35 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
     force_moment += cross(point, elastic - elastic_before);
     area_sum += wc.overlap_area;
     g.area += w * wc.section_area;
+    return true;
   }
-  const Real magnitude = norm(elastic);
-  if (!(area_sum > Real(0)) || !(magnitude > Real(0))) return g;
-  g.in_contact = true;
-  g.normal = elastic / (-magnitude);
-  g.point = moment / area_sum;
-  g.elastic = magnitude;
-  g.couple = force_moment - cross(g.point, elastic);
-  return g;
+
+  TALUS_HD WallContactGeometry<Real> finish() {
+    const Real magnitude = norm(elastic);
+    if (g.degenerate || !(area_sum > Real(0)) || !(magnitude > Real(0))) return g;
+    g.in_contact = true;
+    g.normal = elastic / (-magnitude);
+    g.point = moment / area_sum;
+    g.elastic = magnitude;
+    g.couple = force_moment - cross(g.point, elastic);
+    return g;
+  }
+};
+
+// A polyhedron against one wall under the contact law Law: its facets (visit_wall_facets), each
+// clipped, summed (WallGeometrySum).
+template <class Law, class Real>
+TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexView<Real>& shape,
+                                                                   const Pose<Real>& pose,
+                                                                   const WallFacets<Real>& facets,
+                                                                   Real stiffness, Real shear,
+                                                                   Real reference_area) {
+  WallGeometrySum<Law, Real> sum(stiffness, shear, reference_area);
+  visit_wall_facets(pose.position, shape.bounding_radius, facets,
+                    [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
+                      return sum.add(clip_against_triangle(shape, pose, a, b, c));
+                    });
+  return sum.finish();
 }
 
 // A sphere against one wall, linear model: the nearest-facet rule. The point is midway between

@@ -51,6 +51,7 @@ enum Flag {
   touching_pairs = 4,
   touching_walls = 5,
   outside_particles = 6,
+  wall_candidates = 7,
   flags
 };
 
@@ -85,7 +86,7 @@ class DeviceFlags {
 // A template, so that every .cu file including this header may instantiate it.
 template <class Int>
 __global__ void reset_flags_kernel(Int* values) {
-  const Int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0, 0};
+  const Int none[flags] = {INT_MAX, INT_MAX, INT_MAX, 0, 0, 0, 0, 0};
   for (int k = 0; k < flags; ++k) values[k] = none[k];
 }
 

@@ -24,24 +24,97 @@ struct WallArgs {
   int walls = 0;
 };
 
-// One thread per (particle, wall), wall-major (thread w * count + i). Only the touching records
-// are kept (a few per cent of the particle-wall pairs in a bed), appended in arrival order to
-// `touching[0 .. capacity)`, their number counted in flag[touching_walls] even past the capacity
-// (the caller then grows the buffer and runs the kernel again: it only reads the old histories, so
-// a second run writes the same records); order_wall_contacts then puts them in wall-major order.
-// Law: the scene's contact law (contact/laws/).
+// The wall contacts run in three kernels, so that a particle's facets are clipped by threads of
+// their own: one thread per (particle, wall) that walks the particle's facets (a cap's stand-in,
+// the grid's facets within its bounding sphere, walls/wall_contact.hpp) and a warp of them does
+// even work, where one thread per (particle, wall) doing it all left a warp waiting for its
+// deepest particle and a small scene's few threads each clipping a dozen facets in a row.
+//
+// 1. One thread per (particle, wall), wall-major (thread k = w * count + i): its facets counted,
+//    a run of that many slots reserved (one atomicAdd, flag wall_candidates, counted past the
+//    capacity too) and the facets written there in order; run_first[k], run_count[k] say where.
+template <class Real>
+__global__ void wall_candidates_kernel(ParticleView<Real> p, PairLawTables<Real> t,
+                                       WallArgs<Real> walls, int* __restrict__ run_first,
+                                       int* __restrict__ run_count,
+                                       WallCandidate<Real>* __restrict__ candidates, int capacity,
+                                       int* flag) {
+  const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= static_cast<long long>(p.count) * walls.walls) return;
+  const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  int count = 0;
+  const Vec3<Real> centre = p.position.get(i);
+  if (!body.sphere) {
+    visit_wall_facets(centre, body.shape.bounding_radius, walls.facets[w],
+                      [&](const Vec3<Real>&, const Vec3<Real>&, const Vec3<Real>&) {
+                        ++count;
+                        return true;
+                      });
+  }
+  const int first = count > 0 ? atomicAdd(flag + wall_candidates, count) : 0;
+  run_first[k] = first;
+  run_count[k] = count;
+  if (count == 0 || first > capacity - count) return;  // none, or no room: the stage grows it
+  int at = first;
+  visit_wall_facets(centre, body.shape.bounding_radius, walls.facets[w],
+                    [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
+                      candidates[at++] = WallCandidate<Real>{a, b, c, static_cast<int>(k)};
+                      return true;
+                    });
+}
+
+// 2. One thread per reserved slot: the facet clipped against its particle (slots beyond the
+//    count, or all of them when the capacity was short, do nothing).
+template <class Real>
+__global__ void wall_clip_kernel(ParticleView<Real> p, PairLawTables<Real> t,
+                                 const WallCandidate<Real>* __restrict__ candidates, int capacity,
+                                 const int* __restrict__ flag,
+                                 WallContact<Real>* __restrict__ clipped) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  const int used = flag[wall_candidates];
+  if (e >= capacity || e >= used || used > capacity) return;
+  const WallCandidate<Real> c = candidates[e];
+  const int i = static_cast<int>(c.owner % p.count);
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
+  clipped[e] = clip_against_triangle(body.shape, pose, c.a, c.b, c.c);
+}
+
+// 3. One thread per (particle, wall): its clipped facets summed in order (WallGeometrySum, the
+//    host's arithmetic), a sphere's nearest facet found, the contact law applied. Only the
+//    touching records are kept (a few per cent of the particle-wall pairs in a bed), appended in
+//    arrival order to `touching[0 .. capacity)`, their number counted in flag[touching_walls] even
+//    past the capacity (the caller then grows the buffer and runs the kernels again: they only
+//    read the old histories, so a second run writes the same records); order_wall_contacts then
+//    puts them in wall-major order. Law: the scene's contact law (contact/laws/).
 template <class Law, class Real>
 __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
                             Real spring_dt, HistoryIn old,
                             const ContactHistoryData<Real>* __restrict__ histories,
+                            const int* __restrict__ run_first, const int* __restrict__ run_count,
+                            const WallContact<Real>* __restrict__ clipped, int clip_capacity,
                             WallContactRecord<Real>* __restrict__ touching, int capacity,
                             int* flag) {
   const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (k >= static_cast<long long>(p.count) * walls.walls) return;
+  if (flag[wall_candidates] > clip_capacity) return;  // run again with room for every facet
   const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  WallContactGeometry<Real> g;
+  if (body.sphere) {
+    g = sphere_wall_geometry(p.position.get(i), body.sphere_radius, walls.facets[w],
+                             t.linear.stiffness);
+  } else {
+    WallGeometrySum<Law, Real> sum = wall_geometry_sum<Law>(p, t, i);
+    const int first = run_first[k], end = first + run_count[k];
+    for (int e = first; e < end && sum.add(clipped[e]); ++e) {
+    }
+    g = sum.finish();
+  }
   const WallContactRecord<Real> r =
-      wall_contact<Law>(p, t, i, w, walls.materials[w], walls.facets[w], walls.motions[w],
-                        spring_dt, old.keys, histories, old.count);
+      wall_contact_with_geometry<Law>(p, t, i, w, walls.materials[w], walls.motions[w], spring_dt,
+                                      old.keys, histories, old.count, g);
   if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
   if (!r.in_contact) return;
   const int at = atomicAdd(flag + touching_walls, 1);
@@ -243,15 +316,37 @@ void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
     // counter says the kernel overflowed it, which runs it again (GpuStep tests with walls
     // overflow on their first evaluation).
     if (touching_.size() == 0) touching_.grow_to(std::min<long long>(n, 64));
+    // Room for the facets to clip: likewise what the last step needed (at first 1024), doubled
+    // past what the counter says when it overflowed.
+    if (candidates_.size() == 0) candidates_.grow_to(1024), clipped_.grow_to(1024);
+    run_first_.grow_to(n), run_count_.grow_to(n);
     for (;;) {
       const int capacity = static_cast<int>(touching_.size());
+      const int clip_capacity = static_cast<int>(candidates_.size());
+      wall_candidates_kernel<<<blocks_for(n), kBlock>>>(
+          shared_.view, shared_.tables, args, run_first_.data(), run_count_.data(),
+          candidates_.data(), clip_capacity, shared_.flags.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      wall_clip_kernel<<<blocks_for(clip_capacity), kBlock>>>(
+          shared_.view, shared_.tables, candidates_.data(), clip_capacity, shared_.flags.data(),
+          clipped_.data());
+      TALUS_CUDA_LAUNCH_CHECK();
       with_contact_law(*shared_.scene.effects.contact, [&](auto law) {
         wall_kernel<decltype(law)><<<blocks_for(n), kBlock>>>(
             shared_.view, shared_.tables, args, spring_dt, history_.in(), history_.values(),
-            touching_.data(), capacity, shared_.flags.data());
+            run_first_.data(), run_count_.data(), clipped_.data(), clip_capacity, touching_.data(),
+            capacity, shared_.flags.data());
       });
       TALUS_CUDA_LAUNCH_CHECK();
-      const std::array<int, flags> all = shared_.flags.read_all();  // one wait for both
+      const std::array<int, flags> all = shared_.flags.read_all();  // one wait for all three
+      const int facets = all[wall_candidates];
+      if (facets > clip_capacity) {
+        const long long room = std::max<long long>(2LL * facets, 1024);
+        candidates_.grow_to(room), clipped_.grow_to(room);
+        shared_.flags.clear(wall_candidates);
+        shared_.flags.clear(touching_walls);
+        continue;
+      }
       const int bad = all[degenerate_wall];
       if (bad != INT_MAX) {
         throw std::runtime_error(shared_.scene.file + ": particle " +
@@ -262,6 +357,7 @@ void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
       contact_count_ = all[touching_walls];
       if (contact_count_ <= capacity) break;
       touching_.grow_to(std::min<long long>(n, 2LL * contact_count_));
+      shared_.flags.clear(wall_candidates);
       shared_.flags.clear(touching_walls);
     }
   }
@@ -351,7 +447,11 @@ std::size_t DeviceWallStage<Real>::bytes() const {
          motions_.size() * sizeof(WallMotionData<Real>) + history_.bytes() +
          (touching_.size() + contacts_.size()) * sizeof(WallContactRecord<Real>) +
          (keys_.size() + sorted_keys_.size()) * sizeof(long long) +
-         (index_.size() + sorted_index_.size() + wall_slot_.size()) * sizeof(int);
+         (index_.size() + sorted_index_.size() + wall_slot_.size() + run_first_.size() +
+          run_count_.size()) *
+             sizeof(int) +
+         candidates_.size() * sizeof(WallCandidate<Real>) +
+         clipped_.size() * sizeof(WallContact<Real>);
 }
 
 template <class Real>

@@ -15,6 +15,14 @@
 
 namespace talus {
 
+// A facet to clip: its corners and the (particle, wall) thread k = w * count + i it belongs to
+// (cuda_wall_stage.cu).
+template <class Real>
+struct WallCandidate {
+  Vec3<Real> a, b, c;
+  int owner;
+};
+
 template <class Real>
 class DeviceWallStage {
  public:
@@ -70,6 +78,11 @@ class DeviceWallStage {
   DeviceBuffer<WallContactRecord<Real>> touching_, contacts_;
   DeviceBuffer<long long> keys_, sorted_keys_;
   DeviceBuffer<int> index_, sorted_index_, wall_slot_;
+  // The facets to clip (WallCandidate, cuda_wall_stage.cu) and their clippings, with each
+  // (particle, wall)'s run of them.
+  DeviceBuffer<WallCandidate<Real>> candidates_;
+  DeviceBuffer<WallContact<Real>> clipped_;
+  DeviceBuffer<int> run_first_, run_count_;
   int contact_count_ = 0;
   DeviceHistory<Real> history_;
   mutable bool sums_ready_ = false;
