@@ -340,4 +340,21 @@ TALUS_HD inline WallContact<Real> clip_against_triangle(const ConvexView<Real>& 
   return result;
 }
 
+// clip_against_triangle with the smallest section capacity the shape allows: a plane section of
+// a convex polyhedron has at most one point per face (twice that is kept, for points that
+// round-off puts on both sides of a vertex), so a dodecahedron's fits 32. The local arrays (four
+// of capacity + 3 reals) then take a quarter of the memory, which on the GPU is local memory that
+// a thread's latency waits on; the arithmetic and results are the same as with any larger
+// capacity.
+template <class Real>
+TALUS_HD inline WallContact<Real> clip_against_triangle_sized(const ConvexView<Real>& shape,
+                                                              const Pose<Real>& pose,
+                                                              const Vec3<Real>& a,
+                                                              const Vec3<Real>& b,
+                                                              const Vec3<Real>& c) {
+  if (2 * shape.n_faces <= 32) return clip_against_triangle<Real, 32>(shape, pose, a, b, c);
+  if (2 * shape.n_faces <= 64) return clip_against_triangle<Real, 64>(shape, pose, a, b, c);
+  return clip_against_triangle<Real, kWallSectionCapacity>(shape, pose, a, b, c);
+}
+
 }  // namespace talus

@@ -119,7 +119,7 @@ TALUS_HD inline WallContactRecord<Real> wall_contact(
     WallGeometrySum<Law, Real> sum = wall_geometry_sum<Law>(p, t, i);
     visit_wall_facets(pose.position, body.shape.bounding_radius, facets,
                       [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
-                        return sum.add(clip_against_triangle(body.shape, pose, a, b, c));
+                        return sum.add(clip_against_triangle_sized(body.shape, pose, a, b, c));
                       });
     g = sum.finish();
   }

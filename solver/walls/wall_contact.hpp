@@ -221,7 +221,7 @@ TALUS_HD inline WallContactGeometry<Real> polyhedron_wall_geometry(const ConvexV
   WallGeometrySum<Law, Real> sum(stiffness, shear, reference_area);
   visit_wall_facets(pose.position, shape.bounding_radius, facets,
                     [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
-                      return sum.add(clip_against_triangle(shape, pose, a, b, c));
+                      return sum.add(clip_against_triangle_sized(shape, pose, a, b, c));
                     });
   return sum.finish();
 }

@@ -78,7 +78,7 @@ __global__ void wall_clip_kernel(ParticleView<Real> p, PairLawTables<Real> t,
   const int i = static_cast<int>(c.owner % p.count);
   const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
   const Pose<Real> pose{p.position.get(i), p.orientation.get(i)};
-  clipped[e] = clip_against_triangle(body.shape, pose, c.a, c.b, c.c);
+  clipped[e] = clip_against_triangle_sized(body.shape, pose, c.a, c.b, c.c);
 }
 
 // 3. One thread per (particle, wall): its clipped facets summed in order (WallGeometrySum, the
