@@ -248,16 +248,42 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
                picture.empty() ? "" : "; picture: ", picture.c_str());
 }
 
+// `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
+// creates, feeds included: scene_particle_count) and the host below: on the real-scene benchmarks
+// (benchmarks/README.md, bench_scenes on the H100 and its 16-core host) the host step is as fast
+// as or faster than the GPU's for scenes of a few hundred particles, where a GPU step is made of
+// launches and waits rather than arithmetic, and the GPU wins from a few thousand.
+constexpr double kAutoGpuParticles = 2000;
+
 // The production step's backend for the scene: the CUDA step where the scene (or --backend) asks
-// for it or for auto and a device is usable, else the host (empty); `auto` falling back says so.
+// for it, or for auto where a device is usable and the scene is large enough to gain from it;
+// else the host (empty). `auto` says which it took and why in one line.
 StepFactory production_backend(const RunArguments& args, const Scene& scene) {
   StepFactory make_step;  // empty: the host
   const int host_threads = host_thread_count(args.threads);
 #if TALUS_HAVE_CUDA
   std::string why;
   if (scene.backend != Backend::cpu) {
+    const double particles = scene_particle_count(scene);
     if (cuda_device_available(&why)) {
-      make_step = make_cuda_step;
+      if (scene.backend == Backend::cuda || particles >= kAutoGpuParticles) {
+        make_step = make_cuda_step;
+        if (scene.backend == Backend::automatic && !args.quiet) {
+          fmt::print(stderr,
+                     "talus run: {:.0f} particles: running on the GPU (cuda), faster than the "
+                     "host from about {:.0f} particles\n",
+                     particles, kAutoGpuParticles);
+        }
+      } else {
+        if (!args.quiet) {
+          fmt::print(stderr,
+                     "talus run: {:.0f} particles: running on the host (cpu, {} thread{}), as "
+                     "fast as the GPU below about {:.0f} particles; --backend cuda takes the "
+                     "GPU\n",
+                     particles, host_threads, host_threads == 1 ? "" : "s", kAutoGpuParticles);
+        }
+        return make_step;
+      }
     } else if (scene.backend == Backend::cuda) {
       throw RunError("--backend cuda: " + why +
                      "; run this scene with --backend cpu (or "
