@@ -31,7 +31,7 @@ inline constexpr std::array<SceneCase, 6> kSceneCases{{
     {"builtin", "validation/dodecahedron_packing/scene.yaml", 0, 0, 12500, 12500, false},
     {"bed_1e4", "benchmarks/scenes/bed_1e4.yaml", 7500, 20, 2000, 250, false},
     {"drum_quasi2d", "benchmarks/scenes/drum_quasi2d.yaml", 15000, 50, 4000, 1000, false},
-    {"hopper", "benchmarks/scenes/hopper.yaml", 10000, 20, 2000, 250, false},
+    {"hopper", "benchmarks/scenes/hopper.yaml", 12500, 20, 2000, 250, false},
     {"drum_1e6", "benchmarks/scenes/drum_1e6.yaml", 17500, 5, 200, 2, true},
     {"bed_1e6", "benchmarks/scenes/bed_1e6.yaml", 12500, 5, 200, 2, true},
 }};

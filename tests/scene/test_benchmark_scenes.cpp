@@ -74,7 +74,9 @@ TEST(BenchmarkScenes, LoadWithAStableStepAndRunLongEnough) {
     ASSERT_TRUE(scene.outputs.probes.has_value());
     // A probe in every timed window of the GPU, and of the host but for the large scenes.
     EXPECT_LE(scene.outputs.probes->every, c.cuda_steps);
-    if (!c.large) EXPECT_LE(scene.outputs.probes->every, c.host_steps);
+    if (!c.large) {
+      EXPECT_LE(scene.outputs.probes->every, c.host_steps);
+    }
     EXPECT_EQ(header_count(path_of(c)), static_cast<long long>(talus::scene_particle_count(scene)));
     EXPECT_GT(c.cuda_steps, 0);
     EXPECT_GT(c.host_steps, 0);
