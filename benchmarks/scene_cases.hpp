@@ -16,7 +16,7 @@ struct SceneCase {
   // spheres apart, so a bed first falls together), on the CUDA backend where there is a usable
   // device, else on the host; each variant resumes from its checkpoint, so both backends time
   // the same state. Large scenes are settled on the host only with TALUS_BENCH_SCENE_HOST_SETTLE=1;
-  // a settle stops early after TALUS_BENCH_SCENE_SETTLE_SECONDS (bench_scenes.cpp).
+  // a settle on the GPU stops early after TALUS_BENCH_SCENE_SETTLE_SECONDS (bench_scenes.cpp).
   long long settle_steps;
   long long warmup_steps;  // each variant, untimed, after the settled state
   long long cuda_steps;    // timed steps on the CUDA backend
