@@ -47,8 +47,8 @@ void host_step(benchmark::State& state, const std::string& effects, bool walls) 
 
 // The particles' order in memory (range(1), the modes of bench_step_gpu.cpp): 0 the lattice's,
 // 6 a random order (as a poured bed numbers them), 7 that order renumbered by cell at every
-// build (`reorder: true`; the host builds its candidates every step), 8 the lattice's order
-// renumbered so; a bed of side^3 (range(0)) with all effects, on all the host's threads.
+// build of the pair list (`reorder: true`), 8 the lattice's order renumbered so; a bed of
+// side^3 (range(0)) with all effects, on all the host's threads.
 void host_step_order(benchmark::State& state) {
   talus::Scene scene = talus_bench::dodecahedron_bed(static_cast<int>(state.range(0)),
                                                      talus_bench::kAllEffects, true);

@@ -214,6 +214,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   json["particles"] = report.particles;
   if (scene.domain) json["removed_particles"] = report.removed_particles;
   json["mean_contacts_per_step"] = report.mean_contacts;
+  json["pair_list_builds"] = report.pair_list_builds;
   Json& stages = json["stage_seconds"] = Json::object();
   for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;
   stages["output"] = report.output_seconds;

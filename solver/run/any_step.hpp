@@ -27,6 +27,7 @@ class AnyStep {
   virtual const Domain& domain() const = 0;
   virtual long long removed_particles() const = 0;  // left the domain box so far
   virtual std::size_t pair_contacts() const = 0;
+  virtual long long pair_list_builds() const = 0;  // builds of the pair list so far
   virtual std::size_t wall_contacts() const = 0;
   virtual Vec3d wall_force(int w) const = 0;
   virtual Vec3d wall_torque(int w) const = 0;
@@ -59,6 +60,7 @@ class StepAdapter : public AnyStep {
   const Domain& domain() const override { return step_.domain(); }
   long long removed_particles() const override { return step_.removed_count(); }
   std::size_t pair_contacts() const override { return step_.pair_contact_count(); }
+  long long pair_list_builds() const override { return step_.pair_list_builds(); }
   std::size_t wall_contacts() const override { return step_.wall_contact_count(); }
   Vec3d wall_force(int w) const override { return step_.wall_force(w); }
   Vec3d wall_torque(int w) const override { return step_.wall_torque(w); }

@@ -362,6 +362,7 @@ ProductionReport ProductionRunner::report() const {
   r.particles = m.step->particles();
   r.removed_particles = m.step->removed_particles();
   r.mean_contacts = m.step_index > 0 ? m.contacts_sum / double(m.step_index) : 0;
+  r.pair_list_builds = m.step->pair_list_builds();
   for (const Stage stage : m.step->plan().stages) {
     r.stage_seconds.emplace_back(to_string(stage),
                                  m.step->stage_seconds()[static_cast<int>(stage)]);

@@ -89,6 +89,9 @@ struct ProductionReport {
   std::size_t particles = 0;
   long long removed_particles = 0;  // left the scene's domain box
   double mean_contacts = 0;         // particle-particle and particle-wall contacts per step
+  // Builds of the pair list by this process (a resumed run counts from its resumption; a list
+  // is kept until a particle has moved 0.45 skin or the particles changed).
+  long long pair_list_builds = 0;
   std::vector<std::pair<std::string, double>> stage_seconds;  // the plan's stages, in order
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end

@@ -286,10 +286,10 @@ struct Scene {
   std::uint64_t seed = 0;
   Backend backend = Backend::automatic;
   Precision precision = Precision::float64;
-  // Verlet skin of the pair list, m: the GPU backend keeps its candidate pairs (bounding spheres
-  // within r_a + r_b + skin) and their slots of contact history until some particle has moved
-  // skin / 2 since the list was built. Not given: a tenth of the largest bounding diameter. The
-  // contacts, and so the results, do not depend on it; only the work per step does.
+  // Verlet skin of the pair list, m: both backends keep their candidate pairs (bounding spheres
+  // within r_a + r_b + skin; the GPU's with slots of contact history) until some particle has
+  // moved 0.45 skin since the build or the particles change (0: every step). Not given: a tenth of
+  // the largest bounding diameter. The results do not depend on it; only the work per step does.
   std::optional<double> skin;
   // The GPU backend sums each particle's forces in pair order, so a run does not depend on thread
   // scheduling (the default); false: by atomic additions (faster, not bit-reproducible). The
@@ -301,10 +301,10 @@ struct Scene {
   std::optional<Box> domain;
   SourceRef domain_source;
   // Particles renumbered in the order of their grid cells (a Z-order curve) at every build of the
-  // candidate pairs (`reorder`): neighbours then sit near each other in memory. The physics is
+  // pair list (`reorder`): neighbours then sit near each other in memory. The physics is
   // the same; the sums' order, and so the last bits, are not. Not given: on the CUDA backend
   // (6 % off the 1e6 bed's step, 23 % when its particles are numbered at random), off on the
-  // host, which builds its candidates every step and gains nothing at 27,000 particles
+  // host, which gained nothing at 27,000 particles when it renumbered at every step
   // (benchmarks/README.md).
   std::optional<bool> reorder;
   std::vector<Material> materials;

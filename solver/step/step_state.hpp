@@ -37,10 +37,10 @@ struct StepState {
   std::vector<long long> global_ids;
   long long next_id = -1;  // the id the next inserted particle gets (-1: count, as before removal)
   long long removed = 0;   // particles removed so far
-  // The CUDA step's pair list (empty elsewhere): the positions its displacements are measured
-  // from (x, then y, then z, per particle) and whether the particles changed since its last
-  // build. A resumed run rebuilds its list at once but renumbers by cell only where the
-  // uninterrupted run would rebuild (cuda_pair_list.cuh), so that it continues bit for bit.
+  // The pair list's (either step's; empty without a skin or before a build): the positions its
+  // displacements are measured from (x, then y, then z, per particle) and whether the particles
+  // changed since its last build. A resumed run renumbers by cell only where the uninterrupted
+  // run would rebuild (cuda_pair_list.cuh, contact_stage.hpp), so it continues bit for bit.
   std::vector<Real> list_reference;
   bool list_stale = false;
   std::vector<PairKey> pair_keys, wall_keys;  // sorted (key_less)
@@ -270,7 +270,7 @@ void check_state_fits(const StepState<Real>& s, const Scene& scene, int count,
     }
   }
 
-  // The history stores and the CUDA step's list reference.
+  // The history stores and the pair list's reference.
   if (s.pair_keys.size() != s.pair_histories.size() ||
       s.wall_keys.size() != s.wall_histories.size())
     refuse("pairs.histories", "history keys and values differ in number");
@@ -362,7 +362,7 @@ StepState<Real> get_step_state(const Checkpoint& c) {
     if (ids.size() != 2) c.fail("step.ids", "expected 2 numbers (next id, removed)");
     s.next_id = ids[0], s.removed = ids[1];
   }
-  if (c.has("pairs.reference")) {  // a CUDA step's, since it renumbers particles by cell
+  if (c.has("pairs.reference")) {  // absent where the list had none, and in older checkpoints
     s.list_reference = c.get<Real>("pairs.reference");
     if (s.list_reference.size() != 3 * static_cast<std::size_t>(s.count))
       c.fail("pairs.reference", "expected 3 values per particle");

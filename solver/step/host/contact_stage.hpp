@@ -1,16 +1,25 @@
-// Host driver of the particle-particle contact stages: candidate pairs from the broad phase
-// (neighbor/contact_pairs.hpp: bounding spheres), per pair the geometry and the force law
-// (pair_kernels.hpp, templated on the scene's law: compute picks it once per call from
+// Host driver of the particle-particle contact stages: the pair list (a Verlet list of candidate
+// pairs from the broad phase, neighbor/contact_pairs.hpp: bounding spheres within r_a + r_b +
+// skin, kept until some particle has moved 0.45 skin since it was built, the CUDA step's rule:
+// step/cuda/cuda_pair_list.cuh), per candidate whose bounding spheres meet now the geometry and the
+// force law (pair_kernels.hpp, templated on the scene's law: compute picks it once per call from
 // contact/contact_laws.hpp) into the pair's own record, compaction of the touching pairs, the
 // history store rebuilt from them (sorted global-id keys), and the deterministic accumulation in
 // pair order. Host code: std::vector and exceptions allowed here, not in the per-pair functions.
+//
+// The list's age changes no bit: a pair apart by more than r_a + r_b + skin at the build cannot
+// meet before one of its particles has moved 0.45 skin, so the list holds every pair whose
+// bounding spheres meet now; compute keeps those that do by the broad phase's own test
+// (spheres_overlap without skin) before any geometry, which is the list a broad phase without skin
+// would give now, in the same (a, b) order. So are the touching pairs, their forces and sums.
 //
 // Threads (core/host_parallel.hpp): the pairs run on all of them, each with its own overlap
 // workspaces, and the accumulation runs per particle, each particle adding its contacts in pair
 // order (as the CUDA step's accumulate_kernel does): the additions of the serial loop over the
 // contacts, in the same order per particle, so the forces are the same bits for any thread count.
-// The compaction, the history sort and the lists of each particle's contacts stay serial (a few
-// percent of the stage; benchmarks/README.md).
+// The displacement test that expires the list is a yes/no over particles (parallel_first_failure).
+// The listing of the candidates that meet, the compaction, the history sort and the lists of each
+// particle's contacts stay serial (a few percent of the stage; benchmarks/README.md).
 #pragma once
 
 #include <algorithm>
@@ -44,6 +53,12 @@ class PairContactStage {
         model_(*scene.effects.contact),
         threads_(threads > 0 ? threads : 1),
         workspaces_(threads_) {
+    // The list's skin: the scene's, else a tenth of the largest bounding diameter (as the CUDA
+    // step's set_up_pairs, cuda_step.cu).
+    double largest_radius = 0;
+    for (const BodyProperties<Real>& b : bodies_)
+      largest_radius = std::max(largest_radius, double(b.bounding_radius));
+    skin_ = Real(scene.skin ? *scene.skin : 0.2 * largest_radius);
     const Effects& fx = scene.effects;
     const int n = static_cast<int>(scene.materials.size());
     for (const Material& m : scene.materials) {
@@ -97,23 +112,74 @@ class PairContactStage {
     tables_.linear.tangential_damping = Real(fx.linear.tangential_damping);
   }
 
-  // Broad phase: every pair whose bounding spheres meet (|x_a - x_b| <= r_a + r_b), on a grid
-  // anchored at the local domain's reach box when that is bounded.
-  void find_candidates(const ParticleView<Real>& p, const Domain& domain = SingleDomain()) {
-    NeighborInput<Real> input;
-    const Box reach = domain.reach_box();
-    if (reach.bounded()) {
-      input.fixed_origin = true;
-      input.origin[0] = Real(reach.min.x), input.origin[1] = Real(reach.min.y);
-      input.origin[2] = Real(reach.min.z);
-    }
-    input.x = p.position.x;
-    input.y = p.position.y;
-    input.z = p.position.z;
-    input.radius = p.bounding_radius;
-    input.count = p.count;
-    candidates_ = build_candidate_pairs(input, nullptr, Real(0), threads_);
+  // Whether update_list rebuilds the list at the current positions: the first build, a skin of
+  // 0, the particles changed (particles_changed, a restart without a reference), or some particle
+  // has moved 0.45 skin from the reference (the positions at the last build; > as the CUDA step
+  // compares: half the skin, less 10% for the round-off of the distances the broad phase
+  // compared). Measured once per update (a pass over the particles).
+  bool list_expired(const ParticleView<Real>& p) {
+    if (expired_ < 0) expired_ = measure_expired(p) ? 1 : 0;
+    return expired_ == 1;
   }
+
+  // The list for this evaluation: rebuilt at p's positions when expired; after a restart that
+  // imported a reference and is not expired, built at the reference positions, which gives the
+  // uninterrupted run's list (so that the particles are renumbered, with `reorder`, at the same
+  // steps as in that run); else kept.
+  void update_list(const ParticleView<Real>& p, const Domain& domain = SingleDomain()) {
+    const bool rebuild = list_expired(p);
+    expired_ = -1;
+    if (rebuild) {
+      find_candidates(p, domain);
+    } else if (!have_list_) {
+      const std::size_t n = static_cast<std::size_t>(p.count);
+      build(p, reference_.data(), reference_.data() + n, reference_.data() + 2 * n, domain);
+    }
+  }
+
+  // Builds the list at p's positions now and keeps them as the reference: every pair whose
+  // bounding spheres are within the skin (|x_a - x_b| <= r_a + r_b + skin), on a grid anchored
+  // at the local domain's reach box when that is bounded.
+  void find_candidates(const ParticleView<Real>& p, const Domain& domain = SingleDomain()) {
+    build(p, p.position.x, p.position.y, p.position.z, domain);
+    const std::size_t n = static_cast<std::size_t>(p.count);
+    reference_.resize(3 * n);
+    std::copy(p.position.x, p.position.x + n, reference_.begin());
+    std::copy(p.position.y, p.position.y + n, reference_.begin() + n);
+    std::copy(p.position.z, p.position.z + n, reference_.begin() + 2 * n);
+    have_reference_ = true;
+    stale_ = false;
+  }
+
+  // The particles were appended to, removed or renumbered: the next update rebuilds the list.
+  void particles_changed() {
+    stale_ = true;
+    expired_ = -1;
+  }
+
+  // The reference positions (3 per particle, x then y then z; empty without a skin, before the
+  // first build, or when the particles changed since: the next update rebuilds then anyway) and
+  // whether the particles changed since the last build, as StepState holds the CUDA step's.
+  void export_reference(std::vector<Real>& reference, bool& stale) const {
+    stale = stale_;
+    reference.clear();
+    if (skin_ > 0 && have_reference_ && !stale_) reference = reference_;
+  }
+  // Setting them on a resumed step of `count` particles (before its first update): the list is
+  // built again, at the reference positions unless it has expired (update_list). A reference that
+  // does not fit (another length, none) makes the next update rebuild at the current positions.
+  void import_reference(const std::vector<Real>& reference, bool stale, int count) {
+    stale_ = stale;
+    expired_ = -1;
+    have_list_ = false;
+    have_reference_ =
+        skin_ > 0 && count > 0 && reference.size() == 3 * static_cast<std::size_t>(count);
+    reference_ = have_reference_ ? reference : std::vector<Real>();
+  }
+
+  Real skin() const { return skin_; }
+  long long list_builds() const { return builds_; }
+  std::size_t candidate_count() const { return candidates_.size(); }
 
   // Narrow phase, overlap and force law per candidate; compaction; the next history store.
   // A degenerate pair throws after the loop, the lowest pair index first, as the serial loop did.
@@ -124,14 +190,29 @@ class PairContactStage {
   // compute under the law Law (the scene's).
   template <class Law>
   void compute(const ParticleView<Real>& p, Real spring_dt) {
-    const long long count = static_cast<long long>(candidates_.size());
-    records_.resize(candidates_.size());
+    // The candidates whose bounding spheres meet now, by the broad phase's test without skin
+    // (spheres_overlap: the same terms as build_candidate_pairs'), in list order: flagged per
+    // candidate (threads), then listed (serial). The rest lie in the skin only.
+    NeighborInput<Real> spheres;
+    spheres.x = p.position.x, spheres.y = p.position.y, spheres.z = p.position.z;
+    spheres.radius = p.bounding_radius;
+    spheres.count = p.count;
+    const long long listed = static_cast<long long>(candidates_.size());
+    meeting_.resize(candidates_.size());
+    parallel_for(threads_, listed, [&](long long k) {
+      meeting_[k] = spheres_overlap(spheres, candidates_[k].a, candidates_[k].b) ? 1 : 0;
+    });
+    evaluated_.clear();
+    for (long long k = 0; k < listed; ++k)
+      if (meeting_[k]) evaluated_.push_back(candidates_[k]);
+    const long long count = static_cast<long long>(evaluated_.size());
+    records_.resize(evaluated_.size());
     const int old_count = static_cast<int>(keys_.size());
     // Chunks of 64 pairs: a touching pair costs an overlap, a distant one little (dynamic
     // scheduling balances them; each record has its own slot, so the order does not matter).
     parallel_for_dynamic(threads_, count, 64, [&](long long k) {
       int ia, ib;
-      order_pair(p, tables_, candidates_[k].a, candidates_[k].b, ia, ib);
+      order_pair(p, tables_, evaluated_[k].a, evaluated_[k].b, ia, ib);
       const PairGeometryData<Real> g = geometry<Law>(p, ia, ib, workspaces_[host_thread_index()]);
       records_[k] = pair_contact_force<Law>(p, tables_, ia, ib, g, spring_dt, keys_.data(),
                                             histories_.data(), old_count);
@@ -203,7 +284,8 @@ class PairContactStage {
   int threads() const { return threads_; }
   std::size_t allocated_bytes() const {
     std::size_t bytes =
-        candidates_.capacity() * sizeof(ContactPair) +
+        (candidates_.capacity() + evaluated_.capacity()) * sizeof(ContactPair) +
+        reference_.capacity() * sizeof(Real) + meeting_.capacity() +
         (records_.capacity() + contacts_.capacity()) * sizeof(PairContactRecord<Real>) +
         keys_.capacity() * sizeof(PairKey) +
         histories_.capacity() * sizeof(ContactHistoryData<Real>) +
@@ -255,6 +337,42 @@ class PairContactStage {
     }
   }
 
+  // The list at the positions x, y, z (p's or the reference), p's bounding radii.
+  void build(const ParticleView<Real>& p, const Real* x, const Real* y, const Real* z,
+             const Domain& domain) {
+    NeighborInput<Real> input;
+    const Box reach = domain.reach_box();
+    if (reach.bounded()) {
+      input.fixed_origin = true;
+      input.origin[0] = Real(reach.min.x), input.origin[1] = Real(reach.min.y);
+      input.origin[2] = Real(reach.min.z);
+    }
+    input.x = x;
+    input.y = y;
+    input.z = z;
+    input.radius = p.bounding_radius;
+    input.count = p.count;
+    input.skin = skin_;
+    candidates_ = build_candidate_pairs(input, nullptr, Real(0), threads_);
+    have_list_ = true;
+    ++builds_;
+  }
+
+  bool measure_expired(const ParticleView<Real>& p) const {
+    const std::size_t n = static_cast<std::size_t>(p.count);
+    if (!(skin_ > 0) || !have_reference_ || stale_ || reference_.size() != 3 * n) return true;
+    // In double, as the CUDA step's max_displacement_kernel: any particle beyond the limit.
+    const double limit = 0.45 * double(skin_), limit2 = limit * limit;
+    const Real *x0 = reference_.data(), *y0 = x0 + n, *z0 = y0 + n;
+    const long long moved = parallel_first_failure(threads_, p.count, [&](long long i) {
+      const double dx = double(p.position.x[i]) - double(x0[i]);
+      const double dy = double(p.position.y[i]) - double(y0[i]);
+      const double dz = double(p.position.z[i]) - double(z0[i]);
+      return dx * dx + dy * dy + dz * dz > limit2;
+    });
+    return moved < p.count;
+  }
+
   template <class Workspace>
   static Workspace& workspace(Workspaces& set, std::unique_ptr<Workspace>& slot) {
     if (!slot) {
@@ -271,7 +389,19 @@ class PairContactStage {
   std::vector<Workspaces> workspaces_;  // per thread
   std::vector<Real> youngs_, poisson_, friction_, restitution_, damping_ratio_;
   PairLawTables<Real> tables_;
+  // The pair list: candidates_ built at the positions reference_ (x, then y, then z) with the
+  // skin, while have_list_ (false after a restart until the next update).
+  Real skin_ = 0;
   std::vector<ContactPair> candidates_;
+  std::vector<Real> reference_;
+  // compute's scratch: whether each candidate's bounding spheres meet, and those that do.
+  std::vector<unsigned char> meeting_;
+  std::vector<ContactPair> evaluated_;
+  bool have_reference_ = false;  // reference_ holds the positions of a build
+  bool have_list_ = false;
+  bool stale_ = false;  // the particles changed since the last build
+  int expired_ = -1;    // list_expired's answer until the next update (-1: not measured)
+  long long builds_ = 0;
   std::vector<PairContactRecord<Real>> records_, contacts_;
   std::vector<PairKey> keys_;  // sorted
   std::vector<ContactHistoryData<Real>> histories_;

@@ -157,6 +157,7 @@ void HostStep<Real>::feed() {
   if (added.empty()) return;
   const int first = count_;
   grow(count_ + static_cast<int>(added.size()));
+  if (contacts_) contacts_->particles_changed();  // the new particles have no candidates yet
   const ParticleView<Real> p = view_;
   for (std::size_t k = 0; k < added.size(); ++k) {
     const int i = first + static_cast<int>(k);
@@ -193,6 +194,7 @@ void HostStep<Real>::keep_particles(const std::vector<int>& order) {
   gather(global_ids_);
   count_ = static_cast<int>(order.size());
   bind_view();
+  if (contacts_) contacts_->particles_changed();  // the list names the old indices
 }
 
 template <class Real>
@@ -247,6 +249,16 @@ std::size_t HostStep<Real>::pair_contact_count() const {
 }
 
 template <class Real>
+long long HostStep<Real>::pair_list_builds() const {
+  return contacts_ ? contacts_->list_builds() : 0;
+}
+
+template <class Real>
+std::size_t HostStep<Real>::candidate_pair_count() const {
+  return contacts_ ? contacts_->candidate_count() : 0;
+}
+
+template <class Real>
 std::size_t HostStep<Real>::wall_contact_count() const {
   return walls_ ? walls_->contact_count() : 0;
 }
@@ -296,12 +308,13 @@ void HostStep<Real>::run_force_stages(Real spring_dt) {
         break;
       case Stage::candidate_pairs:
         timed(stage, [&] {
-          // The host builds its candidates every evaluation: every build renumbers.
-          if (scene_.reorder.value_or(false)) {
+          // With `reorder`, the particles are renumbered where the list expires (and only there:
+          // a resumed run renumbers at the same steps as the uninterrupted one).
+          if (scene_.reorder.value_or(false) && contacts_->list_expired(p)) {
             reorder_by_cell();
             p = view_;
           }
-          contacts_->find_candidates(p, *domain_);
+          contacts_->update_list(p, *domain_);
         });
         break;
       case Stage::pair_contacts:
@@ -396,6 +409,7 @@ StepState<Real> HostStep<Real>::export_state() const {
   s.next_id = next_id_;
   s.removed = removed_;
   if (contacts_) s.pair_keys = contacts_->history_keys(), s.pair_histories = contacts_->histories();
+  if (contacts_) contacts_->export_reference(s.list_reference, s.list_stale);
   if (walls_) s.wall_keys = walls_->history_keys(), s.wall_histories = walls_->histories();
   s.feed_states = feeding_.save();
   s.ledger = ledger_;
@@ -421,6 +435,7 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   removed_ = s.removed;
   bind_view();
   if (contacts_) contacts_->set_histories(s.pair_keys, s.pair_histories);
+  if (contacts_) contacts_->import_reference(s.list_reference, s.list_stale, count_);
   if (walls_) walls_->set_histories(s.wall_keys, s.wall_histories);
   time_ = s.time;
   steps_ = s.steps;

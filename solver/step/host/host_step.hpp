@@ -2,7 +2,9 @@
 // stages of its plan (step_plan.hpp) run as loops over the per-particle and per-pair functions
 // that the CUDA backend launches as kernels, on several threads with OpenMP
 // (core/host_parallel.hpp). Deterministic, the same bits for any thread count: every loop writes
-// per-index slots, and contact forces are summed per particle in pair order, then its walls.
+// per-index slots, and contact forces are summed per particle in pair order, then its walls. The
+// candidate pairs are a Verlet list with the CUDA step's skin rule (contact_stage.hpp), kept
+// across steps; its age changes no bit of the results.
 #pragma once
 
 #include <array>
@@ -89,7 +91,8 @@ class HostStep {
   // (the renumbering by cell) or a removal. Every array and id moves with its particle; the
   // contact histories are keyed by global ids (tangential_history.hpp), so the touching pairs of
   // the kept particles keep theirs and a removed particle's leave the store at the next
-  // evaluation. Between steps only (the contact records of the last evaluation name indices).
+  // evaluation, which rebuilds the pair list. Between steps only (the contact records of the last
+  // evaluation name indices).
   void keep_particles(const std::vector<int>& order);
   // The local domain: the scene's box (or all of space), its halo (domain/domain.hpp).
   const Domain& domain() const { return *domain_; }
@@ -118,6 +121,10 @@ class HostStep {
   const StageSeconds& stage_seconds() const { return stage_seconds_; }
   // Touching particle pairs at the last force evaluation (0 without contacts).
   std::size_t pair_contact_count() const;
+  // Builds of the pair list so far (contact_stage.hpp: kept until a particle has moved 0.45 skin
+  // or the particles changed) and the candidates in it now; 0 without contacts.
+  long long pair_list_builds() const;
+  std::size_t candidate_pair_count() const;
   // Particle-wall contacts (one per particle and wall at most) at the last force evaluation.
   std::size_t wall_contact_count() const;
   // Wall w's total contact force (N) and torque about the origin (N m) at the last evaluation.
@@ -139,7 +146,8 @@ class HostStep {
   void set_particle(int i, const ParticleState& p);  // index i's state and ids from p
   void feed();                                       // the feeds' insertions at time_
   void run_force_stages(Real spring_dt);
-  // With `reorder`: the particles renumbered by cell (neighbor/contact_pairs.hpp, cell_order).
+  // With `reorder`, where the pair list expires: the particles renumbered by cell
+  // (neighbor/contact_pairs.hpp, cell_order).
   void reorder_by_cell();
   // With a domain box: the particles whose centroid has left it, removed, their energy to the
   // ledger's `removed`.
