@@ -96,7 +96,7 @@ struct ProductionRunner::Impl {
   // Damping and friction only take energy out, so this is a law integrated with too large a step.
   void watch_energy() {
     const EnergyTerms e = step->energy();
-    const bool first = next_watch == 0 || resumed_from == step_index;
+    const bool first = next_watch == 0 || resumed_from == step_index - 1;
     next_watch = step_index + kEnergyWatchEvery;
     if (first && e.finite()) {
       first_energy = e;
@@ -278,8 +278,11 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   m.schedule = std::make_unique<OutputSchedule>(scene, m.settings.output_root, "talus",
                                                 m.initial_particles, resume);
   for (const std::string& path : m.schedule->paths()) m.outputs.push_back(path);
-  if (resume) {  // the checkpoint's step has its outputs already
-    m.watch_energy();
+  if (resume) {
+    // The checkpoint's step has its outputs already. A restored step holds no contacts until it
+    // evaluates forces (its elastic energy reads zero), so the watchdog's reference is the first
+    // step after the checkpoint's: a settled bed's stored energy is not taken for energy created.
+    m.next_watch = m.step_index + 1;
     return;
   }
   m.step->evaluate_forces();  // step 0's contacts
