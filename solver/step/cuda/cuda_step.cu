@@ -25,6 +25,7 @@
 #include "solver/step/cuda/cuda_particle_kernels.cuh"
 #include "solver/step/cuda/cuda_particles.cuh"
 #include "solver/step/cuda/cuda_wall_stage.cuh"
+#include "solver/step/cuda/stage_timer.cuh"
 #include "solver/step/feeding.hpp"
 #include "solver/step/host/host_step.hpp"
 #include "solver/step/particle_kernels.hpp"
@@ -145,11 +146,7 @@ struct CudaStep<Real>::Impl {
         domain(make_scene_domain(s)) {
     shared.domain = domain.get();
   }
-  ~Impl() {
-    release_template_region(shared.constant_region);
-    for (const StageMark& mark : marks) cudaEventDestroy(mark.start), cudaEventDestroy(mark.stop);
-    for (const cudaEvent_t e : spare) cudaEventDestroy(e);
-  }
+  ~Impl() { release_template_region(shared.constant_region); }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
@@ -171,51 +168,13 @@ struct CudaStep<Real>::Impl {
   void set_up_pairs(const PairLawTables<Real>& host_tables);
   void feed();
 
-  // Each stage's time from a pair of CUDA events around its work on the default stream (which
-  // the pair stage's blocking streams join), read at the end of the step, when the device has
-  // caught up anyway: timing never makes the host wait for the device. The time is the device's,
-  // from the stage's start to its end, with the gaps where the device waited for the host's
-  // next launch (a small scene's step is mostly such gaps).
-  struct StageMark {
-    Stage stage;
-    cudaEvent_t start, stop;
-  };
-  std::vector<StageMark> marks;    // recorded this step, not read yet
-  std::vector<cudaEvent_t> spare;  // created and free
-
-  cudaEvent_t take_event() {
-    if (spare.empty()) {
-      cudaEvent_t e = nullptr;
-      TALUS_CUDA_CHECK(cudaEventCreate(&e));
-      return e;
-    }
-    const cudaEvent_t e = spare.back();
-    spare.pop_back();
-    return e;
-  }
+  StageTimer stage_timer;  // stage_seconds from CUDA events (stage_timer.cuh)
 
   template <class Body>
   void timed(Stage stage, Body&& body) {
-    StageMark mark{stage, take_event(), take_event()};
-    spare.reserve(spare.size() + 2);  // so that handing them back cannot throw
-    marks.push_back(mark);
-    TALUS_CUDA_CHECK(cudaEventRecord(mark.start, 0));
-    body();
-    TALUS_CUDA_CHECK(cudaEventRecord(mark.stop, 0));
+    stage_timer.timed(stage, std::forward<Body>(body));
   }
-
-  // The recorded stages' times into stage_seconds (waits for the last one's end).
-  void collect_stage_times() {
-    for (const StageMark& mark : marks) {
-      TALUS_CUDA_CHECK(cudaEventSynchronize(mark.stop));
-      float ms = 0;
-      TALUS_CUDA_CHECK(cudaEventElapsedTime(&ms, mark.start, mark.stop));
-      stage_seconds[static_cast<int>(mark.stage)] += 1e-3 * double(ms);
-      spare.push_back(mark.start);
-      spare.push_back(mark.stop);
-    }
-    marks.clear();
-  }
+  void collect_stage_times() { stage_timer.collect(stage_seconds); }
 
   // The flags the step's kernels raised (one read, at its end): a rotation that did not converge,
   // a pair whose geometry failed (the walls' are read by their stage, which waits for its count
