@@ -11,6 +11,8 @@ namespace talus {
 
 // `call(void* storage, std::size_t& bytes)` is the CUB algorithm with its arguments bound; `temp`
 // grows (with slack, DeviceBuffer::grow_to) to what it asks for and is kept for the next call.
+// (While a stream is captured into a graph, the storage must already be large enough: a graph
+// step follows a step launched stage by stage with the same sizes, which grew it.)
 template <class Call>
 void cub_call(DeviceBuffer<unsigned char>& temp, Call&& call) {
   std::size_t bytes = 0;

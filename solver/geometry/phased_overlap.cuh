@@ -46,12 +46,33 @@ struct PhasedBuckets {
   PhasedRange size[kPhasedSizes];
 
   // The range of the workspace of `planes` (8, 16, 32 or 64) planes.
-  const PhasedRange& workspace(int planes) const {
+  __host__ __device__ const PhasedRange& workspace(int planes) const {
     int s = 0;
     while ((kEnumerationPlanes << s) < planes) ++s;
     return size[s];
   }
 };
+
+// The histogram of the keys (kPhasedKeys counts) cut into the ranges of the sorted pairs.
+__host__ __device__ inline PhasedBuckets phased_buckets_from(const int* counts) {
+  PhasedBuckets b;
+  b.settled = {0, counts[0]};
+  int begin = counts[0];
+  for (int s = 0, m = 0; s < kPhasedSizes; ++s) {  // m kept planes: key m + 1
+    int count = 0;
+    for (; m <= (kEnumerationPlanes << s); ++m) count += counts[m + 1];
+    b.size[s] = {begin, count};
+    begin += count;
+  }
+  return b;
+}
+
+// The buckets on the device, for launches sized by their capacity (a graph step). A template, so
+// that every .cu file including this header may instantiate it.
+template <class Buckets>
+__global__ void phased_buckets_kernel(const int* __restrict__ counts, Buckets* buckets) {
+  if (blockIdx.x == 0 && threadIdx.x == 0) *buckets = phased_buckets_from(counts);
+}
 
 // The per-pair arrays of the phases and their counters, on the device, grown to the most pairs
 // asked for and kept between calls. The culling kernel fills masks(), keys(), order() and
@@ -59,23 +80,26 @@ struct PhasedBuckets {
 // counting in deferred_counter().
 class PhasedOverlapScratch {
  public:
-  // Room for n pairs, and the histogram and deferral count zeroed (one memset).
-  void prepare(int n) {
+  // Room for n pairs, and the histogram and deferral count zeroed (one memset on `stream`).
+  void prepare(int n, cudaStream_t stream = 0) {
     masks_.grow_to(n), keys_.grow_to(n), sorted_keys_.grow_to(n);
     order_.grow_to(n), sorted_order_.grow_to(n), deferred_.grow_to(n);
-    counters_.resize(kPhasedKeys + 1);
-    TALUS_CUDA_CHECK(cudaMemset(counters_.data(), 0, counters_.size() * sizeof(int)));
+    counters_.grow_to(kPhasedKeys + 1);
+    device_buckets_.grow_to(1);
+    TALUS_CUDA_CHECK(
+        cudaMemsetAsync(counters_.data(), 0, (kPhasedKeys + 1) * sizeof(int), stream));
   }
 
   // The order of the first n pairs sorted by key (keys at most max_key; only the bits that can
   // be set are sorted), on the default stream. Stable: the pairs of one key stay in order, so
   // each range of sorted_order() is in pair order.
-  void sort(int n, int max_key, DeviceBuffer<unsigned char>& temp) {
+  void sort(int n, int max_key, DeviceBuffer<unsigned char>& temp, cudaStream_t stream = 0) {
     int bits = 1;
     while ((1 << bits) <= max_key) ++bits;
     cub_call(temp, [&](void* storage, std::size_t& bytes) {
       return cub::DeviceRadixSort::SortPairs(storage, bytes, keys_.data(), sorted_keys_.data(),
-                                             order_.data(), sorted_order_.data(), n, 0, bits);
+                                             order_.data(), sorted_order_.data(), n, 0, bits,
+                                             stream);
     });
   }
 
@@ -84,17 +108,14 @@ class PhasedOverlapScratch {
   PhasedBuckets buckets() const {
     int counts[kPhasedKeys];
     TALUS_CUDA_CHECK(cudaMemcpy(counts, histogram(), sizeof(counts), cudaMemcpyDeviceToHost));
-    PhasedBuckets b;
-    b.settled = {0, counts[0]};
-    int begin = counts[0];
-    for (int s = 0, m = 0; s < kPhasedSizes; ++s) {  // m kept planes: key m + 1
-      int count = 0;
-      for (; m <= (kEnumerationPlanes << s); ++m) count += counts[m + 1];
-      b.size[s] = {begin, count};
-      begin += count;
-    }
-    return b;
+    return phased_buckets_from(counts);
   }
+  // The same cut on the device, into device_buckets() (nothing waits).
+  void buckets_on_device(cudaStream_t stream) {
+    phased_buckets_kernel<PhasedBuckets><<<1, 1, 0, stream>>>(histogram(), device_buckets_.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+  const PhasedBuckets* device_buckets() const { return device_buckets_.data(); }
 
   // The pairs the polytope kernels deferred, downloaded (this waits for them).
   int deferred_count() const {
@@ -116,7 +137,8 @@ class PhasedOverlapScratch {
   std::size_t bytes() const {
     return (order_.size() + sorted_order_.size() + deferred_.size() + counters_.size()) *
                sizeof(int) +
-           masks_.size() * sizeof(unsigned long long) + keys_.size() + sorted_keys_.size();
+           masks_.size() * sizeof(unsigned long long) + keys_.size() + sorted_keys_.size() +
+           device_buckets_.size() * sizeof(PhasedBuckets);
   }
 
  private:
@@ -124,6 +146,7 @@ class PhasedOverlapScratch {
   DeviceBuffer<unsigned char> keys_, sorted_keys_;
   DeviceBuffer<int> order_, sorted_order_, deferred_;
   DeviceBuffer<int> counters_;  // [key]: the histogram; [kPhasedKeys]: the deferred pairs
+  DeviceBuffer<PhasedBuckets> device_buckets_;
 };
 
 // The vertex enumeration's planes of the calling thread in a block of Block threads, in shared

@@ -8,6 +8,8 @@
 
 #include "solver/contact/contact_laws.hpp"
 #include "solver/core/cub_call.cuh"
+#include "solver/dynamics/integrator.hpp"
+#include "solver/step/particle_kernels.hpp"
 
 namespace talus {
 
@@ -27,6 +29,34 @@ __global__ void max_displacement_kernel(ParticleView<Real> p, const Real* __rest
     const double dx = double(p.position.x[i]) - double(x0[i]);
     const double dy = double(p.position.y[i]) - double(y0[i]);
     const double dz = double(p.position.z[i]) - double(z0[i]);
+    d2 = dx * dx + dy * dy + dz * dz;
+  }
+  const double block_max =
+      BlockReduce(temp).Reduce(d2, [](double u, double v) { return u < v ? v : u; });
+  if (threadIdx.x == 0)
+    atomicMax(largest, static_cast<unsigned long long>(__double_as_longlong(block_max)));
+}
+
+// As max_displacement_kernel, for the positions the next integrate_begin will give (the same
+// begin_translation on copies of the present state).
+template <class Real>
+__global__ void predicted_displacement_kernel(ParticleView<Real> p,
+                                              const BodyProperties<Real>* __restrict__ bodies,
+                                              Real dt, const Real* __restrict__ x0,
+                                              const Real* __restrict__ y0,
+                                              const Real* __restrict__ z0, AbortCheck abort,
+                                              unsigned long long* largest) {
+  using BlockReduce = cub::BlockReduce<double, kBlock>;
+  __shared__ typename BlockReduce::TempStorage temp;
+  if (abort.aborted()) return;  // the whole block returns together
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  double d2 = 0;
+  if (i < p.count) {
+    Vec3<Real> x = p.position.get(i), v = p.velocity.get(i), a0;
+    begin_translation(x, v, force_or_zero(p, i), bodies[p.template_id[i]].mass, dt, a0);
+    const double dx = double(x.x) - double(x0[i]);
+    const double dy = double(x.y) - double(y0[i]);
+    const double dz = double(x.z) - double(z0[i]);
     d2 = dx * dx + dy * dy + dz * dz;
   }
   const double block_max =
@@ -143,6 +173,26 @@ bool DevicePairList<Real>::moved_beyond(const Real* x0, const Real* y0, const Re
   std::memcpy(&moved2, &bits, sizeof(moved2));
   const double limit = 0.45 * double(skin_);
   return moved2 > limit * limit;
+}
+
+template <class Real>
+void DevicePairList<Real>::predict_move(const BodyProperties<Real>* bodies, Real dt,
+                                        unsigned long long* out, AbortCheck abort,
+                                        cudaStream_t stream) {
+  TALUS_CUDA_CHECK(cudaMemsetAsync(out, 0, sizeof(unsigned long long), stream));
+  if (!steady() || shared_.count == 0) return;
+  predicted_displacement_kernel<<<blocks_for(shared_.count), kBlock, 0, stream>>>(
+      shared_.view, bodies, dt, built_x_.data(), built_y_.data(), built_z_.data(), abort, out);
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+template <class Real>
+bool DevicePairList<Real>::keeps(unsigned long long predicted_bits) const {
+  if (!steady()) return false;
+  double moved2 = 0;
+  std::memcpy(&moved2, &predicted_bits, sizeof(moved2));
+  const double limit = 0.9 * 0.45 * double(skin_);
+  return moved2 < limit * limit;  // false for a NaN
 }
 
 // The rebuild an uninterrupted run makes (renumber_due_): the first build, changed particles, a

@@ -34,6 +34,20 @@ class DevicePairList {
   bool renumber_due();
   // Rebuilds the list when due().
   void update();
+
+  // For graph steps (cuda_step.cu, "Graph steps"), which skip update(): whether the list is
+  // built and nothing but the particles' motion can make it due (a skin, no change of the
+  // particles, no imported store, no mirrored reference).
+  bool steady() const { return skin_ > 0 && builds_ > 0 && !stale_ && imported_ < 0 && !mirror_; }
+  // On `stream`: the largest squared distance from the positions the list was built at that a
+  // particle will have after the next step's integrate_begin (begin_translation with its
+  // present velocity and force, as that stage will compute it), as the bits of a double, into
+  // `out` (device). Nothing when `abort` says the step did not finish.
+  void predict_move(const BodyProperties<Real>* bodies, Real dt, unsigned long long* out,
+                    AbortCheck abort, cudaStream_t stream);
+  // Whether such a predicted move keeps the next step's rebuild test certainly false: below
+  // 0.9 of its limit (0.45 skin), a margin far above the round-off of the two computations.
+  bool keeps(unsigned long long predicted_bits) const;
   // Before the particles are renumbered or removed: the touching slots' histories into the store
   // (keyed by global ids, read through the current indices), which the next update builds the
   // list with, as after import_histories.

@@ -48,11 +48,11 @@ class DevicePairStage {
   template <class Law>
   void launch_all(int candidates);
   template <class Law>
-  void launch_pairs(int capacity, const int* slots, int n);
+  void launch_pairs(int capacity, const int* slots, int n, const int* count_at);
   template <class Law, int Capacity>
-  void launch_pairs(const int* slots, int n);
+  void launch_pairs(const int* slots, int n, const int* count_at);
   template <class Law, int Cap>
-  void launch_polytopes(const PhasedBuckets& buckets, cudaStream_t stream);
+  void launch_polytopes(const PhasedBuckets* buckets, int slots, cudaStream_t stream);
   template <class Law>
   void compute_phased();
 
@@ -67,6 +67,9 @@ class DevicePairStage {
   PhasedOverlapScratch scratch_;
   // One stream per polytope workspace size (8, 16, 32, 64 planes), so the sizes run together.
   std::array<cudaStream_t, kPhasedSizes> streams_{};
+  // Their start after the sort on the step's stream, and the step's stream waiting for them.
+  cudaEvent_t fork_ = nullptr;
+  std::array<cudaEvent_t, kPhasedSizes> joins_{};
 };
 
 }  // namespace talus

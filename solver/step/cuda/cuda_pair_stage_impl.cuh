@@ -98,12 +98,14 @@ struct SlotArgs {
 // capacity present in the scene computes the rest), so a thread's local memory is the
 // workspace of its own template pair. Used for the linear model and spheres (Capacity 0), for
 // template pairs with more than 64 faces together, and for the few pairs the phased kernels
-// defer. Law: the scene's contact law (contact/laws/).
+// defer. Law: the scene's contact law (contact/laws/). count_at: the number of `slots` on the
+// device (a graph step, launched for `count`, their capacity), else null.
 template <class Law, class Real, int Capacity, bool Atomic>
 __global__ void __launch_bounds__(kBlock)
     pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s, const int* slots,
-                int count) {
+                int count, const int* count_at) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (count_at) count = min(count, *count_at);
   bool in_contact = false;
   if (j < count) {
     const int k = slots ? slots[j] : j;
@@ -204,13 +206,21 @@ __global__ void __launch_bounds__(kBlock, 4)
 // chooses for its other variants): left free, with the default law's atomic sums it took 224
 // (8 warps) and ran slower on the 1e6 bed (benchmarks/history/README.md, session 13). The
 // workspace kernels keep no such bound: under it they spill.
+// buckets: the ranges on the device (a graph step, launched for every slot), else null and the
+// range is begin, count.
 template <class Law, class Real, int Cap, bool Atomic>
 __global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
     polytope_pair_kernel(ParticleView<Real> p, PairLawTables<Real> t, SlotArgs<Real> s,
                          const int* __restrict__ order, int begin, int count,
+                         const PhasedBuckets* __restrict__ buckets,
                          const unsigned long long* __restrict__ masks, int* deferred,
                          int* deferred_count) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (buckets) {
+    const PhasedRange range = buckets->workspace(Cap);
+    begin = range.begin;
+    count = min(count, range.count);
+  }
   bool in_contact = false;
   if (j < count) {
     const int k = order[begin + j];
@@ -291,6 +301,9 @@ DevicePairStage<Real>::DevicePairStage(DeviceStepShared<Real>& shared, DevicePai
     phased_ = phased_ || (capacity > 0 && capacity <= kMaxPhasedPlanes);
   if (phased_) {
     for (cudaStream_t& stream : streams_) TALUS_CUDA_CHECK(cudaStreamCreate(&stream));
+    TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&fork_, cudaEventDisableTiming));
+    for (cudaEvent_t& join : joins_)
+      TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&join, cudaEventDisableTiming));
   }
 }
 
@@ -299,21 +312,27 @@ DevicePairStage<Real>::~DevicePairStage() {
   for (cudaStream_t stream : streams_) {
     if (stream) cudaStreamDestroy(stream);  // no throw from a destructor
   }
+  if (fork_) cudaEventDestroy(fork_);
+  for (cudaEvent_t join : joins_) {
+    if (join) cudaEventDestroy(join);
+  }
 }
 
-// pair_kernel for the pairs of capacity Capacity among `slots` (all slots when null).
+// pair_kernel for the pairs of capacity Capacity among `slots` (all slots when null), n of them
+// (at most n, their number at count_at on the device, when that is not null).
 template <class Real>
 template <class Law, int Capacity>
-void DevicePairStage<Real>::launch_pairs(const int* slots, int n) {
+void DevicePairStage<Real>::launch_pairs(const int* slots, int n, const int* count_at) {
   if (n <= 0) return;
   const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
   const ParticleView<Real>& v = shared_.view;
+  const cudaStream_t stream = shared_.stream;
   if (shared_.scene.deterministic) {
     pair_kernel<Law, Real, Capacity, false>
-        <<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
+        <<<blocks_for(n), kBlock, 0, stream>>>(v, shared_.tables, args, slots, n, count_at);
   } else {
     pair_kernel<Law, Real, Capacity, true>
-        <<<blocks_for(n), kBlock>>>(v, shared_.tables, args, slots, n);
+        <<<blocks_for(n), kBlock, 0, stream>>>(v, shared_.tables, args, slots, n, count_at);
   }
   TALUS_CUDA_LAUNCH_CHECK();
 }
@@ -321,36 +340,40 @@ void DevicePairStage<Real>::launch_pairs(const int* slots, int n) {
 // A law without volume geometry has only capacity 0 (no workspace kernels are made for it).
 template <class Real>
 template <class Law>
-void DevicePairStage<Real>::launch_pairs(int capacity, const int* slots, int n) {
+void DevicePairStage<Real>::launch_pairs(int capacity, const int* slots, int n,
+                                         const int* count_at) {
   if constexpr (!Law::kVolumeGeometry) {
-    return launch_pairs<Law, 0>(slots, n);
+    return launch_pairs<Law, 0>(slots, n, count_at);
   } else {
     switch (capacity) {
       case 0:
-        return launch_pairs<Law, 0>(slots, n);
+        return launch_pairs<Law, 0>(slots, n, count_at);
       case 32:
-        return launch_pairs<Law, 32>(slots, n);
+        return launch_pairs<Law, 32>(slots, n, count_at);
       case 64:
-        return launch_pairs<Law, 64>(slots, n);
+        return launch_pairs<Law, 64>(slots, n, count_at);
       case 128:
-        return launch_pairs<Law, 128>(slots, n);
+        return launch_pairs<Law, 128>(slots, n, count_at);
       default:
-        return launch_pairs<Law, 256>(slots, n);
+        return launch_pairs<Law, 256>(slots, n, count_at);
     }
   }
 }
 
-// Phase 2 with a workspace of Cap planes over its range of the sorted slots, on `stream`.
+// Phase 2 with a workspace of Cap planes over its range of the sorted slots, on `stream`; in a
+// graph step (`buckets` null) over every slot, the range read on the device.
 template <class Real>
 template <class Law, int Cap>
-void DevicePairStage<Real>::launch_polytopes(const PhasedBuckets& buckets, cudaStream_t stream) {
-  const PhasedRange range = buckets.workspace(Cap);
+void DevicePairStage<Real>::launch_polytopes(const PhasedBuckets* buckets, int slots,
+                                             cudaStream_t stream) {
+  const PhasedRange range = buckets ? buckets->workspace(Cap) : PhasedRange{0, slots};
   if (range.count <= 0) return;
   const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
+  const PhasedBuckets* on_device = buckets ? nullptr : scratch_.device_buckets();
   const auto launch = [&](auto kernel) {
     kernel<<<blocks_for(range.count), kBlock, 0, stream>>>(
         shared_.view, shared_.tables, args, scratch_.sorted_order(), range.begin, range.count,
-        scratch_.masks(), scratch_.deferred(), scratch_.deferred_counter());
+        on_device, scratch_.masks(), scratch_.deferred(), scratch_.deferred_counter());
     TALUS_CUDA_LAUNCH_CHECK();
   };
   if (shared_.scene.deterministic) {
@@ -361,31 +384,49 @@ void DevicePairStage<Real>::launch_polytopes(const PhasedBuckets& buckets, cudaS
 }
 
 // The phased path over every slot: cull, sort by kept planes, polytopes, deferred pairs.
+// In a graph step nothing is read back: the ranges are cut on the device and each polytope
+// kernel is launched for every slot (its threads past the range return at once), the deferred
+// pairs' kernel for every slot too, their number read on the device.
 template <class Real>
 template <class Law>
 void DevicePairStage<Real>::compute_phased() {
   const int n = list_.candidates();
-  scratch_.prepare(n);
-  cull_pair_kernel<Law><<<blocks_for(n), kBlock>>>(
+  const cudaStream_t stream = shared_.stream;
+  const bool graph = shared_.graph_mode;
+  scratch_.prepare(n, stream);
+  cull_pair_kernel<Law><<<blocks_for(n), kBlock, 0, stream>>>(
       shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_), n, scratch_.masks(),
       scratch_.keys(), scratch_.order(), scratch_.histogram());
   TALUS_CUDA_LAUNCH_CHECK();
   // kOtherPath (255) sorts last.
-  scratch_.sort(n, kOtherPath, shared_.temp);
-  const PhasedBuckets buckets = scratch_.buckets();
+  scratch_.sort(n, kOtherPath, shared_.temp, stream);
+  PhasedBuckets buckets;
+  if (graph) {
+    scratch_.buckets_on_device(stream);
+  } else {
+    buckets = scratch_.buckets();
+  }
+  const PhasedBuckets* host_buckets = graph ? nullptr : &buckets;
   // Each workspace size runs on a stream of its own: a small bucket (a few thousand deep pairs
   // among millions) then runs beside the large one instead of as a tail with the GPU nearly
-  // idle. The streams are blocking ones: they start after the sort on the default stream, and
-  // the read of the deferred count below waits for all of them. The larger sizes are launched
-  // first so that their blocks are scheduled early.
-  launch_polytopes<Law, 64>(buckets, streams_[3]);
-  launch_polytopes<Law, 32>(buckets, streams_[2]);
-  launch_polytopes<Law, 16>(buckets, streams_[1]);
-  launch_polytopes<Law, 8>(buckets, streams_[0]);
-  const int late = scratch_.deferred_count();
+  // idle. The side streams start after the sort (an event on the step's stream) and the step's
+  // stream waits for them all (an event each) before the deferred pairs; in a graph these are
+  // its edges. The larger sizes are launched first so that their blocks are scheduled early.
+  TALUS_CUDA_CHECK(cudaEventRecord(fork_, stream));
+  for (const cudaStream_t side : streams_) TALUS_CUDA_CHECK(cudaStreamWaitEvent(side, fork_, 0));
+  launch_polytopes<Law, 64>(host_buckets, n, streams_[3]);
+  launch_polytopes<Law, 32>(host_buckets, n, streams_[2]);
+  launch_polytopes<Law, 16>(host_buckets, n, streams_[1]);
+  launch_polytopes<Law, 8>(host_buckets, n, streams_[0]);
+  for (int s = 0; s < kPhasedSizes; ++s) {
+    TALUS_CUDA_CHECK(cudaEventRecord(joins_[s], streams_[s]));
+    TALUS_CUDA_CHECK(cudaStreamWaitEvent(stream, joins_[s], 0));
+  }
+  const int late = graph ? n : scratch_.deferred_count();
+  const int* late_at = graph ? scratch_.deferred_counter() : nullptr;
   for (const int capacity : capacities_) {
     if (capacity > 0 && capacity <= kMaxPhasedPlanes)
-      launch_pairs<Law>(capacity, scratch_.deferred(), late);
+      launch_pairs<Law>(capacity, scratch_.deferred(), late, late_at);
   }
 }
 
@@ -398,7 +439,7 @@ void DevicePairStage<Real>::launch_all(int candidates) {
   }
   for (const int capacity : capacities_) {
     if (!phased_ || capacity == 0 || capacity > kMaxPhasedPlanes)
-      launch_pairs<Law>(capacity, nullptr, candidates);
+      launch_pairs<Law>(capacity, nullptr, candidates, nullptr);
   }
 }
 
@@ -422,10 +463,9 @@ void DevicePairStage<Real>::check_flags(const std::array<int, flags>& all) {
     throw std::runtime_error(degenerate_pair_message(shared_.scene, shared_.pose_report(pair.a),
                                                      shared_.pose_report(pair.b)));
   }
-  if (!contact_count_ready_) {
-    contact_count_ = all[touching_pairs];
-    contact_count_ready_ = true;
-  }
+  // Also after a graph step, where compute() ran only when the graph was captured.
+  contact_count_ = list_.candidates() > 0 ? all[touching_pairs] : 0;
+  contact_count_ready_ = true;
 }
 
 template <class Real>

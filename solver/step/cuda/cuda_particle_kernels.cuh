@@ -41,11 +41,12 @@ __global__ void drag_kernel(ParticleView<Real> p, Real alpha) {
   if (i < p.count) add_drag(p, i, alpha);
 }
 
+// (Nothing when `abort` says a graph step's wall stage did not finish: cuda_step.cu.)
 template <class Real>
 __global__ void integrate_end_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
-                                     Real dt) {
+                                     Real dt, AbortCheck abort) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < p.count) integrate_end(p, bodies, i, dt);
+  if (i < p.count && !abort.aborted()) integrate_end(p, bodies, i, dt);
 }
 
 // ---- Accumulation: one thread per particle, its touching slots in pair order, then its walls ----
@@ -57,9 +58,10 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
                                   const int* __restrict__ sorted_slot,
                                   const int* __restrict__ begin, const int* __restrict__ end,
                                   const WallContactRecord<Real>* __restrict__ wall_contacts,
-                                  const int* __restrict__ wall_slot, int walls) {
+                                  const int* __restrict__ wall_slot, int walls,
+                                  AbortCheck abort) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= p.count) return;
+  if (i >= p.count || abort.aborted()) return;
   // The same additions, in the same order, as add_pair_force and add_wall_force on the host: the
   // list is sorted by (a, b), so a particle's touching slots come in the host's contact order.
   Vec3<Real> f = p.force.get(i), t;

@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -81,6 +84,25 @@ PairLawTables<Real> upload_law_tables(const PairLawTables<Real>& h,
   return d;
 }
 
+// What the host reads at the end of each step, in one wait (pinned memory, filled by copies at
+// the end of the step's work on its stream): the flags, the contacts' energy sums and the pair
+// list's predicted move (DevicePairList::predict_move).
+struct StepReport {
+  int raised[Flag::flags];
+  double energy[kEnergySums];
+  unsigned long long predicted_move;
+};
+
+// Graph steps only for scenes up to this many particles: a graph's kernels are launched for
+// their capacities (every slot, every particle-wall pair), which costs nothing in a small scene,
+// whose step is launch overhead, and a little in a large one, whose step is arithmetic.
+constexpr int kGraphParticles = 1 << 17;
+
+bool graphs_allowed_by_environment() {
+  const char* v = std::getenv("TALUS_CUDA_GRAPHS");
+  return v == nullptr || std::string(v) != "0";
+}
+
 }  // namespace
 
 template <class Real>
@@ -109,6 +131,14 @@ struct CudaStep<Real>::Impl {
   long long removed = 0;
 
   StageSeconds stage_seconds{};
+  // Graph steps ("Graph steps" below).
+  CudaStepOptions options;
+  StepReport* report = nullptr;                // pinned
+  DeviceBuffer<unsigned long long> predicted;  // the report's predicted move, on the device
+  cudaGraphExec_t graph = nullptr;
+  bool graphs_on = true;    // the option, the environment and no failed capture
+  bool recapture = true;    // a step ran stage by stage since the graph was captured
+  CudaGraphCounts graph_counts;
   double time = 0;
   long long steps = 0;
   bool forces_ready = false;
@@ -116,16 +146,21 @@ struct CudaStep<Real>::Impl {
   std::array<double, kEnergySums> energy_sums{};  // the last evaluation's
 
   // The force stages with the energy sums around them (when asked for): the contacts' sums
-  // zeroed before, added up after and downloaded (one 32-byte copy).
-  void run_force_stages_with_energy(Real spring_dt, bool first) {
+  // zeroed before and added up after; they reach the report at the end of the step.
+  void run_force_stages_with_energy(Real spring_dt) {
     const bool track = shared.energy_sums.size() > 0;
-    if (track)
-      TALUS_CUDA_CHECK(cudaMemset(shared.energy_sums.data(), 0, sizeof(double) * kEnergySums));
+    if (track) {
+      TALUS_CUDA_CHECK(cudaMemsetAsync(shared.energy_sums.data(), 0,
+                                       sizeof(double) * kEnergySums, shared.stream));
+    }
     run_force_stages(spring_dt);
-    if (!track) return;
-    if (walls) walls->add_energy_sums(shared.energy_sums.data());
-    const std::vector<double> sums = download(shared.energy_sums.data(), kEnergySums);
-    std::copy(sums.begin(), sums.end(), energy_sums.begin());
+    if (track && walls) walls->add_energy_sums(shared.energy_sums.data());
+  }
+
+  // The ledger from the report's energy sums: its start at the first evaluation, else a step.
+  void take_energy(bool first) {
+    if (shared.energy_sums.size() == 0) return;
+    std::copy(report->energy, report->energy + kEnergySums, energy_sums.begin());
     ContactRates rates;
     rates.dissipation = energy_sums[sum_dissipation];
     rates.wall_power = energy_sums[sum_wall_power];
@@ -146,7 +181,12 @@ struct CudaStep<Real>::Impl {
         domain(make_scene_domain(s)) {
     shared.domain = domain.get();
   }
-  ~Impl() { release_template_region(shared.constant_region); }
+  ~Impl() {
+    if (graph) cudaGraphExecDestroy(graph);  // no throw from a destructor
+    if (report) cudaFreeHost(report);
+    if (shared.stream) cudaStreamDestroy(shared.stream);
+    release_template_region(shared.constant_region);
+  }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
@@ -162,7 +202,161 @@ struct CudaStep<Real>::Impl {
     particles->keep(order.data(), count());
     list->particles_changed();
   }
-  void remove_outside();
+  void flag_outside();
+  void remove_outside(int outside);
+
+  // ---- Graph steps ----
+  // A small scene's step is launch overhead and waits: some thirty kernels, each a few
+  // microseconds of the host's time, for work the device does in less. A step that needs no
+  // decision from the host in its middle is captured once as a CUDA graph and then launched
+  // whole, one call per step, the host waiting once at its end for the report. Such a step:
+  // the pair list is kept (the step before predicted every particle's next position short of
+  // the rebuild distance, DevicePairList::keeps), no feed is due, the wall stage has room for a
+  // record per particle-wall pair, and the scene is small (kGraphParticles). The stages then
+  // read nothing back (DeviceStepShared::graph_mode) and are launched for their capacities; the
+  // only thing a graph step can overrun is the wall stage's room for facets, which aborts the
+  // kernels after it (AbortCheck), and the step then finishes stage by stage
+  // (finish_aborted_step). A step launched stage by stage (a rebuild, a feed, a removal) may
+  // reallocate any array, so the next graph step captures the graph again, updating the
+  // executable one in place when its shape is the same. The results are the same bits as stage
+  // by stage (GpuGraphStep tests).
+
+  // Whether this step may run as a graph (before its work; the step's time is advanced).
+  bool graph_due() const {
+    if (!graphs_on || count() == 0 || count() > kGraphParticles) return false;
+    return !list || list->keeps(report->predicted_move);
+  }
+
+  // Launches the step's graph (capturing it first when due); false when it cannot (the step then
+  // runs stage by stage).
+  bool launch_graph() {
+    if (recapture && !capture_graph()) return false;
+    if (!recapture && walls) walls->stage_placement(time);  // the capture placed them
+    TALUS_CUDA_CHECK(cudaGraphLaunch(graph, shared.stream));
+    recapture = false;
+    return true;
+  }
+
+  bool capture_graph() {
+    if (walls && !walls->prepare_graph()) return false;
+    stage_timer.release_graph();
+    cudaGraph_t captured = nullptr;
+    TALUS_CUDA_CHECK(cudaStreamBeginCapture(shared.stream, cudaStreamCaptureModeThreadLocal));
+    shared.graph_mode = true;
+    try {
+      enqueue_step();
+    } catch (const std::exception& e) {
+      shared.graph_mode = false;
+      shared.abort = AbortCheck{};
+      cudaStreamEndCapture(shared.stream, &captured);  // ends the capture; its error is e
+      if (captured) cudaGraphDestroy(captured);
+      cudaGetLastError();
+      stage_timer.release_graph();
+      graphs_on = false;
+      std::fprintf(stderr, "talus: cuda step: graph steps off (capture failed: %s)\n", e.what());
+      return false;
+    }
+    shared.graph_mode = false;
+    shared.abort = AbortCheck{};
+    TALUS_CUDA_CHECK(cudaStreamEndCapture(shared.stream, &captured));
+    ++graph_counts.captures;
+    bool updated = false;
+    if (graph) {
+      cudaGraphExecUpdateResultInfo info;
+      updated = cudaGraphExecUpdate(graph, captured, &info) == cudaSuccess;
+      if (!updated) {
+        cudaGetLastError();  // not sticky: a new executable graph instead
+        TALUS_CUDA_CHECK(cudaGraphExecDestroy(graph));
+        graph = nullptr;
+      }
+    }
+    cudaError_t made = cudaSuccess;
+    if (!updated) made = cudaGraphInstantiate(&graph, captured, 0);
+    cudaGraphDestroy(captured);
+    TALUS_CUDA_CHECK(made);
+    return true;
+  }
+
+  // The step's work after the feeds, in order, on the step's stream: everything a graph holds.
+  void enqueue_step() {
+    shared.abort = AbortCheck{};
+    shared.flags.reset(shared.stream);
+    if (count() > 0) {
+      timed(Stage::integrate_begin, [&] {
+        integrate_begin_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+            view(), bodies.data(), dt, shared.flags.data());
+        TALUS_CUDA_LAUNCH_CHECK();
+      });
+    }
+    run_force_stages_with_energy(dt);
+    finish_enqueue();
+  }
+
+  // The end of a step's work: integrate_end, the list's predicted move, the particles outside.
+  void finish_enqueue() {
+    if (count() > 0) {
+      timed(Stage::integrate_end, [&] {
+        integrate_end_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+            view(), bodies.data(), dt, shared.abort);
+        TALUS_CUDA_LAUNCH_CHECK();
+      });
+    }
+    if (list) {
+      predicted.grow_to(1);
+      list->predict_move(bodies.data(), dt, predicted.data(), shared.abort, shared.stream);
+    }
+    flag_outside();
+    copy_report();
+  }
+
+  // The report's copies (on the step's stream; part of a graph).
+  void copy_report() {
+    shared.flags.copy_to(report->raised, shared.stream);
+    if (shared.energy_sums.size() > 0) {
+      TALUS_CUDA_CHECK(cudaMemcpyAsync(report->energy, shared.energy_sums.data(),
+                                       sizeof(double) * kEnergySums, cudaMemcpyDeviceToHost,
+                                       shared.stream));
+    }
+    if (list) {
+      TALUS_CUDA_CHECK(cudaMemcpyAsync(&report->predicted_move, predicted.data(),
+                                       sizeof(unsigned long long), cudaMemcpyDeviceToHost,
+                                       shared.stream));
+    }
+  }
+
+  // The one wait of a step: for its work and its report.
+  void report_and_wait() { TALUS_CUDA_CHECK(cudaStreamSynchronize(shared.stream)); }
+  std::array<int, flags> report_flags() const {
+    std::array<int, flags> all{};
+    std::copy(report->raised, report->raised + flags, all.begin());
+    return all;
+  }
+
+  // A graph step whose wall stage overran its room for facets: the pair stage is done, the wall
+  // stage and what follows it did nothing; the wall stage again stage by stage with more room,
+  // then the rest of the step.
+  void finish_aborted_step(int facets) {
+    ++graph_counts.aborted;
+    walls->recover(dt, time, facets);
+    if (shared.energy_sums.size() > 0) walls->add_energy_sums(shared.energy_sums.data());
+    timed(Stage::accumulate, [&] { accumulate(); });
+    finish_enqueue_after_abort();
+    TALUS_CUDA_CHECK(cudaStreamSynchronize(shared.stream));
+    recapture = true;
+  }
+  // As finish_enqueue, without flagging the particles outside again (the graph did; positions
+  // do not change after integrate_begin).
+  void finish_enqueue_after_abort() {
+    if (count() > 0) {
+      timed(Stage::integrate_end, [&] {
+        integrate_end_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+            view(), bodies.data(), dt, shared.abort);
+        TALUS_CUDA_LAUNCH_CHECK();
+      });
+    }
+    if (list) list->predict_move(bodies.data(), dt, predicted.data(), shared.abort, shared.stream);
+    copy_report();
+  }
 
   void upload_templates(const CudaStepOptions& options);
   void set_up_pairs(const PairLawTables<Real>& host_tables);
@@ -172,15 +366,14 @@ struct CudaStep<Real>::Impl {
 
   template <class Body>
   void timed(Stage stage, Body&& body) {
-    stage_timer.timed(stage, std::forward<Body>(body));
+    stage_timer.timed(stage, shared.stream, shared.graph_mode, std::forward<Body>(body));
   }
   void collect_stage_times() { stage_timer.collect(stage_seconds); }
 
-  // The flags the step's kernels raised (one read, at its end): a rotation that did not converge,
-  // a pair whose geometry failed (the walls' are read by their stage, which waits for its count
-  // anyway); the pairs' touching count kept.
-  void check_flags() {
-    const std::array<int, flags> all = shared.flags.read_all();
+  // The flags the step's kernels raised (from the report, read at the step's end): a rotation
+  // that did not converge, a pair whose geometry failed (the walls' are read by their stage,
+  // which waits for its count anyway, or after a graph step); the pairs' touching count kept.
+  void check_flags(const std::array<int, flags>& all) {
     const int failed = all[failed_rotation];
     if (failed != INT_MAX) {
       throw std::runtime_error(
@@ -193,12 +386,12 @@ struct CudaStep<Real>::Impl {
 
   void accumulate() {
     const bool slots = scene.deterministic && list && list->candidates() > 0;
-    accumulate_kernel<<<blocks_for(count()), kBlock>>>(
+    accumulate_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
         view(), slots ? list->pairs() : nullptr, slots ? list->slot_state() : nullptr,
         slots ? list->forces() : nullptr, slots ? list->sorted_slot() : nullptr,
         slots ? list->entry_begin() : nullptr, slots ? list->entry_end() : nullptr,
         walls ? walls->contacts() : nullptr, walls ? walls->slots() : nullptr,
-        walls ? walls->walls() : 0);
+        walls ? walls->walls() : 0, shared.abort);
     TALUS_CUDA_LAUNCH_CHECK();
   }
 
@@ -206,28 +399,32 @@ struct CudaStep<Real>::Impl {
     if (count() == 0) return;
     const BodyProperties<Real>* b = bodies.data();
     const int blocks = blocks_for(count());
+    const cudaStream_t stream = shared.stream;
     for (const Stage stage : plan.stages) {
       switch (stage) {
         case Stage::clear_forces:
           timed(stage, [&] {
-            clear_forces_kernel<<<blocks, kBlock>>>(view());
+            clear_forces_kernel<<<blocks, kBlock, 0, stream>>>(view());
             TALUS_CUDA_LAUNCH_CHECK();
           });
           break;
         case Stage::gravity:
           timed(stage, [&] {
             const Vec3<Real> g(*scene.effects.gravity);
-            gravity_kernel<<<blocks, kBlock>>>(view(), b, g);
+            gravity_kernel<<<blocks, kBlock, 0, stream>>>(view(), b, g);
             TALUS_CUDA_LAUNCH_CHECK();
           });
           break;
         case Stage::drag:
           timed(stage, [&] {
-            drag_kernel<<<blocks, kBlock>>>(view(), Real(*scene.effects.drag_alpha));
+            drag_kernel<<<blocks, kBlock, 0, stream>>>(view(), Real(*scene.effects.drag_alpha));
             TALUS_CUDA_LAUNCH_CHECK();
           });
           break;
         case Stage::candidate_pairs:
+          // A graph step keeps the list: the step before predicted that no particle reaches
+          // the rebuild distance in it (DevicePairList::keeps).
+          if (shared.graph_mode) break;
           timed(stage, [&] {
             if (scene.reorder.value_or(true) && list->due() && list->renumber_due())
               reorder_by_cell();
@@ -296,25 +493,31 @@ void CudaStep<Real>::Impl::feed() {
   }
   particles->append(added, host_bodies, true);
   if (list) list->particles_changed();
+  recapture = true;
 }
 
-// As HostStep::remove_outside: one pass flags the particles outside the domain box; when some
-// are, their energies are summed (CUB, in a fixed order), the kept ones selected in order, the
-// touching histories kept by global ids and the particles gathered.
+// As HostStep::remove_outside, in two parts. flag_outside (on the step's stream, part of its
+// work): one pass flags the particles outside the domain box, counted in flag
+// outside_particles. remove_outside (after the step's report says some are): their energies
+// summed (CUB, in a fixed order), the kept ones selected in order, the touching histories kept
+// by global ids and the particles gathered.
 template <class Real>
-void CudaStep<Real>::Impl::remove_outside() {
+void CudaStep<Real>::Impl::flag_outside() {
   const int n = count();
-  if (n == 0) return;
+  if (n == 0 || !scene.domain) return;
   const Box box = domain->local_box();
   keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
-  shared.flags.clear(outside_particles);
   const Vec3d g = scene.effects.gravity ? *scene.effects.gravity : Vec3d();
-  outside_kernel<<<blocks_for(n), kBlock>>>(
+  outside_kernel<<<blocks_for(n), kBlock, 0, shared.stream>>>(
       view(), bodies.data(), box.min, box.max, g, scene.effects.gravity.has_value(),
       keep_flags.data(), removed_energy.data(), index.data(), shared.flags.at(outside_particles));
   TALUS_CUDA_LAUNCH_CHECK();
-  const int outside = shared.flags.read(outside_particles);
-  if (outside == 0) return;
+}
+
+template <class Real>
+void CudaStep<Real>::Impl::remove_outside(int outside) {
+  const int n = count();
+  if (outside == 0 || n == 0) return;
   removed_sum.grow_to(1);
   cub_call(shared.temp, [&](void* t, std::size_t& b) {
     return cub::DeviceReduce::Sum(t, b, removed_energy.data(), removed_sum.data(), n);
@@ -328,6 +531,7 @@ void CudaStep<Real>::Impl::remove_outside() {
   particles->keep(order.data(), n - outside);
   if (list) list->particles_changed();
   removed += outside;
+  recapture = true;
 }
 
 // The law tables on the device, the pair list with the scene's skin and the pair stage.
@@ -347,6 +551,8 @@ template <class Real>
 CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
     : impl_(std::make_unique<Impl>(scene)) {
   Impl& m = *impl_;
+  m.options = options;
+  m.graphs_on = options.graphs && graphs_allowed_by_environment() && !cuda_sync_after_launch();
   for (const ParticleTemplate& t : scene.templates) {
     m.host_shapes.push_back(t.kind == ParticleShapeKind::polyhedron
                                 ? std::make_unique<ShapeArrays<Real>>(t.shape)
@@ -372,6 +578,10 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
   if (m.plan.contacts && (energy_probe || scene.effects.moving_walls))
     m.shared.energy_sums.grow_to(kEnergySums);
   m.shared.flags.allocate();
+  TALUS_CUDA_CHECK(cudaStreamCreate(&m.shared.stream));
+  TALUS_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&m.report), sizeof(StepReport)));
+  std::memset(m.report, 0, sizeof(StepReport));
+  m.report->predicted_move = ~0ULL;  // NaN's bits: no graph step before a prediction
   m.particles = std::make_unique<DeviceParticles<Real>>(m.shared, m.plan);
   m.particles->append(initial_particles(scene), m.host_bodies, false);
   if (host_pairs) m.set_up_pairs(host_pairs->tables());
@@ -386,10 +596,19 @@ CudaStep<Real>::~CudaStep() = default;
 template <class Real>
 void CudaStep<Real>::evaluate_forces() {
   Impl& m = *impl_;
-  m.shared.flags.reset();
-  m.run_force_stages_with_energy(Real(0), true);
-  m.check_flags();
+  m.shared.abort = AbortCheck{};
+  m.shared.flags.reset(m.shared.stream);
+  m.run_force_stages_with_energy(Real(0));
+  if (m.list) {  // for the first step's graph_due
+    m.predicted.grow_to(1);
+    m.list->predict_move(m.bodies.data(), m.dt, m.predicted.data(), AbortCheck{}, m.shared.stream);
+  }
+  m.copy_report();
+  m.report_and_wait();
+  m.check_flags(m.report_flags());
+  m.take_energy(true);
   m.forces_ready = true;
+  m.recapture = true;
 }
 
 template <class Real>
@@ -398,25 +617,28 @@ void CudaStep<Real>::step() {
   if (!m.forces_ready) evaluate_forces();  // F_0, T_0 for the first half-step
   if (m.walls) m.walls->open_outlets(m.time);
   if (!m.feeding.empty()) m.feed();
-  m.shared.flags.reset();
-  if (m.count() > 0) {
-    m.timed(Stage::integrate_begin, [&] {
-      integrate_begin_kernel<<<blocks_for(m.count()), kBlock>>>(m.view(), m.bodies.data(), m.dt,
-                                                                m.shared.flags.data());
-      TALUS_CUDA_LAUNCH_CHECK();
-    });
-  }
   m.time += m.scene.time_step;
   ++m.steps;
-  m.run_force_stages_with_energy(m.dt, false);
-  if (m.count() > 0) {
-    m.timed(Stage::integrate_end, [&] {
-      integrate_end_kernel<<<blocks_for(m.count()), kBlock>>>(m.view(), m.bodies.data(), m.dt);
-      TALUS_CUDA_LAUNCH_CHECK();
-    });
+  const bool graph = m.graph_due() && m.launch_graph();
+  if (!graph) {
+    m.enqueue_step();
+    m.recapture = true;
   }
-  m.check_flags();
-  if (m.scene.domain) m.remove_outside();
+  m.report_and_wait();
+  std::array<int, flags> all = m.report_flags();
+  if (graph) {
+    ++m.graph_counts.steps;
+    m.stage_timer.collect_graph(m.stage_seconds);
+    if (m.walls && all[wall_candidates] > m.walls->clip_capacity()) {
+      m.finish_aborted_step(all[wall_candidates]);
+      all = m.report_flags();
+    } else if (m.walls) {
+      m.walls->after_graph(all);
+    }
+  }
+  m.check_flags(all);
+  m.take_energy(false);
+  m.remove_outside(all[outside_particles]);
 }
 
 template <class Real>
@@ -458,6 +680,8 @@ void CudaStep<Real>::import_state(const StepState<Real>& s) {
   m.steps = s.steps;
   m.forces_ready = s.forces_ready;
   m.ledger = s.ledger;
+  m.report->predicted_move = ~0ULL;  // measured again by the next step
+  m.recapture = true;
 }
 
 template <class Real>
@@ -492,6 +716,11 @@ const StageSeconds& CudaStep<Real>::stage_seconds() const {
 template <class Real>
 std::size_t CudaStep<Real>::pair_contact_count() const {
   return impl_->pairs ? static_cast<std::size_t>(impl_->pairs->touching_count()) : 0;
+}
+
+template <class Real>
+CudaGraphCounts CudaStep<Real>::graph_counts() const {
+  return impl_->graph_counts;
 }
 
 template <class Real>

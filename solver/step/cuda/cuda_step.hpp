@@ -52,6 +52,18 @@ struct CudaStepOptions {
   // candidates; in a dense bed nearly every candidate touches and GJK only proves it (the
   // benchmark measures what it costs). The contacts are the same up to round-off at touching.
   bool gjk_filter = true;
+  // Graph steps (cuda_step.cu): a step that needs no decision from the host in its middle is
+  // launched as one captured CUDA graph (the same results; a small scene's step is mostly launch
+  // overhead). false, or TALUS_CUDA_GRAPHS=0 in the environment, or TALUS_CUDA_SYNC=1: every
+  // step stage by stage.
+  bool graphs = true;
+};
+
+// What the graph steps did: steps launched as a graph, captures of the graph (after each step
+// launched stage by stage), graph steps that overran the wall stage's room and finished stage by
+// stage.
+struct CudaGraphCounts {
+  long long steps = 0, captures = 0, aborted = 0;
 };
 
 template <class Real>
@@ -89,8 +101,10 @@ class CudaStep {
   // The device arrays that exist (names as HostStep's) and the device bytes the step holds.
   std::vector<std::string> allocated_arrays() const;
   std::size_t allocated_bytes() const;
-  // Wall-clock seconds per stage (each stage synchronised at its end), indexed by Stage.
+  // Device seconds per stage (CUDA events around each stage's work), indexed by Stage.
   const StageSeconds& stage_seconds() const;
+  // Graph steps so far (CudaStepOptions::graphs).
+  CudaGraphCounts graph_counts() const;
   std::size_t pair_contact_count() const;
   std::size_t wall_contact_count() const;
   // The pair list: how many times it was built, its length, and the device bytes of the list

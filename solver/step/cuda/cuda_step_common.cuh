@@ -55,13 +55,28 @@ enum Flag {
   flags
 };
 
+// A graph step's guard (cuda_step.cu, "Graph steps"): the step cannot finish in the graph when
+// the wall stage's facets overran their room (the counter past the capacity); the kernels after
+// that stage then do nothing, and the step finishes outside the graph. Empty (never aborted) in
+// a step launched stage by stage, which grows the room and runs the wall kernels again instead.
+struct AbortCheck {
+  const int* counter = nullptr;
+  int capacity = 0;
+  __device__ bool aborted() const { return counter != nullptr && *counter > capacity; }
+};
+
 class DeviceFlags {
  public:
   // On the device once the scene's checks have passed (the step allocates nothing before).
   void allocate() { values_.resize(flags); }
   // Before each evaluation: no failure (INT_MAX, as atomicMin wants), no counts.
-  // By a one-thread kernel: a copy from host memory would wait for the device.
-  void reset();
+  // By a one-thread kernel on `stream`: a copy from host memory would wait for the device.
+  void reset(cudaStream_t stream = 0);
+  // Every flag into `host` (pinned, `flags` entries) without waiting: the step's report.
+  void copy_to(int* host, cudaStream_t stream) const {
+    TALUS_CUDA_CHECK(cudaMemcpyAsync(host, values_.data(), sizeof(int) * flags,
+                                     cudaMemcpyDeviceToHost, stream));
+  }
   // Every flag, in one copy.
   std::array<int, flags> read_all() const {
     std::array<int, flags> all{};
@@ -90,8 +105,8 @@ __global__ void reset_flags_kernel(Int* values) {
   for (int k = 0; k < flags; ++k) values[k] = none[k];
 }
 
-inline void DeviceFlags::reset() {
-  reset_flags_kernel<int><<<1, 1>>>(values_.data());
+inline void DeviceFlags::reset(cudaStream_t stream) {
+  reset_flags_kernel<int><<<1, 1, 0, stream>>>(values_.data());
   TALUS_CUDA_LAUNCH_CHECK();
 }
 
@@ -112,9 +127,13 @@ struct KeyLess {
   }
 };
 
+// A history store as a kernel reads it: its keys and their number (on the device, at
+// `count_at`, in a graph step, where the host does not know it when the graph is launched).
 struct HistoryIn {
   const PairKey* keys;
   int count;
+  const int* count_at = nullptr;
+  __device__ int size() const { return count_at ? *count_at : count; }
 };
 
 // A sorted history store (keys and their histories) in device memory, double-buffered: a stage
@@ -124,7 +143,8 @@ struct DeviceHistory {
   DeviceBuffer<PairKey> keys[2];
   DeviceBuffer<ContactHistoryData<Real>> histories[2];
   int current = 0, count = 0;
-  HistoryIn in() const { return {keys[current].data(), count}; }
+  DeviceBuffer<int> device_count;  // a graph step's count (HistoryIn::count_at)
+  HistoryIn in() const { return {keys[current].data(), count, nullptr}; }
   const ContactHistoryData<Real>* values() const { return histories[current].data(); }
   // The buffers of the next store, with room for n entries.
   PairKey* next_keys(int n) {
@@ -169,6 +189,15 @@ struct DeviceStepShared {
   PairLawTables<Real> tables;
   DeviceFlags flags;
   DeviceBuffer<unsigned char> temp;
+  // The stream every stage of a step runs on (a blocking one: the legacy default stream's copies
+  // and the set-up's launches order themselves with it), so that a step can be captured as a
+  // CUDA graph; owned by the step.
+  cudaStream_t stream = nullptr;
+  // True while a step is captured into a graph (cuda_step.cu, "Graph steps"): the stages then
+  // read nothing back and size their launches by their capacities, reading the counts on the
+  // device; `abort` is the wall stage's guard for the kernels after it.
+  bool graph_mode = false;
+  AbortCheck abort;
   DeviceBuffer<long long> global_ids;
   // The templates as the device sees them (device shape views), and their region of constant
   // memory (-1: none): each stage whose kernels read templates fills its own unit's copy.

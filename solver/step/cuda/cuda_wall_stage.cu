@@ -114,7 +114,7 @@ __global__ void wall_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArg
   }
   const WallContactRecord<Real> r =
       wall_contact_with_geometry<Law>(p, t, i, w, walls.materials[w], walls.motions[w], spring_dt,
-                                      old.keys, histories, old.count, g);
+                                      old.keys, histories, old.size(), g);
   if (r.degenerate) atomicMin(flag + degenerate_wall, static_cast<int>(k));
   if (!r.in_contact) return;
   const int at = atomicAdd(flag + touching_walls, 1);
@@ -134,14 +134,16 @@ __global__ void wall_contact_keys(const WallContactRecord<Real>* __restrict__ to
 
 // The touching records in key order, and each (particle, wall)'s place among them (wall_slot,
 // -1 elsewhere: cleared before the wall kernel).
+// (In a graph step for the whole buffer, n_at the touching count on the device.)
 template <class Real>
 __global__ void order_wall_contacts(const WallContactRecord<Real>* __restrict__ touching,
                                     const long long* __restrict__ sorted_keys,
                                     const int* __restrict__ sorted_index, int n,
+                                    const int* __restrict__ n_at,
                                     WallContactRecord<Real>* __restrict__ contacts,
                                     int* __restrict__ wall_slot) {
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
-  if (s >= n) return;
+  if (s >= n || (n_at && s >= *n_at)) return;
   contacts[s] = touching[sorted_index[s]];
   wall_slot[sorted_keys[s]] = s;
 }
@@ -151,22 +153,79 @@ __global__ void order_wall_contacts(const WallContactRecord<Real>* __restrict__ 
 // WallContactStage::place does on the host (the same arithmetic, but for nvcc's fused
 // multiply-adds). Placing here rather than on the host saves the host's loop over every corner
 // and the upload of all of them each step; only the transform crosses.
+// The transform is the wall's placement, copied to the device with the step's other inputs.
 template <class Real>
-__global__ void place_wall_kernel(const Vec3d* __restrict__ mesh_corners, int n, Quatd rotation,
-                                  Vec3d translation, Vec3<Real>* __restrict__ corners) {
+__global__ void place_wall_kernel(const Vec3d* __restrict__ mesh_corners, int n,
+                                  const WallPlacement<Real>* __restrict__ placement,
+                                  Vec3<Real>* __restrict__ corners) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= n) return;
-  corners[k] = Vec3<Real>(rotate(rotation, mesh_corners[k]) + translation);
+  corners[k] = Vec3<Real>(rotate(placement->corner_rotation, mesh_corners[k]) +
+                          placement->corner_translation);
 }
 
-// Wall w's view on the device where the wall is now: its present facets and transform, passed
-// as the launch's arguments (a copy from host memory would wait for the device).
+// Every wall's view on the device where the wall is now (one thread per wall): its present
+// facets and transform, from its placement.
 template <class Real>
-__global__ void set_wall_view_kernel(WallFacets<Real>* __restrict__ view, int count,
-                                     Quat<Real> rotation, Vec3<Real> translation) {
-  view->count = count;
-  view->rotation = rotation;
-  view->translation = translation;
+__global__ void set_wall_views_kernel(WallFacets<Real>* __restrict__ views,
+                                      const WallPlacement<Real>* __restrict__ placements,
+                                      int walls) {
+  const int w = blockIdx.x * blockDim.x + threadIdx.x;
+  if (w >= walls) return;
+  views[w].count = placements[w].count;
+  views[w].rotation = placements[w].rotation;
+  views[w].translation = placements[w].translation;
+}
+
+// A graph step's sort keys (wall_contact_keys) for every record the buffer holds: those past the
+// touching count (read on the device) get `beyond`, above every real key, and sort last.
+template <class Real>
+__global__ void wall_contact_keys_all(const WallContactRecord<Real>* __restrict__ touching,
+                                      int capacity, const int* __restrict__ touching_count,
+                                      int count, long long beyond, long long* __restrict__ keys,
+                                      int* __restrict__ index) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= capacity) return;
+  keys[j] = j < *touching_count
+                ? static_cast<long long>(touching[j].wall) * count + touching[j].particle
+                : beyond;
+  index[j] = j;
+}
+
+// A graph step's next history store (copy_histories) for every entry the buffer holds: those
+// past the touching count get a key above every real one, and sort last.
+template <class Record, class Real>
+__global__ void copy_histories_all(const Record* __restrict__ contacts, int capacity,
+                                   const int* __restrict__ touching_count,
+                                   PairKey* __restrict__ keys,
+                                   ContactHistoryData<Real>* __restrict__ histories) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= capacity) return;
+  if (k < *touching_count) {
+    keys[k] = contacts[k].key;
+    histories[k] = contacts[k].history;
+  } else {
+    keys[k] = PairKey{LLONG_MAX, LLONG_MAX};
+    histories[k] = ContactHistoryData<Real>();
+  }
+}
+
+// A graph step's history store back into the buffers the graph reads (the current ones), and its
+// count on the device; nothing when the step did not finish (its store stays).
+template <class Real>
+__global__ void keep_history_kernel(const PairKey* __restrict__ next_keys,
+                                    const ContactHistoryData<Real>* __restrict__ next,
+                                    int capacity, const int* __restrict__ touching_count,
+                                    AbortCheck abort, PairKey* __restrict__ keys,
+                                    ContactHistoryData<Real>* __restrict__ histories,
+                                    int* __restrict__ count) {
+  if (abort.aborted()) return;
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  const int n = *touching_count;
+  if (k == 0) *count = n;
+  if (k >= capacity || k >= n) return;
+  keys[k] = next_keys[k];
+  histories[k] = next[k];
 }
 
 // The next history store from the touching contacts (sorted afterwards).
@@ -182,11 +241,13 @@ __global__ void copy_histories(const Record* __restrict__ contacts, int count,
 
 // The energy probe's sums over the ordered wall contacts (one thread per contact; a few per
 // cent of the particle-wall pairs, so plain atomics).
+// In a graph step launched for the capacity n, the count read on the device (n_at).
 template <class Real>
 __global__ void wall_energy_kernel(const WallContactRecord<Real>* __restrict__ contacts, int n,
+                                   const int* __restrict__ n_at, AbortCheck abort,
                                    double* __restrict__ sums) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= n) return;
+  if (abort.aborted() || k >= n || (n_at && k >= *n_at)) return;
   const WallContactRecord<Real>& c = contacts[k];
   atomicAdd(sums + sum_dissipation, double(c.dissipation));
   atomicAdd(sums + sum_normal, double(c.normal_energy));
@@ -206,7 +267,17 @@ DeviceWallStage<Real>::DeviceWallStage(DeviceStepShared<Real>& shared,
   std::vector<int> materials;
   for (const auto& w : shared.scene.walls) materials.push_back(w.material);
   materials_.upload(materials);
+  const std::size_t walls = shared.scene.walls.size();
+  placements_.resize(walls);
+  TALUS_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&placements_host_),
+                                  std::max<std::size_t>(walls, 1) * sizeof(WallPlacement<Real>)));
+  for (std::size_t w = 0; w < walls; ++w) placements_host_[w] = WallPlacement<Real>();
   upload(time);
+}
+
+template <class Real>
+DeviceWallStage<Real>::~DeviceWallStage() {
+  if (placements_host_) cudaFreeHost(placements_host_);  // no throw from a destructor
 }
 
 // Once, at construction: the grids and the static walls' corners (placed on the host at `time`
@@ -263,129 +334,280 @@ void DeviceWallStage<Real>::upload(double time) {
   facets_.upload(wall_views_);
 }
 
-// The walls at `time`: each moving wall's present corners placed by a kernel (one thread per
-// corner) with the transform computed here, in double as on the host; a wall's device view set
-// again (by a one-thread kernel) only when its count or its transform changed.
+// The walls' placements at `time` into the pinned buffer (host work only): each wall's present
+// facets and transform as the host stage locates them, and a moving wall's corner transform,
+// computed here in double as on the host.
 template <class Real>
-void DeviceWallStage<Real>::place(double time) {
+void DeviceWallStage<Real>::stage_placement(double time) {
   host_->locate(time);
   for (std::size_t w = 0; w < wall_views_.size(); ++w) {
-    bool changed = false;
     const WallFacets<Real>& now = host_->facets(static_cast<int>(w));
-    WallFacets<Real>& view = wall_views_[w];
+    WallPlacement<Real>& to = placements_host_[w];
+    to.count = now.count;
+    to.rotation = now.rotation;
+    to.translation = now.translation;
     if (mesh_corner_at_[w] >= 0) {
       const RigidTransform transform = wall_transform(shared_.scene.walls[w].motion, time);
-      const int n = 3 * now.count;
-      if (n > 0) {
-        place_wall_kernel<<<blocks_for(n), kBlock>>>(mesh_corners_.data() + mesh_corner_at_[w], n,
-                                                     transform.rotation, transform.translation,
-                                                     corners_.data() + corner_at_[w]);
-        TALUS_CUDA_LAUNCH_CHECK();
-      }
-      view.rotation = now.rotation;
-      view.translation = now.translation;
-      changed = true;
+      to.corner_rotation = transform.rotation;
+      to.corner_translation = transform.translation;
     }
-    if (view.count != now.count) {
-      view.count = now.count;
-      changed = true;
-    }
-    if (changed) {
-      set_wall_view_kernel<<<1, 1>>>(facets_.data() + w, view.count, view.rotation,
-                                     view.translation);
-      TALUS_CUDA_LAUNCH_CHECK();
-    }
+    wall_views_[w].count = now.count;
+    wall_views_[w].rotation = now.rotation;
+    wall_views_[w].translation = now.translation;
   }
+}
+
+// The walls at `time` on the device: the placements copied over (one copy from pinned memory,
+// which a graph launch repeats with the values the host has put there since), each moving
+// wall's present corners placed by a kernel (one thread per corner, up to its facets' capacity),
+// every wall's view set by one kernel.
+template <class Real>
+void DeviceWallStage<Real>::place(double time) {
+  stage_placement(time);
+  const cudaStream_t stream = shared_.stream;
+  const int walls = static_cast<int>(wall_views_.size());
+  TALUS_CUDA_CHECK(cudaMemcpyAsync(placements_.data(), placements_host_,
+                                   walls * sizeof(WallPlacement<Real>), cudaMemcpyHostToDevice,
+                                   stream));
+  for (int w = 0; w < walls; ++w) {
+    if (mesh_corner_at_[w] < 0) continue;
+    // All the mesh's corners: those of facets not present yet (a closed outlet) are placed too
+    // and not read.
+    const long long n = 3LL * static_cast<long long>(host_->mesh(w).triangles.size());
+    if (n == 0) continue;
+    place_wall_kernel<<<blocks_for(n), kBlock, 0, stream>>>(
+        mesh_corners_.data() + mesh_corner_at_[w], static_cast<int>(n), placements_.data() + w,
+        corners_.data() + corner_at_[w]);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+  set_wall_views_kernel<<<blocks_for(walls), kBlock, 0, stream>>>(facets_.data(),
+                                                                  placements_.data(), walls);
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+// The three kernels once, with the room they have now (on the step's stream).
+template <class Real>
+void DeviceWallStage<Real>::launch_kernels(Real spring_dt, const HistoryIn& old) {
+  const long long n = static_cast<long long>(shared_.count) * walls();
+  const cudaStream_t stream = shared_.stream;
+  WallArgs<Real> a;
+  a.facets = facets_.data();
+  a.motions = motions_.data();
+  a.materials = materials_.data();
+  a.walls = walls();
+  const int capacity = static_cast<int>(touching_.size());
+  const int clip_capacity = static_cast<int>(candidates_.size());
+  wall_candidates_kernel<<<blocks_for(n), kBlock, 0, stream>>>(
+      shared_.view, shared_.tables, a, run_first_.data(), run_count_.data(), candidates_.data(),
+      clip_capacity, shared_.flags.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  wall_clip_kernel<<<blocks_for(clip_capacity), kBlock, 0, stream>>>(
+      shared_.view, shared_.tables, candidates_.data(), clip_capacity, shared_.flags.data(),
+      clipped_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  with_contact_law(*shared_.scene.effects.contact, [&](auto law) {
+    wall_kernel<decltype(law)><<<blocks_for(n), kBlock, 0, stream>>>(
+        shared_.view, shared_.tables, a, spring_dt, old, history_.values(), run_first_.data(),
+        run_count_.data(), clipped_.data(), clip_capacity, touching_.data(), capacity,
+        shared_.flags.data());
+  });
+  TALUS_CUDA_LAUNCH_CHECK();
 }
 
 template <class Real>
 void DeviceWallStage<Real>::compute(Real spring_dt, double time) {
   place(time);
   const int count = shared_.count;
-  WallArgs<Real> args;
-  args.facets = facets_.data();
-  args.motions = motions_.data();
-  args.materials = materials_.data();
-  args.walls = walls();
-  const long long n = static_cast<long long>(count) * args.walls;
+  const long long n = static_cast<long long>(count) * walls();
   contact_count_ = 0;
-  if (n > 0) {
-    wall_slot_.grow_to(n);
-    TALUS_CUDA_CHECK(cudaMemset(wall_slot_.data(), 0xff, n * sizeof(int)));  // -1
-    // Room for the touching records: what the last step needed (at first 64), doubled when the
-    // counter says the kernel overflowed it, which runs it again (GpuStep tests with walls
-    // overflow on their first evaluation).
-    if (touching_.size() == 0) touching_.grow_to(std::min<long long>(n, 64));
-    // Room for the facets to clip: likewise what the last step needed (at first 1024), doubled
-    // past what the counter says when it overflowed.
-    if (candidates_.size() == 0) candidates_.grow_to(1024), clipped_.grow_to(1024);
-    run_first_.grow_to(n), run_count_.grow_to(n);
-    for (;;) {
-      const int capacity = static_cast<int>(touching_.size());
-      const int clip_capacity = static_cast<int>(candidates_.size());
-      wall_candidates_kernel<<<blocks_for(n), kBlock>>>(
-          shared_.view, shared_.tables, args, run_first_.data(), run_count_.data(),
-          candidates_.data(), clip_capacity, shared_.flags.data());
-      TALUS_CUDA_LAUNCH_CHECK();
-      wall_clip_kernel<<<blocks_for(clip_capacity), kBlock>>>(
-          shared_.view, shared_.tables, candidates_.data(), clip_capacity, shared_.flags.data(),
-          clipped_.data());
-      TALUS_CUDA_LAUNCH_CHECK();
-      with_contact_law(*shared_.scene.effects.contact, [&](auto law) {
-        wall_kernel<decltype(law)><<<blocks_for(n), kBlock>>>(
-            shared_.view, shared_.tables, args, spring_dt, history_.in(), history_.values(),
-            run_first_.data(), run_count_.data(), clipped_.data(), clip_capacity, touching_.data(),
-            capacity, shared_.flags.data());
-      });
-      TALUS_CUDA_LAUNCH_CHECK();
-      const std::array<int, flags> all = shared_.flags.read_all();  // one wait for all three
-      const int facets = all[wall_candidates];
-      if (facets > clip_capacity) {
-        const long long room = std::max<long long>(2LL * facets, 1024);
-        candidates_.grow_to(room), clipped_.grow_to(room);
-        shared_.flags.clear(wall_candidates);
-        shared_.flags.clear(touching_walls);
-        continue;
-      }
-      const int bad = all[degenerate_wall];
-      if (bad != INT_MAX) {
-        throw std::runtime_error(shared_.scene.file + ": particle " +
-                                 std::to_string(shared_.global_id(bad % count)) +
-                                 " against wall '" + shared_.scene.walls[bad / count].name +
-                                 "': a facet's clipping failed (section capacity)");
-      }
-      contact_count_ = all[touching_walls];
-      if (contact_count_ <= capacity) break;
-      touching_.grow_to(std::min<long long>(n, 2LL * contact_count_));
-      shared_.flags.clear(wall_candidates);
-      shared_.flags.clear(touching_walls);
+  sums_ready_ = false;
+  if (n == 0) return;
+  const cudaStream_t stream = shared_.stream;
+  wall_slot_.grow_to(n);
+  TALUS_CUDA_CHECK(cudaMemsetAsync(wall_slot_.data(), 0xff, n * sizeof(int), stream));  // -1
+  if (shared_.graph_mode) {
+    compute_in_graph(spring_dt);
+    return;
+  }
+  // Room for the touching records: what the last step needed (at first 64), doubled when the
+  // counter says the kernel overflowed it, which runs it again (GpuStep tests with walls
+  // overflow on their first evaluation).
+  if (touching_.size() == 0) touching_.grow_to(std::min<long long>(n, 64));
+  // Room for the facets to clip: likewise what the last step needed (at first 1024), doubled
+  // past what the counter says when it overflowed.
+  if (candidates_.size() == 0) candidates_.grow_to(1024), clipped_.grow_to(1024);
+  run_first_.grow_to(n), run_count_.grow_to(n);
+  for (;;) {
+    const int capacity = static_cast<int>(touching_.size());
+    const int clip_capacity = static_cast<int>(candidates_.size());
+    launch_kernels(spring_dt, history_.in());
+    const std::array<int, flags> all = shared_.flags.read_all();  // one wait for all three
+    const int facets = all[wall_candidates];
+    if (facets > clip_capacity) {
+      grow_clip_room(facets);
+      continue;
     }
+    check_degenerate(all);
+    contact_count_ = all[touching_walls];
+    if (contact_count_ <= capacity) break;
+    touching_.grow_to(std::min<long long>(n, 2LL * contact_count_));
+    shared_.flags.clear(wall_candidates);
+    shared_.flags.clear(touching_walls);
   }
   if (contact_count_ > 0) sort_records(n);
-  const bool tangential_history = with_contact_law(
-      *shared_.scene.effects.contact, [](auto law) { return decltype(law)::kTangentialHistory; });
-  if (tangential_history) rebuild_history();
+  if (tangential_history()) rebuild_history();
+}
+
+template <class Real>
+void DeviceWallStage<Real>::grow_clip_room(int facets) {
+  const long long room = std::max<long long>(2LL * facets, 1024);
+  candidates_.grow_to(room), clipped_.grow_to(room);
+  shared_.flags.clear(wall_candidates);
+  shared_.flags.clear(touching_walls);
+}
+
+template <class Real>
+void DeviceWallStage<Real>::check_degenerate(const std::array<int, flags>& all) const {
+  const int bad = all[degenerate_wall];
+  if (bad == INT_MAX) return;
+  const int count = shared_.count;
+  throw std::runtime_error(shared_.scene.file + ": particle " +
+                           std::to_string(shared_.global_id(bad % count)) + " against wall '" +
+                           shared_.scene.walls[bad / count].name +
+                           "': a facet's clipping failed (section capacity)");
+}
+
+template <class Real>
+bool DeviceWallStage<Real>::tangential_history() const {
+  return with_contact_law(*shared_.scene.effects.contact,
+                          [](auto law) { return decltype(law)::kTangentialHistory; });
+}
+
+// A graph step's records may be every (particle, wall) pair: capture only when room for all of
+// them stays within this (a small scene's pairs are a few thousand records; a large scene runs
+// stage by stage).
+constexpr long long kGraphWallRecordBytes = 64LL << 20;
+
+template <class Real>
+bool DeviceWallStage<Real>::prepare_graph() {
+  const long long n = static_cast<long long>(shared_.count) * walls();
+  if (n == 0 || n * static_cast<long long>(sizeof(WallContactRecord<Real>)) >
+                    kGraphWallRecordBytes)
+    return false;
+  if (candidates_.size() == 0 || run_first_.size() < static_cast<std::size_t>(n)) return false;
+  touching_.grow_to(n);
+  keys_.grow_to(n), sorted_keys_.grow_to(n);
+  index_.grow_to(n), sorted_index_.grow_to(n), contacts_.grow_to(n);
+  // Both stores with room for every pair, the current one's entries kept; its count on the
+  // device, where the graph reads it.
+  const int current = history_.current, next = 1 - current;
+  history_.keys[current].grow_keeping(touching_.size(), history_.count);
+  history_.histories[current].grow_keeping(touching_.size(), history_.count);
+  history_.keys[next].grow_to(touching_.size());
+  history_.histories[next].grow_to(touching_.size());
+  history_.device_count.grow_to(1);
+  TALUS_CUDA_CHECK(cudaMemcpy(history_.device_count.data(), &history_.count, sizeof(int),
+                              cudaMemcpyHostToDevice));
+  // CUB's scratch for the graph's sorts of the whole buffers (nothing may be allocated while
+  // the graph is captured).
+  const int capacity = static_cast<int>(n);
+  std::size_t bytes = 0;
+  TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_.data(),
+                                                   sorted_keys_.data(), index_.data(),
+                                                   sorted_index_.data(), capacity, 0, 63));
+  shared_.temp.grow_to(bytes);
+  if (tangential_history()) {
+    bytes = 0;
+    TALUS_CUDA_CHECK(cub::DeviceMergeSort::SortPairs(nullptr, bytes, history_.keys[next].data(),
+                                                     history_.histories[next].data(), capacity,
+                                                     KeyLess()));
+    shared_.temp.grow_to(bytes);
+  }
+  return true;
+}
+
+// One pass of the three kernels with the room prepare_graph made: the touching records cannot
+// overrun it (room for every pair); the facets to clip can, which `abort` tells the kernels
+// after this stage and the step (which then runs this stage again with more room). The records
+// sorted over the whole buffer (those past the count last), the history store rebuilt likewise
+// and copied back into the buffers the graph reads, with its count.
+template <class Real>
+void DeviceWallStage<Real>::compute_in_graph(Real spring_dt) {
+  const int count = shared_.count;
+  const long long n = static_cast<long long>(count) * walls();
+  const cudaStream_t stream = shared_.stream;
+  const int capacity = static_cast<int>(n);
+  HistoryIn old = history_.in();
+  old.count_at = history_.device_count.data();
+  shared_.abort = AbortCheck{shared_.flags.at(wall_candidates),
+                             static_cast<int>(candidates_.size())};
+  launch_kernels(spring_dt, old);
+  const int* touching = shared_.flags.at(touching_walls);
+  int bits = 1;
+  while (bits < 63 && (1LL << bits) <= n) ++bits;  // room for the key n past the real ones
+  wall_contact_keys_all<<<blocks_for(capacity), kBlock, 0, stream>>>(
+      touching_.data(), capacity, touching, count, n, keys_.data(), index_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), index_.data(),
+                                           sorted_index_.data(), capacity, 0, bits, stream);
+  });
+  order_wall_contacts<<<blocks_for(capacity), kBlock, 0, stream>>>(
+      touching_.data(), sorted_keys_.data(), sorted_index_.data(), capacity, touching,
+      contacts_.data(), wall_slot_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  if (!tangential_history()) return;
+  const int current = history_.current, next = 1 - current;
+  PairKey* next_keys = history_.keys[next].data();
+  ContactHistoryData<Real>* next_histories = history_.histories[next].data();
+  copy_histories_all<<<blocks_for(capacity), kBlock, 0, stream>>>(
+      contacts_.data(), capacity, touching, next_keys, next_histories);
+  TALUS_CUDA_LAUNCH_CHECK();
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceMergeSort::SortPairs(t, b, next_keys, next_histories, capacity, KeyLess(),
+                                           stream);
+  });
+  keep_history_kernel<<<blocks_for(capacity), kBlock, 0, stream>>>(
+      next_keys, next_histories, capacity, touching, shared_.abort,
+      history_.keys[current].data(), history_.histories[current].data(),
+      history_.device_count.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+template <class Real>
+void DeviceWallStage<Real>::after_graph(const std::array<int, flags>& all) {
+  check_degenerate(all);
+  contact_count_ = all[touching_walls];
+  if (tangential_history()) history_.count = contact_count_;  // the graph kept it in `current`
   sums_ready_ = false;
+}
+
+template <class Real>
+void DeviceWallStage<Real>::recover(Real spring_dt, double time, int facets) {
+  grow_clip_room(facets);
+  shared_.abort = AbortCheck{};
+  compute(spring_dt, time);
 }
 
 // The touching records into wall-major order (as the host's), each pair's slot recorded.
 template <class Real>
 void DeviceWallStage<Real>::sort_records(long long pairs) {
   const int m = contact_count_;
+  const cudaStream_t stream = shared_.stream;
   keys_.grow_to(m), sorted_keys_.grow_to(m);
   index_.grow_to(m), sorted_index_.grow_to(m), contacts_.grow_to(m);
-  wall_contact_keys<<<blocks_for(m), kBlock>>>(touching_.data(), m, shared_.count, keys_.data(),
-                                               index_.data());
+  wall_contact_keys<<<blocks_for(m), kBlock, 0, stream>>>(touching_.data(), m, shared_.count,
+                                                          keys_.data(), index_.data());
   TALUS_CUDA_LAUNCH_CHECK();
   int bits = 1;
   while (bits < 63 && (1LL << bits) < pairs) ++bits;
   cub_call(shared_.temp, [&](void* t, std::size_t& b) {
     return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), index_.data(),
-                                           sorted_index_.data(), m, 0, bits);
+                                           sorted_index_.data(), m, 0, bits, stream);
   });
-  order_wall_contacts<<<blocks_for(m), kBlock>>>(touching_.data(), sorted_keys_.data(),
-                                                 sorted_index_.data(), m, contacts_.data(),
-                                                 wall_slot_.data());
+  order_wall_contacts<<<blocks_for(m), kBlock, 0, stream>>>(touching_.data(), sorted_keys_.data(),
+                                                            sorted_index_.data(), m, nullptr,
+                                                            contacts_.data(), wall_slot_.data());
   TALUS_CUDA_LAUNCH_CHECK();
 }
 
@@ -393,13 +615,14 @@ void DeviceWallStage<Real>::sort_records(long long pairs) {
 template <class Real>
 void DeviceWallStage<Real>::rebuild_history() {
   const int n = contact_count_;
+  const cudaStream_t stream = shared_.stream;
   PairKey* keys = history_.next_keys(n);
   ContactHistoryData<Real>* histories = history_.next_histories(n);
   if (n > 0) {
-    copy_histories<<<blocks_for(n), kBlock>>>(contacts_.data(), n, keys, histories);
+    copy_histories<<<blocks_for(n), kBlock, 0, stream>>>(contacts_.data(), n, keys, histories);
     TALUS_CUDA_LAUNCH_CHECK();
     cub_call(shared_.temp, [&](void* t, std::size_t& b) {
-      return cub::DeviceMergeSort::SortPairs(t, b, keys, histories, n, KeyLess());
+      return cub::DeviceMergeSort::SortPairs(t, b, keys, histories, n, KeyLess(), stream);
     });
   }
   history_.flip(n);
@@ -419,11 +642,16 @@ void DeviceWallStage<Real>::sum() const {
   sums_ready_ = true;
 }
 
+// In a graph step for every record the buffer holds, the count read on the device.
 template <class Real>
 void DeviceWallStage<Real>::add_energy_sums(double* sums) const {
-  if (contact_count_ == 0) return;
-  wall_energy_kernel<<<blocks_for(contact_count_), kBlock>>>(contacts_.data(), contact_count_,
-                                                             sums);
+  const bool graph = shared_.graph_mode;
+  const int n = graph ? static_cast<int>(static_cast<long long>(shared_.count) * walls())
+                      : contact_count_;
+  if (n == 0) return;
+  wall_energy_kernel<<<blocks_for(n), kBlock, 0, shared_.stream>>>(
+      contacts_.data(), n, graph ? shared_.flags.at(touching_walls) : nullptr, shared_.abort,
+      sums);
   TALUS_CUDA_LAUNCH_CHECK();
 }
 

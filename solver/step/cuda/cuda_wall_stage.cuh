@@ -23,17 +23,47 @@ struct WallCandidate {
   int owner;
 };
 
+// A wall's placement for one evaluation, as the host locates it: its present facets and the
+// transform of its view, and a moving wall's corner transform (wall_transform, in double). The
+// host writes them into pinned memory and one copy takes them to the device, so that a graph
+// launch (cuda_step.cu, "Graph steps") repeats the copy with each step's values.
+template <class Real>
+struct WallPlacement {
+  int count = 0;
+  Quat<Real> rotation;
+  Vec3<Real> translation;
+  Quatd corner_rotation;
+  Vec3d corner_translation;
+};
+
 template <class Real>
 class DeviceWallStage {
  public:
   // `host` has made the scene's checks; its walls are placed at `time` and uploaded.
   DeviceWallStage(DeviceStepShared<Real>& shared, std::unique_ptr<WallContactStage<Real>> host,
                   double time);
+  ~DeviceWallStage();
+  DeviceWallStage(const DeviceWallStage&) = delete;
+  DeviceWallStage& operator=(const DeviceWallStage&) = delete;
 
   void open_outlets(double time) { host_->open_outlets(time); }
   // The walls at `time`, then every (particle, wall). Throws std::runtime_error naming the
-  // particle and the wall when a facet's clipping fails.
+  // particle and the wall when a facet's clipping fails. While the step is captured
+  // (DeviceStepShared::graph_mode): one pass that reads nothing back (compute_in_graph).
   void compute(Real spring_dt, double time);
+
+  // Graph steps. Before a capture: room for a record per (particle, wall) and the history store
+  // ready for the graph; false when the scene is too large for that room (it then runs stage by
+  // stage). stage_placement: the walls' placements at `time` into pinned memory, before each
+  // launch of the graph. after_graph: the counts from the step's flags (throws as compute for a
+  // failed clipping). recover: after a launch whose facets overran their room (the flag
+  // wall_candidates past it), the stage again stage by stage with room for `facets`.
+  bool prepare_graph();
+  void stage_placement(double time);
+  void after_graph(const std::array<int, flags>& all);
+  void recover(Real spring_dt, double time, int facets);
+  // The room for facets to clip (a graph step's abort test compares with it).
+  int clip_capacity() const { return static_cast<int>(candidates_.size()); }
 
   int contact_count() const { return contact_count_; }
   int walls() const { return static_cast<int>(wall_views_.size()); }
@@ -58,6 +88,11 @@ class DeviceWallStage {
  private:
   void upload(double time);
   void place(double time);
+  void launch_kernels(Real spring_dt, const HistoryIn& old);
+  void compute_in_graph(Real spring_dt);
+  void grow_clip_room(int facets);
+  void check_degenerate(const std::array<int, flags>& all) const;
+  bool tangential_history() const;
   void sort_records(long long pairs);
   void rebuild_history();
   void sum() const;
@@ -72,6 +107,8 @@ class DeviceWallStage {
   std::vector<WallFacets<Real>> wall_views_;  // per wall, device pointers: a copy of `facets_`
   DeviceBuffer<WallFacets<Real>> facets_;
   DeviceBuffer<WallMotionData<Real>> motions_;
+  DeviceBuffer<WallPlacement<Real>> placements_;  // per wall, copied from placements_host_
+  WallPlacement<Real>* placements_host_ = nullptr;  // pinned
   DeviceBuffer<int> materials_;
   // The touching (particle, wall) records (appended, then in wall-major order) and each pair's
   // place among them (-1: apart): a record per touching pair, not per particle and wall.

@@ -1,0 +1,147 @@
+// Graph steps (solver/step/cuda/cuda_step.cu, "Graph steps"): a step launched as one captured
+// CUDA graph computes the same bits as the same step launched stage by stage
+// (CudaStepOptions::graphs false). Each scene is run both ways side by side in deterministic mode
+// and every particle's position, velocity, orientation and angular velocity compared bit for bit
+// at every step, with the pair and wall contact counts; the graph run must actually have taken
+// graph steps (a test of the comparison, not only of its result). Skipped with the reason where
+// no GPU is usable.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "solver/core/cuda_device.hpp"
+#include "solver/scene/builtin_scene.hpp"
+#include "solver/scene/scene_loader.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
+#include "tests/support/walled_scene.hpp"
+
+namespace talus {
+namespace {
+
+#define SKIP_WITHOUT_GPU()                                 \
+  do {                                                     \
+    std::string why;                                       \
+    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
+  } while (0)
+
+long long max_steps() {
+  const char* cap = std::getenv("TALUS_GPU_TEST_MAX_STEPS");
+  return cap ? std::atoll(cap) : -1;
+}
+
+struct Comparison {
+  long long steps = 0, differing = 0, contact_steps = 0;
+  CudaGraphCounts graphs;
+};
+
+bool same_bits(const TrajectoryRow& a, const TrajectoryRow& b) {
+  return std::memcmp(&a.position, &b.position, sizeof(Vec3d)) == 0 &&
+         std::memcmp(&a.velocity, &b.velocity, sizeof(Vec3d)) == 0 &&
+         std::memcmp(&a.orientation, &b.orientation, sizeof(Quatd)) == 0 &&
+         std::memcmp(&a.angular_velocity, &b.angular_velocity, sizeof(Vec3d)) == 0;
+}
+
+// `steps` steps (capped by TALUS_GPU_TEST_MAX_STEPS) of the scene with graph steps and without.
+Comparison compare(const Scene& scene, long long steps) {
+  if (max_steps() > 0) steps = std::min(steps, max_steps());
+  CudaStepOptions staged;
+  staged.graphs = false;
+  CudaStep<double> graph(scene), stage_by_stage(scene, staged);
+  Comparison c;
+  for (long long k = 0; k < steps; ++k) {
+    graph.step();
+    stage_by_stage.step();
+    ++c.steps;
+    const std::vector<TrajectoryRow> g = graph.trajectory_rows();
+    const std::vector<TrajectoryRow> s = stage_by_stage.trajectory_rows();
+    bool same = g.size() == s.size() &&
+                graph.pair_contact_count() == stage_by_stage.pair_contact_count() &&
+                graph.wall_contact_count() == stage_by_stage.wall_contact_count();
+    for (std::size_t i = 0; same && i < g.size(); ++i) same = same_bits(g[i], s[i]);
+    c.differing += same ? 0 : 1;
+    c.contact_steps += graph.pair_contact_count() + graph.wall_contact_count() > 0 ? 1 : 0;
+  }
+  c.graphs = graph.graph_counts();
+  EXPECT_EQ(stage_by_stage.graph_counts().steps, 0);
+  std::printf("steps %lld  differing %lld  contact steps %lld  graph steps %lld  captures %lld  "
+              "aborted %lld  list builds %lld\n",
+              c.steps, c.differing, c.contact_steps, c.graphs.steps, c.graphs.captures,
+              c.graphs.aborted, graph.pair_list_builds());
+  return c;
+}
+
+// The built-in scene (the §3.3 pour: dodecahedra into a 64-segment cylinder): pair and wall
+// contacts, the volume model's phased pair stage, a static curved wall. Most steps keep the list
+// (it is rebuilt a few dozen times in 2,000 steps), and each such step is a graph step: at least
+// half of them is far below what the skin allows and far above none.
+TEST(GpuGraphStep, BuiltinSceneGivesTheSameBits) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = parse_scene(builtin_scene_text(), "builtin.yaml", ".");
+  const Comparison c = compare(scene, 2000);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_GT(c.graphs.steps, c.steps / 2);
+  if (max_steps() <= 0) EXPECT_GT(c.contact_steps, 0);
+}
+
+// Moving walls placed on the device from each launch's placements (a drum turning at 3000 rpm,
+// a translating plate) and a hopper whose outlet opens at step 50 (its present facets change
+// under a captured graph), with friction: the wall stage's history store kept by the graph.
+TEST(GpuGraphStep, MovingWallsAndAnOpeningOutletGiveTheSameBits) {
+  SKIP_WITHOUT_GPU();
+  const Comparison c = compare(talus_test::walled_scene("double", "volume", {"cube", "ico"}, 400),
+                               200);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_GT(c.graphs.steps, 0);
+}
+
+// Twenty cubes in two rows above the bottom of a fine static drum (2,000 segments) fall onto it
+// together: the facets within their bounding spheres grow from none to some three thousand over
+// a hundred steps, mostly while the list is kept, past the wall stage's room (at first 1,024
+// facets, then twice what a stage-by-stage step found). A graph step that
+// overruns it aborts after the pair stage and finishes stage by stage with more room: the same
+// bits, and at least one such step (else this test would not test it).
+TEST(GpuGraphStep, OverrunWallRoomFinishesStageByStage) {
+  SKIP_WITHOUT_GPU();
+  std::ostringstream yaml;
+  yaml.precision(17);
+  yaml << R"(time: {step: 1.0e-5, end: 1.0e-2}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
+          restitution: 0.5}
+templates:
+  cube: {shape: "cube:0.008", material: glass}
+walls:
+  - drum: {center: [0, 0, 0], axis: [0, 1, 0], radius: 0.04, length: 0.1, segments: 2000,
+           material: glass}
+particles:
+  - explicit:
+)";
+  // Two rows of cubes, each cube's bounding sphere (6.9 mm) 0.6 mm above the bottom, falling at
+  // 2 m/s: they reach it after some 30 steps and land after some 175.
+  for (const double x : {-0.0045, 0.0045}) {
+    const double bottom = -std::sqrt(0.04 * 0.04 - x * x);
+    for (int k = 0; k < 10; ++k) {
+      yaml << "      - {template: cube, position: [" << x << ", " << -0.045 + 0.01 * k << ", "
+           << bottom + 0.0075 << "], velocity: [0, 0, -2]}\n";
+    }
+  }
+  yaml << "effects:\n  gravity: [0, 0, -9.81]\n  contact: volume\n  friction: true\n"
+          "  rotation: true\n";
+  const Scene scene = parse_scene(yaml.str(), "row.yaml", ".");
+  const Comparison c = compare(scene, 400);
+  EXPECT_EQ(c.differing, 0);
+  if (max_steps() <= 0) {
+    EXPECT_GT(c.graphs.aborted, 0);
+    EXPECT_GT(c.contact_steps, 0);
+  }
+}
+
+}  // namespace
+}  // namespace talus
