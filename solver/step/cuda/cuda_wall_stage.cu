@@ -45,9 +45,16 @@ __global__ void wall_candidates_kernel(ParticleView<Real> p, PairLawTables<Real>
   const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
   int count = 0;
   const Vec3<Real> centre = p.position.get(i);
+  // The first kKept facets' corners kept as they are found, so that a particle near a few
+  // facets (nearly all) walks its facets once; one near more walks them again to write them.
+  constexpr int kKept = 4;
+  Vec3<Real> kept[3 * kKept];
   if (!body.sphere) {
     visit_wall_facets(centre, body.shape.bounding_radius, walls.facets[w],
-                      [&](const Vec3<Real>&, const Vec3<Real>&, const Vec3<Real>&) {
+                      [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {
+                        if (count < kKept) {
+                          kept[3 * count] = a, kept[3 * count + 1] = b, kept[3 * count + 2] = c;
+                        }
                         ++count;
                         return true;
                       });
@@ -56,6 +63,13 @@ __global__ void wall_candidates_kernel(ParticleView<Real> p, PairLawTables<Real>
   run_first[k] = first;
   run_count[k] = count;
   if (count == 0 || first > capacity - count) return;  // none, or no room: the stage grows it
+  if (count <= kKept) {
+    for (int e = 0; e < count; ++e) {
+      candidates[first + e] =
+          WallCandidate<Real>{kept[3 * e], kept[3 * e + 1], kept[3 * e + 2], static_cast<int>(k)};
+    }
+    return;
+  }
   int at = first;
   visit_wall_facets(centre, body.shape.bounding_radius, walls.facets[w],
                     [&](const Vec3<Real>& a, const Vec3<Real>& b, const Vec3<Real>& c) {

@@ -8,6 +8,8 @@
 // Included only from .cu files.
 #pragma once
 
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "solver/core/cuda_check.hpp"
@@ -30,6 +32,7 @@ class StageTimer {
   // the graph (kept until release_graph).
   template <class Body>
   void timed(Stage stage, cudaStream_t stream, bool capturing, Body&& body) {
+    if (!enabled()) return body();
     spare_.reserve(spare_.size() + 2);  // so that handing the events back cannot throw
     const cudaEvent_t start = take_event();
     cudaEvent_t stop = nullptr;
@@ -67,6 +70,15 @@ class StageTimer {
     Stage stage;
     cudaEvent_t start, stop;
   };
+
+  // TALUS_STAGE_TIMES=0 in the environment: no events (to measure what the events cost).
+  static bool enabled() {
+    static const bool on = [] {
+      const char* v = std::getenv("TALUS_STAGE_TIMES");
+      return v == nullptr || std::string(v) != "0";
+    }();
+    return on;
+  }
 
   static void add(const std::vector<Mark>& marks, StageSeconds& seconds) {
     for (const Mark& mark : marks) {
