@@ -86,8 +86,7 @@ class PhasedOverlapScratch {
     order_.grow_to(n), sorted_order_.grow_to(n), deferred_.grow_to(n);
     counters_.grow_to(kPhasedKeys + 1);
     device_buckets_.grow_to(1);
-    TALUS_CUDA_CHECK(
-        cudaMemsetAsync(counters_.data(), 0, (kPhasedKeys + 1) * sizeof(int), stream));
+    TALUS_CUDA_CHECK(cudaMemsetAsync(counters_.data(), 0, (kPhasedKeys + 1) * sizeof(int), stream));
   }
 
   // The order of the first n pairs sorted by key (keys at most max_key; only the bits that can

@@ -146,6 +146,16 @@ class FacetCursor {
     }
   }
 
+  // The merge's lists as they stand (a warp that gathers them itself, cuda_wall_stage.cu):
+  // whether the cursor merges at most kMergedCells cells' lists, list k's entries
+  // entries()[list_begin(k) .. list_end(k)) (ascending facets, some maybe >= count()).
+  TALUS_HD bool merging() const { return mode_ == Mode::merge; }
+  TALUS_HD int lists() const { return lists_; }
+  TALUS_HD int list_begin(int k) const { return begin_[k]; }
+  TALUS_HD int list_end(int k) const { return end_[k]; }
+  TALUS_HD const int* entries() const { return facets_; }
+  TALUS_HD int count() const { return count_; }
+
   TALUS_HD int next() {
     if (mode_ == Mode::all) return next_all_ < count_ ? next_all_++ : -1;
     int best = count_;  // facets at or above the present count are skipped (outlet plates)

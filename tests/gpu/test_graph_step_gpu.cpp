@@ -70,10 +70,11 @@ Comparison compare(const Scene& scene, long long steps) {
   }
   c.graphs = graph.graph_counts();
   EXPECT_EQ(stage_by_stage.graph_counts().steps, 0);
-  std::printf("steps %lld  differing %lld  contact steps %lld  graph steps %lld  captures %lld  "
-              "aborted %lld  list builds %lld\n",
-              c.steps, c.differing, c.contact_steps, c.graphs.steps, c.graphs.captures,
-              c.graphs.aborted, graph.pair_list_builds());
+  std::printf(
+      "steps %lld  differing %lld  contact steps %lld  graph steps %lld  captures %lld  "
+      "aborted %lld  list builds %lld\n",
+      c.steps, c.differing, c.contact_steps, c.graphs.steps, c.graphs.captures, c.graphs.aborted,
+      graph.pair_list_builds());
   return c;
 }
 
@@ -95,8 +96,8 @@ TEST(GpuGraphStep, BuiltinSceneGivesTheSameBits) {
 // under a captured graph), with friction: the wall stage's history store kept by the graph.
 TEST(GpuGraphStep, MovingWallsAndAnOpeningOutletGiveTheSameBits) {
   SKIP_WITHOUT_GPU();
-  const Comparison c = compare(talus_test::walled_scene("double", "volume", {"cube", "ico"}, 400),
-                               200);
+  const Comparison c =
+      compare(talus_test::walled_scene("double", "volume", {"cube", "ico"}, 400), 200);
   EXPECT_EQ(c.differing, 0);
   EXPECT_GT(c.graphs.steps, 0);
 }

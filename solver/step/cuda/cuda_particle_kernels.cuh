@@ -58,8 +58,7 @@ __global__ void accumulate_kernel(ParticleView<Real> p, const ContactPair* __res
                                   const int* __restrict__ sorted_slot,
                                   const int* __restrict__ begin, const int* __restrict__ end,
                                   const WallContactRecord<Real>* __restrict__ wall_contacts,
-                                  const int* __restrict__ wall_slot, int walls,
-                                  AbortCheck abort) {
+                                  const int* __restrict__ wall_slot, int walls, AbortCheck abort) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= p.count || abort.aborted()) return;
   // The same additions, in the same order, as add_pair_force and add_wall_force on the host: the

@@ -136,8 +136,8 @@ struct CudaStep<Real>::Impl {
   StepReport* report = nullptr;                // pinned
   DeviceBuffer<unsigned long long> predicted;  // the report's predicted move, on the device
   cudaGraphExec_t graph = nullptr;
-  bool graphs_on = true;    // the option, the environment and no failed capture
-  bool recapture = true;    // a step ran stage by stage since the graph was captured
+  bool graphs_on = true;  // the option, the environment and no failed capture
+  bool recapture = true;  // a step ran stage by stage since the graph was captured
   CudaGraphCounts graph_counts;
   double time = 0;
   long long steps = 0;
@@ -150,8 +150,8 @@ struct CudaStep<Real>::Impl {
   void run_force_stages_with_energy(Real spring_dt) {
     const bool track = shared.energy_sums.size() > 0;
     if (track) {
-      TALUS_CUDA_CHECK(cudaMemsetAsync(shared.energy_sums.data(), 0,
-                                       sizeof(double) * kEnergySums, shared.stream));
+      TALUS_CUDA_CHECK(cudaMemsetAsync(shared.energy_sums.data(), 0, sizeof(double) * kEnergySums,
+                                       shared.stream));
     }
     run_force_stages(spring_dt);
     if (track && walls) walls->add_energy_sums(shared.energy_sums.data());

@@ -74,8 +74,8 @@ class DeviceFlags {
   void reset(cudaStream_t stream = 0);
   // Every flag into `host` (pinned, `flags` entries) without waiting: the step's report.
   void copy_to(int* host, cudaStream_t stream) const {
-    TALUS_CUDA_CHECK(cudaMemcpyAsync(host, values_.data(), sizeof(int) * flags,
-                                     cudaMemcpyDeviceToHost, stream));
+    TALUS_CUDA_CHECK(
+        cudaMemcpyAsync(host, values_.data(), sizeof(int) * flags, cudaMemcpyDeviceToHost, stream));
   }
   // Every flag, in one copy.
   std::array<int, flags> read_all() const {

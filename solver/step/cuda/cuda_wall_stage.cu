@@ -33,14 +33,13 @@ struct WallArgs {
 // 1. One thread per (particle, wall), wall-major (thread k = w * count + i): its facets counted,
 //    a run of that many slots reserved (one atomicAdd, flag wall_candidates, counted past the
 //    capacity too) and the facets written there in order; run_first[k], run_count[k] say where.
+//    (A small scene's: a warp per (particle, wall), wall_candidates_warp_kernel.)
 template <class Real>
-__global__ void wall_candidates_kernel(ParticleView<Real> p, PairLawTables<Real> t,
-                                       WallArgs<Real> walls, int* __restrict__ run_first,
-                                       int* __restrict__ run_count,
-                                       WallCandidate<Real>* __restrict__ candidates, int capacity,
-                                       int* flag) {
-  const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (k >= static_cast<long long>(p.count) * walls.walls) return;
+__device__ void wall_candidates_of(const ParticleView<Real>& p, const PairLawTables<Real>& t,
+                                   const WallArgs<Real>& walls, long long k,
+                                   int* __restrict__ run_first, int* __restrict__ run_count,
+                                   WallCandidate<Real>* __restrict__ candidates, int capacity,
+                                   int* flag) {
   const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
   const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
   int count = 0;
@@ -76,6 +75,164 @@ __global__ void wall_candidates_kernel(ParticleView<Real> p, PairLawTables<Real>
                       candidates[at++] = WallCandidate<Real>{a, b, c, static_cast<int>(k)};
                       return true;
                     });
+}
+
+template <class Real>
+__global__ void wall_candidates_kernel(ParticleView<Real> p, PairLawTables<Real> t,
+                                       WallArgs<Real> walls, int* __restrict__ run_first,
+                                       int* __restrict__ run_count,
+                                       WallCandidate<Real>* __restrict__ candidates, int capacity,
+                                       int* flag) {
+  const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= static_cast<long long>(p.count) * walls.walls) return;
+  wall_candidates_of(p, t, walls, k, run_first, run_count, candidates, capacity, flag);
+}
+
+// 1'. The same with a warp per (particle, wall), for small scenes (kWarpCandidatePairs), whose
+//    step waits on the slowest thread: one thread walking a curved wall's grid cells (a cell
+//    lists every segment near it, a rim every sliver of a cap's fan) took 0.1 to 0.4 ms on the
+//    H100 for the built-in scene, most of it waiting on each facet's loads in turn. The warp
+//    gathers the cells' lists into shared memory, sorts them (bitonic) and drops repeats, then
+//    its lanes test 32 facets at a time and write the kept ones in ascending order (a ballot
+//    each 32): the facets, the stand-ins and the order of visit_wall_facets, so the same
+//    candidates. A cursor it cannot gather (no grid, more than kMergedCells cells, more than
+//    kWarpListRoom entries) is walked by lane 0 as above.
+constexpr int kWarpListRoom = 256;
+constexpr long long kWarpCandidatePairs = 1 << 16;
+
+template <class Real>
+__global__ void __launch_bounds__(kBlock)
+    wall_candidates_warp_kernel(ParticleView<Real> p, PairLawTables<Real> t, WallArgs<Real> walls,
+                                int* __restrict__ run_first, int* __restrict__ run_count,
+                                WallCandidate<Real>* __restrict__ candidates, int capacity,
+                                int* flag) {
+  __shared__ int listed[kBlock / 32][kWarpListRoom];
+  __shared__ unsigned char kept[kBlock / 32][kWarpListRoom];
+  const int lane = threadIdx.x & 31;
+  const long long k = (static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x) >> 5;
+  if (k >= static_cast<long long>(p.count) * walls.walls) return;  // the whole warp
+  int* entries = listed[threadIdx.x >> 5];
+  unsigned char* keep = kept[threadIdx.x >> 5];
+  const int w = static_cast<int>(k / p.count), i = static_cast<int>(k % p.count);
+  const BodyProperties<Real>& body = t.bodies[p.template_id[i]];
+  const WallFacets<Real>& facets = walls.facets[w];
+  const Vec3<Real> centre = p.position.get(i);
+  const Real radius = body.shape.bounding_radius;
+  int total = 0;
+  FacetCursor<Real> near(0);
+  if (!body.sphere) {
+    near = facets.near(centre, radius);
+    if (near.merging()) {
+      for (int l = 0; l < near.lists(); ++l) total += near.list_end(l) - near.list_begin(l);
+    }
+  }
+  if (body.sphere || !near.merging() || total > kWarpListRoom) {
+    if (lane == 0)
+      wall_candidates_of(p, t, walls, k, run_first, run_count, candidates, capacity, flag);
+    return;
+  }
+  // The lists' entries, then padding, sorted ascending; entries at or above the present count
+  // (an outlet's plate not yet there) are skipped as the cursor skips them.
+  int size = 1;
+  while (size < total) size <<= 1;
+  for (int e = lane; e < size; e += 32) {
+    int value = INT_MAX;
+    if (e < total) {
+      int l = 0, offset = 0;
+      while (e - offset >= near.list_end(l) - near.list_begin(l)) {
+        offset += near.list_end(l) - near.list_begin(l);
+        ++l;
+      }
+      value = near.entries()[near.list_begin(l) + e - offset];
+      if (value >= near.count()) value = INT_MAX;
+    }
+    entries[e] = value;
+  }
+  __syncwarp();
+  for (int span = 2; span <= size; span <<= 1) {
+    for (int stride = span >> 1; stride > 0; stride >>= 1) {
+      for (int e = lane; e < size; e += 32) {
+        const int partner = e ^ stride;
+        if (partner > e) {
+          const int x = entries[e], y = entries[partner];
+          if ((x > y) == ((e & span) == 0)) entries[e] = y, entries[partner] = x;
+        }
+      }
+      __syncwarp();
+    }
+  }
+  // The patches that hold the particle's circle and those whose plane it does not reach, as
+  // visit_wall_facets finds them (kMaxPatchesPerWall <= 32: a lane each).
+  bool holds = false, clear = false;
+  if (lane < facets.patch_count && facets.patches[lane].end <= facets.count) {
+    const PatchHit<Real> hit =
+        patch_hit(facets.patches[lane], facets.rotation, facets.translation, centre, radius);
+    holds = hit.holds, clear = hit.clear;
+  }
+  const unsigned held = __ballot_sync(0xffffffffu, holds);
+  const unsigned cleared = __ballot_sync(0xffffffffu, clear);
+  // Each distinct facet kept or not: a held patch's first listed facet stands in for the patch,
+  // its others and a clear patch's are skipped, any other facet kept within the bounding sphere.
+  const auto patch_of = [&](int f) {
+    for (int q = 0; q < facets.patch_count; ++q) {
+      if (((held | cleared) >> q & 1u) && f >= facets.patches[q].first && f < facets.patches[q].end)
+        return q;
+    }
+    return -1;
+  };
+  int count = 0;
+  for (int base = 0; base < size; base += 32) {
+    const int e = base + lane;
+    bool take = false;
+    if (e < size) {
+      const int f = entries[e];
+      if (f != INT_MAX && (e == 0 || entries[e - 1] != f)) {
+        const int q = patch_of(f);
+        if (q >= 0) {
+          take = (held >> q & 1u) && (e == 0 || entries[e - 1] < facets.patches[q].first);
+        } else {
+          const Vec3<Real> a = facets.corners[3 * f], b = facets.corners[3 * f + 1];
+          const Vec3<Real> c = facets.corners[3 * f + 2];
+          const Vec3<Real> n = cross(b - a, c - a);
+          const Real d = dot(n, centre - a);
+          take = !(d * d > Real(1.001) * radius * radius * dot(n, n)) &&
+                 !(norm(closest_point_on_triangle(centre, a, b, c) - centre) > radius);
+        }
+      }
+      keep[e] = take ? 1 : 0;
+    }
+    count += __popc(__ballot_sync(0xffffffffu, take));
+  }
+  __syncwarp();
+  int first = 0;
+  if (lane == 0) {
+    first = count > 0 ? atomicAdd(flag + wall_candidates, count) : 0;
+    run_first[k] = first;
+    run_count[k] = count;
+  }
+  first = __shfl_sync(0xffffffffu, first, 0);
+  if (count == 0 || first > capacity - count) return;  // none, or no room: the stage grows it
+  int at = first;
+  for (int base = 0; base < size; base += 32) {
+    const int e = base + lane;
+    const bool take = e < size && keep[e] != 0;
+    const unsigned taken = __ballot_sync(0xffffffffu, take);
+    if (take) {
+      const int f = entries[e];
+      Vec3<Real> a, b, c;
+      const int q = patch_of(f);
+      if (q >= 0) {
+        patch_stand_in(
+            patch_hit(facets.patches[q], facets.rotation, facets.translation, centre, radius),
+            radius, a, b, c);
+      } else {
+        a = facets.corners[3 * f], b = facets.corners[3 * f + 1], c = facets.corners[3 * f + 2];
+      }
+      candidates[at + __popc(taken & ((1u << lane) - 1))] =
+          WallCandidate<Real>{a, b, c, static_cast<int>(k)};
+    }
+    at += __popc(taken);
+  }
 }
 
 // 2. One thread per reserved slot: the facet clipped against its particle (slots beyond the
@@ -228,9 +385,9 @@ __global__ void copy_histories_all(const Record* __restrict__ contacts, int capa
 // count on the device; nothing when the step did not finish (its store stays).
 template <class Real>
 __global__ void keep_history_kernel(const PairKey* __restrict__ next_keys,
-                                    const ContactHistoryData<Real>* __restrict__ next,
-                                    int capacity, const int* __restrict__ touching_count,
-                                    AbortCheck abort, PairKey* __restrict__ keys,
+                                    const ContactHistoryData<Real>* __restrict__ next, int capacity,
+                                    const int* __restrict__ touching_count, AbortCheck abort,
+                                    PairKey* __restrict__ keys,
                                     ContactHistoryData<Real>* __restrict__ histories,
                                     int* __restrict__ count) {
   if (abort.aborted()) return;
@@ -411,9 +568,15 @@ void DeviceWallStage<Real>::launch_kernels(Real spring_dt, const HistoryIn& old)
   a.walls = walls();
   const int capacity = static_cast<int>(touching_.size());
   const int clip_capacity = static_cast<int>(candidates_.size());
-  wall_candidates_kernel<<<blocks_for(n), kBlock, 0, stream>>>(
-      shared_.view, shared_.tables, a, run_first_.data(), run_count_.data(), candidates_.data(),
-      clip_capacity, shared_.flags.data());
+  if (n <= kWarpCandidatePairs) {
+    wall_candidates_warp_kernel<<<blocks_for(32 * n), kBlock, 0, stream>>>(
+        shared_.view, shared_.tables, a, run_first_.data(), run_count_.data(), candidates_.data(),
+        clip_capacity, shared_.flags.data());
+  } else {
+    wall_candidates_kernel<<<blocks_for(n), kBlock, 0, stream>>>(
+        shared_.view, shared_.tables, a, run_first_.data(), run_count_.data(), candidates_.data(),
+        clip_capacity, shared_.flags.data());
+  }
   TALUS_CUDA_LAUNCH_CHECK();
   wall_clip_kernel<<<blocks_for(clip_capacity), kBlock, 0, stream>>>(
       shared_.view, shared_.tables, candidates_.data(), clip_capacity, shared_.flags.data(),
@@ -505,8 +668,7 @@ constexpr long long kGraphWallRecordBytes = 64LL << 20;
 template <class Real>
 bool DeviceWallStage<Real>::prepare_graph() {
   const long long n = static_cast<long long>(shared_.count) * walls();
-  if (n == 0 || n * static_cast<long long>(sizeof(WallContactRecord<Real>)) >
-                    kGraphWallRecordBytes)
+  if (n == 0 || n * static_cast<long long>(sizeof(WallContactRecord<Real>)) > kGraphWallRecordBytes)
     return false;
   if (candidates_.size() == 0 || run_first_.size() < static_cast<std::size_t>(n)) return false;
   touching_.grow_to(n);
@@ -553,8 +715,8 @@ void DeviceWallStage<Real>::compute_in_graph(Real spring_dt) {
   const int capacity = static_cast<int>(n);
   HistoryIn old = history_.in();
   old.count_at = history_.device_count.data();
-  shared_.abort = AbortCheck{shared_.flags.at(wall_candidates),
-                             static_cast<int>(candidates_.size())};
+  shared_.abort =
+      AbortCheck{shared_.flags.at(wall_candidates), static_cast<int>(candidates_.size())};
   launch_kernels(spring_dt, old);
   const int* touching = shared_.flags.at(touching_walls);
   int bits = 1;
@@ -582,9 +744,8 @@ void DeviceWallStage<Real>::compute_in_graph(Real spring_dt) {
                                            stream);
   });
   keep_history_kernel<<<blocks_for(capacity), kBlock, 0, stream>>>(
-      next_keys, next_histories, capacity, touching, shared_.abort,
-      history_.keys[current].data(), history_.histories[current].data(),
-      history_.device_count.data());
+      next_keys, next_histories, capacity, touching, shared_.abort, history_.keys[current].data(),
+      history_.histories[current].data(), history_.device_count.data());
   TALUS_CUDA_LAUNCH_CHECK();
 }
 
@@ -660,12 +821,11 @@ void DeviceWallStage<Real>::sum() const {
 template <class Real>
 void DeviceWallStage<Real>::add_energy_sums(double* sums) const {
   const bool graph = shared_.graph_mode;
-  const int n = graph ? static_cast<int>(static_cast<long long>(shared_.count) * walls())
-                      : contact_count_;
+  const int n =
+      graph ? static_cast<int>(static_cast<long long>(shared_.count) * walls()) : contact_count_;
   if (n == 0) return;
   wall_energy_kernel<<<blocks_for(n), kBlock, 0, shared_.stream>>>(
-      contacts_.data(), n, graph ? shared_.flags.at(touching_walls) : nullptr, shared_.abort,
-      sums);
+      contacts_.data(), n, graph ? shared_.flags.at(touching_walls) : nullptr, shared_.abort, sums);
   TALUS_CUDA_LAUNCH_CHECK();
 }
 

@@ -107,7 +107,7 @@ class DeviceWallStage {
   std::vector<WallFacets<Real>> wall_views_;  // per wall, device pointers: a copy of `facets_`
   DeviceBuffer<WallFacets<Real>> facets_;
   DeviceBuffer<WallMotionData<Real>> motions_;
-  DeviceBuffer<WallPlacement<Real>> placements_;  // per wall, copied from placements_host_
+  DeviceBuffer<WallPlacement<Real>> placements_;    // per wall, copied from placements_host_
   WallPlacement<Real>* placements_host_ = nullptr;  // pinned
   DeviceBuffer<int> materials_;
   // The touching (particle, wall) records (appended, then in wall-major order) and each pair's
