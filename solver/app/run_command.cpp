@@ -250,11 +250,13 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
 }
 
 // `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
-// creates, feeds included: scene_particle_count) and the host below: on the real-scene benchmarks
-// (benchmarks/README.md, bench_scenes on the H100 and its 16-core host) the host step is as fast
-// as or faster than the GPU's for scenes of a few hundred particles, where a GPU step is made of
-// launches and waits rather than arithmetic, and the GPU wins from a few thousand.
-constexpr double kAutoGpuParticles = 2000;
+// creates, feeds included: scene_particle_count) and the host below. Measured (benchmarks/
+// README.md, bench_scenes on the H100 and its 16-core host, session 18): the GPU wins from the
+// built-in scene's 63 particles up (0.35 against 0.79 ms a step; the quasi-2D drum's 300: 0.47
+// against 0.84 ms), while a handful of particles is the host's (8 of the built-in scene's
+// dodecahedra falling: 68,700 steps a second on the development host's two cores, where a GPU
+// step, some thirty dependent kernels, takes a tenth of a millisecond at the least).
+constexpr double kAutoGpuParticles = 50;
 
 // The production step's backend for the scene: the CUDA step where the scene (or --backend) asks
 // for it, or for auto where a device is usable and the scene is large enough to gain from it;
