@@ -19,15 +19,10 @@
 #include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"
 #include "tests/support/domain_scenes.hpp"
+#include "tests/support/gpu_skip.hpp"
 
 namespace talus {
 namespace {
-
-#define SKIP_WITHOUT_GPU()                                 \
-  do {                                                     \
-    std::string why;                                       \
-    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
-  } while (0)
 
 using talus::testing::histories_by_key;
 using talus::testing::pour_scene;

@@ -36,17 +36,12 @@
 #include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"  // expect_same_state
 #include "tests/support/feed_scenes.hpp"
+#include "tests/support/gpu_skip.hpp"
 
 namespace talus {
 namespace {
 
 namespace fs = std::filesystem;
-
-#define SKIP_WITHOUT_GPU()                                 \
-  do {                                                     \
-    std::string why;                                       \
-    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
-  } while (0)
 
 long long max_steps() {
   const char* cap = std::getenv("TALUS_GPU_TEST_MAX_STEPS");

@@ -1,4 +1,4 @@
-// Graph steps (solver/step/cuda/cuda_step.cu, "Graph steps"): a step launched as one captured
+// Graph steps (solver/step/cuda/cuda_step_impl.cuh, "Graph steps"): a step launched as one captured
 // CUDA graph computes the same bits as the same step launched stage by stage
 // (CudaStepOptions::graphs false). Each scene is run both ways side by side in deterministic mode
 // and every particle's position, velocity, orientation and angular velocity compared bit for bit
@@ -20,16 +20,11 @@
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/scene_loader.hpp"
 #include "solver/step/cuda/cuda_step.hpp"
+#include "tests/support/gpu_skip.hpp"
 #include "tests/support/walled_scene.hpp"
 
 namespace talus {
 namespace {
-
-#define SKIP_WITHOUT_GPU()                                 \
-  do {                                                     \
-    std::string why;                                       \
-    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
-  } while (0)
 
 long long max_steps() {
   const char* cap = std::getenv("TALUS_GPU_TEST_MAX_STEPS");

@@ -10,15 +10,10 @@
 
 #include "solver/core/cuda_device.hpp"
 #include "solver/neighbor/contact_pairs_gpu.hpp"
+#include "tests/support/gpu_skip.hpp"
 
 namespace talus {
 namespace {
-
-#define SKIP_WITHOUT_GPU()                                 \
-  do {                                                     \
-    std::string why;                                       \
-    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
-  } while (0)
 
 template <class Real>
 struct Cloud {

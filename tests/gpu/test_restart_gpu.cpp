@@ -24,17 +24,12 @@
 #include "solver/step/cuda/cuda_step.hpp"
 #include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"
+#include "tests/support/gpu_skip.hpp"
 
 namespace talus {
 namespace {
 
 namespace fs = std::filesystem;
-
-#define SKIP_WITHOUT_GPU()                                 \
-  do {                                                     \
-    std::string why;                                       \
-    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
-  } while (0)
 
 // A fresh directory under the system's temporary directory, removed at the end.
 struct TempDir {

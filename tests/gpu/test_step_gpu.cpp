@@ -27,16 +27,11 @@
 #include "solver/step/cuda/cuda_step.hpp"
 #include "solver/step/host/host_step.hpp"
 #include "solver/step/template_table.hpp"
+#include "tests/support/gpu_skip.hpp"
 #include "tests/support/walled_scene.hpp"
 
 namespace talus {
 namespace {
-
-#define SKIP_WITHOUT_GPU()                                 \
-  do {                                                     \
-    std::string why;                                       \
-    if (!cuda_device_available(&why)) GTEST_SKIP() << why; \
-  } while (0)
 
 Scene scene_from(const std::string& yaml) {
   return parse_scene(yaml, "test.yaml", ".");
