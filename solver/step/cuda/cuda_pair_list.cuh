@@ -35,7 +35,7 @@ class DevicePairList {
   // Rebuilds the list when due().
   void update();
 
-  // For graph steps (cuda_step.cu, "Graph steps"), which skip update(): whether the list is
+  // For graph steps (cuda_step_impl.cuh, "Graph steps"), which skip update(): whether the list is
   // built and nothing but the particles' motion can make it due (a skin, no change of the
   // particles, no imported store, no mirrored reference).
   bool steady() const { return skin_ > 0 && builds_ > 0 && !stale_ && imported_ < 0 && !mirror_; }

@@ -52,7 +52,7 @@ struct CudaStepOptions {
   // candidates; in a dense bed nearly every candidate touches and GJK only proves it (the
   // benchmark measures what it costs). The contacts are the same up to round-off at touching.
   bool gjk_filter = true;
-  // Graph steps (cuda_step.cu): a step that needs no decision from the host in its middle is
+  // Graph steps (cuda_step_impl.cuh): a step that needs no decision from the host in its middle is
   // launched as one captured CUDA graph (the same results; a small scene's step is mostly launch
   // overhead). false, or TALUS_CUDA_GRAPHS=0 in the environment, or TALUS_CUDA_SYNC=1: every
   // step stage by stage.

@@ -55,10 +55,10 @@ enum Flag {
   flags
 };
 
-// A graph step's guard (cuda_step.cu, "Graph steps"): the step cannot finish in the graph when
-// the wall stage's facets overran their room (the counter past the capacity); the kernels after
-// that stage then do nothing, and the step finishes outside the graph. Empty (never aborted) in
-// a step launched stage by stage, which grows the room and runs the wall kernels again instead.
+// A graph step's guard (cuda_step_impl.cuh, "Graph steps"): the step cannot finish in the graph
+// when the wall stage's facets overran their room (the counter past the capacity); the kernels
+// after that stage then do nothing, and the step finishes outside the graph. Empty (never aborted)
+// in a step launched stage by stage, which grows the room and runs the wall kernels again instead.
 struct AbortCheck {
   const int* counter = nullptr;
   int capacity = 0;
@@ -193,7 +193,7 @@ struct DeviceStepShared {
   // and the set-up's launches order themselves with it), so that a step can be captured as a
   // CUDA graph; owned by the step.
   cudaStream_t stream = nullptr;
-  // True while a step is captured into a graph (cuda_step.cu, "Graph steps"): the stages then
+  // True while a step is captured into a graph (cuda_step_impl.cuh, "Graph steps"): the stages then
   // read nothing back and size their launches by their capacities, reading the counts on the
   // device; `abort` is the wall stage's guard for the kernels after it.
   bool graph_mode = false;

@@ -26,7 +26,7 @@ struct WallCandidate {
 // A wall's placement for one evaluation, as the host locates it: its present facets and the
 // transform of its view, and a moving wall's corner transform (wall_transform, in double). The
 // host writes them into pinned memory and one copy takes them to the device, so that a graph
-// launch (cuda_step.cu, "Graph steps") repeats the copy with each step's values.
+// launch (cuda_step_impl.cuh, "Graph steps") repeats the copy with each step's values.
 template <class Real>
 struct WallPlacement {
   int count = 0;

@@ -1,0 +1,373 @@
+// The CUDA step's state and the order of its work (CudaStep<Real>::Impl, cuda_step.hpp's
+// pimpl): the stages it owns, the force stages in the plan's order, the per-particle stages and
+// the accumulation (their kernels in cuda_particle_kernels.cuh), the end-of-step report and the
+// graph steps. Its set-up, feeds and removal are defined in cuda_step.cu, the only file that
+// includes this one.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "solver/geometry/device_shape.cuh"
+#include "solver/shape/shape_arrays.hpp"
+#include "solver/step/cuda/cuda_pair_stage.cuh"
+#include "solver/step/cuda/cuda_particle_kernels.cuh"
+#include "solver/step/cuda/cuda_particles.cuh"
+#include "solver/step/cuda/cuda_step.hpp"
+#include "solver/step/cuda/cuda_wall_stage.cuh"
+#include "solver/step/cuda/stage_timer.cuh"
+#include "solver/step/feeding.hpp"
+
+namespace talus {
+
+namespace {
+
+// What the host reads at the end of each step, in one wait (pinned memory, filled by copies at
+// the end of the step's work on its stream): the flags, the contacts' energy sums and the pair
+// list's predicted move (DevicePairList::predict_move).
+struct StepReport {
+  int raised[Flag::flags];
+  double energy[kEnergySums];
+  unsigned long long predicted_move;
+};
+
+// Graph steps only for scenes up to this many particles: a graph's kernels are launched for
+// their capacities (every slot, every particle-wall pair), which costs nothing in a small scene,
+// whose step is launch overhead, and a little in a large one, whose step is arithmetic.
+constexpr int kGraphParticles = 1 << 17;
+
+}  // namespace
+
+template <class Real>
+struct CudaStep<Real>::Impl {
+  StepPlan plan;
+  Real dt;
+  DeviceStepShared<Real> shared;
+  const Scene& scene;
+  std::vector<std::unique_ptr<ShapeArrays<Real>>> host_shapes;  // per template (polyhedra)
+  std::vector<BodyProperties<Real>> host_bodies;                // host shape views
+  std::vector<std::unique_ptr<DeviceShape<Real>>> device_shapes;
+  DeviceBuffer<BodyProperties<Real>> bodies;  // device shape views
+  DeviceBuffer<Real> table_values;            // the pair-law tables' numbers
+  std::unique_ptr<DeviceParticles<Real>> particles;
+  Feeding feeding;  // the scene's feeds, as HostStep's (step/feeding.hpp)
+  // The stages the plan names (null when absent).
+  std::unique_ptr<DevicePairList<Real>> list;
+  std::unique_ptr<DevicePairStage<Real>> pairs;
+  std::unique_ptr<DeviceWallStage<Real>> walls;
+
+  std::unique_ptr<Domain> domain;  // the local domain (domain/domain.hpp)
+  // Renumbering and removal: the kept particles' order, flags and removed energies.
+  DeviceBuffer<int> order, index;
+  DeviceBuffer<unsigned char> keep_flags;
+  DeviceBuffer<double> removed_energy, removed_sum;
+  long long removed = 0;
+
+  StageSeconds stage_seconds{};
+  // Graph steps ("Graph steps" below).
+  StepReport* report = nullptr;                // pinned
+  DeviceBuffer<unsigned long long> predicted;  // the report's predicted move, on the device
+  cudaGraphExec_t graph = nullptr;
+  bool graphs_on = true;  // the option, the environment and no failed capture
+  bool recapture = true;  // a step ran stage by stage since the graph was captured
+  CudaGraphCounts graph_counts;
+  double time = 0;
+  long long steps = 0;
+  bool forces_ready = false;
+  EnergyLedger ledger;
+  std::array<double, kEnergySums> energy_sums{};  // the last evaluation's
+
+  // The force stages with the energy sums around them (when asked for): the contacts' sums
+  // zeroed before and added up after; they reach the report at the end of the step.
+  void run_force_stages_with_energy(Real spring_dt) {
+    const bool track = shared.energy_sums.size() > 0;
+    if (track) {
+      TALUS_CUDA_CHECK(cudaMemsetAsync(shared.energy_sums.data(), 0, sizeof(double) * kEnergySums,
+                                       shared.stream));
+    }
+    run_force_stages(spring_dt);
+    if (track && walls) walls->add_energy_sums(shared.energy_sums.data());
+  }
+
+  // The ledger from the report's energy sums: its start at the first evaluation, else a step.
+  void take_energy(bool first) {
+    if (shared.energy_sums.size() == 0) return;
+    std::copy(report->energy, report->energy + kEnergySums, energy_sums.begin());
+    ContactRates rates;
+    rates.dissipation = energy_sums[sum_dissipation];
+    rates.wall_power = energy_sums[sum_wall_power];
+    rates.spring = energy_sums[sum_tangential];
+    if (first) {
+      ledger.start(rates);
+    } else {
+      ledger.advance(scene.time_step, rates);
+    }
+  }
+
+  explicit Impl(const Scene& s)
+      : plan(plan_step(s)),
+        dt(Real(s.time_step)),
+        shared(s),
+        scene(s),
+        feeding(s),
+        domain(make_scene_domain(s)) {
+    shared.domain = domain.get();
+  }
+  ~Impl();  // cuda_step.cu
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  int count() const { return shared.count; }
+  ParticleView<Real>& view() { return shared.view; }
+
+  // As HostStep::reorder_by_cell, at a build of the list: the touching histories kept by
+  // global ids, the particles gathered in cell order, the list told.
+  void reorder_by_cell() {
+    list->keep_histories();
+    order.grow_to(count());
+    list->cell_order(order.data());
+    particles->keep(order.data(), count());
+    list->particles_changed();
+  }
+  void flag_outside();
+  void remove_outside(int outside);
+
+  // ---- Graph steps ----
+  // A small scene's step is launch overhead and waits: some thirty kernels, each a few
+  // microseconds of the host's time, for work the device does in less. A step that needs no
+  // decision from the host in its middle is captured once as a CUDA graph and then launched
+  // whole, one call per step, the host waiting once at its end for the report. Such a step:
+  // the pair list is kept (the step before predicted every particle's next position short of
+  // the rebuild distance, DevicePairList::keeps), no feed is due, the wall stage has room for a
+  // record per particle-wall pair, and the scene is small (kGraphParticles). The stages then
+  // read nothing back (DeviceStepShared::graph_mode) and are launched for their capacities; the
+  // only thing a graph step can overrun is the wall stage's room for facets, which aborts the
+  // kernels after it (AbortCheck), and the step then finishes stage by stage
+  // (finish_aborted_step). A step launched stage by stage (a rebuild, a feed, a removal) may
+  // reallocate any array, so the next graph step captures the graph again, updating the
+  // executable one in place when its shape is the same. The results are the same bits as stage
+  // by stage (GpuGraphStep tests).
+
+  // Whether this step may run as a graph (before its work; the step's time is advanced).
+  bool graph_due() const {
+    if (!graphs_on || count() == 0 || count() > kGraphParticles) return false;
+    return !list || list->keeps(report->predicted_move);
+  }
+
+  // Launches the step's graph (capturing it first when due); false when it cannot (the step then
+  // runs stage by stage).
+  bool launch_graph() {
+    if (recapture && !capture_graph()) return false;
+    if (!recapture && walls) walls->stage_placement(time);  // the capture placed them
+    TALUS_CUDA_CHECK(cudaGraphLaunch(graph, shared.stream));
+    recapture = false;
+    return true;
+  }
+
+  bool capture_graph() {
+    if (walls && !walls->prepare_graph()) return false;
+    stage_timer.release_graph();
+    cudaGraph_t captured = nullptr;
+    TALUS_CUDA_CHECK(cudaStreamBeginCapture(shared.stream, cudaStreamCaptureModeThreadLocal));
+    shared.graph_mode = true;
+    try {
+      enqueue_step();
+    } catch (const std::exception& e) {
+      shared.graph_mode = false;
+      shared.abort = AbortCheck{};
+      cudaStreamEndCapture(shared.stream, &captured);  // ends the capture; its error is e
+      if (captured) cudaGraphDestroy(captured);
+      cudaGetLastError();
+      stage_timer.release_graph();
+      graphs_on = false;
+      std::fprintf(stderr, "talus: cuda step: graph steps off (capture failed: %s)\n", e.what());
+      return false;
+    }
+    shared.graph_mode = false;
+    shared.abort = AbortCheck{};
+    TALUS_CUDA_CHECK(cudaStreamEndCapture(shared.stream, &captured));
+    ++graph_counts.captures;
+    bool updated = false;
+    if (graph) {
+      cudaGraphExecUpdateResultInfo info;
+      updated = cudaGraphExecUpdate(graph, captured, &info) == cudaSuccess;
+      if (!updated) {
+        cudaGetLastError();  // not sticky: a new executable graph instead
+        TALUS_CUDA_CHECK(cudaGraphExecDestroy(graph));
+        graph = nullptr;
+      }
+    }
+    cudaError_t made = cudaSuccess;
+    if (!updated) made = cudaGraphInstantiate(&graph, captured, 0);
+    cudaGraphDestroy(captured);
+    TALUS_CUDA_CHECK(made);
+    return true;
+  }
+
+  // The step's work after the feeds, in order, on the step's stream: everything a graph holds.
+  void enqueue_step() {
+    shared.abort = AbortCheck{};
+    shared.flags.reset(shared.stream);
+    if (count() > 0) {
+      timed(Stage::integrate_begin, [&] {
+        integrate_begin_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+            view(), bodies.data(), dt, shared.flags.data());
+        TALUS_CUDA_LAUNCH_CHECK();
+      });
+    }
+    run_force_stages_with_energy(dt);
+    finish_enqueue();
+  }
+
+  // The end of a step's work: integrate_end, the list's predicted move, the particles outside
+  // (not after an aborted graph step, whose graph flagged them: positions do not change after
+  // integrate_begin), the report's copies.
+  void finish_enqueue(bool flag_particles_outside = true) {
+    if (count() > 0) {
+      timed(Stage::integrate_end, [&] {
+        integrate_end_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+            view(), bodies.data(), dt, shared.abort);
+        TALUS_CUDA_LAUNCH_CHECK();
+      });
+    }
+    if (list) {
+      predicted.grow_to(1);
+      list->predict_move(bodies.data(), dt, predicted.data(), shared.abort, shared.stream);
+    }
+    if (flag_particles_outside) flag_outside();
+    copy_report();
+  }
+
+  // The report's copies (on the step's stream; part of a graph).
+  void copy_report() {
+    shared.flags.copy_to(report->raised, shared.stream);
+    if (shared.energy_sums.size() > 0) {
+      TALUS_CUDA_CHECK(cudaMemcpyAsync(report->energy, shared.energy_sums.data(),
+                                       sizeof(double) * kEnergySums, cudaMemcpyDeviceToHost,
+                                       shared.stream));
+    }
+    if (list) {
+      TALUS_CUDA_CHECK(cudaMemcpyAsync(&report->predicted_move, predicted.data(),
+                                       sizeof(unsigned long long), cudaMemcpyDeviceToHost,
+                                       shared.stream));
+    }
+  }
+
+  // The one wait of a step: for its work and its report.
+  void report_and_wait() { TALUS_CUDA_CHECK(cudaStreamSynchronize(shared.stream)); }
+  std::array<int, flags> report_flags() const {
+    std::array<int, flags> all{};
+    std::copy(report->raised, report->raised + flags, all.begin());
+    return all;
+  }
+
+  // A graph step whose wall stage overran its room for facets: the pair stage is done, the wall
+  // stage and what follows it did nothing; the wall stage again stage by stage with more room,
+  // then the rest of the step.
+  void finish_aborted_step(int facets) {
+    ++graph_counts.aborted;
+    walls->recover(dt, time, facets);
+    if (shared.energy_sums.size() > 0) walls->add_energy_sums(shared.energy_sums.data());
+    timed(Stage::accumulate, [&] { accumulate(); });
+    finish_enqueue(false);
+    TALUS_CUDA_CHECK(cudaStreamSynchronize(shared.stream));
+    recapture = true;
+  }
+
+  void upload_templates(const CudaStepOptions& options);
+  void set_up_pairs(const PairLawTables<Real>& host_tables);
+  void feed();
+
+  StageTimer stage_timer;  // stage_seconds from CUDA events (stage_timer.cuh)
+
+  template <class Body>
+  void timed(Stage stage, Body&& body) {
+    stage_timer.timed(stage, shared.stream, shared.graph_mode, std::forward<Body>(body));
+  }
+  void collect_stage_times() { stage_timer.collect(stage_seconds); }
+
+  // The flags the step's kernels raised (from the report, read at the step's end): a rotation
+  // that did not converge, a pair whose geometry failed (the walls' are read by their stage,
+  // which waits for its count anyway, or after a graph step); the pairs' touching count kept.
+  void check_flags(const std::array<int, flags>& all) {
+    const int failed = all[failed_rotation];
+    if (failed != INT_MAX) {
+      throw std::runtime_error(
+          scene.file + ": particle " + std::to_string(shared.global_id(failed)) +
+          " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
+    }
+    if (pairs) pairs->check_flags(all);
+    collect_stage_times();
+  }
+
+  void accumulate() {
+    const bool slots = scene.deterministic && list && list->candidates() > 0;
+    accumulate_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+        view(), slots ? list->pairs() : nullptr, slots ? list->slot_state() : nullptr,
+        slots ? list->forces() : nullptr, slots ? list->sorted_slot() : nullptr,
+        slots ? list->entry_begin() : nullptr, slots ? list->entry_end() : nullptr,
+        walls ? walls->contacts() : nullptr, walls ? walls->slots() : nullptr,
+        walls ? walls->walls() : 0, shared.abort);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
+
+  void run_force_stages(Real spring_dt) {
+    if (count() == 0) return;
+    const BodyProperties<Real>* b = bodies.data();
+    const int blocks = blocks_for(count());
+    const cudaStream_t stream = shared.stream;
+    for (const Stage stage : plan.stages) {
+      switch (stage) {
+        case Stage::clear_forces:
+          timed(stage, [&] {
+            clear_forces_kernel<<<blocks, kBlock, 0, stream>>>(view());
+            TALUS_CUDA_LAUNCH_CHECK();
+          });
+          break;
+        case Stage::gravity:
+          timed(stage, [&] {
+            const Vec3<Real> g(*scene.effects.gravity);
+            gravity_kernel<<<blocks, kBlock, 0, stream>>>(view(), b, g);
+            TALUS_CUDA_LAUNCH_CHECK();
+          });
+          break;
+        case Stage::drag:
+          timed(stage, [&] {
+            drag_kernel<<<blocks, kBlock, 0, stream>>>(view(), Real(*scene.effects.drag_alpha));
+            TALUS_CUDA_LAUNCH_CHECK();
+          });
+          break;
+        case Stage::candidate_pairs:
+          // A graph step keeps the list: the step before predicted that no particle reaches
+          // the rebuild distance in it (DevicePairList::keeps).
+          if (shared.graph_mode) break;
+          timed(stage, [&] {
+            if (scene.reorder.value_or(true) && list->due() && list->renumber_due())
+              reorder_by_cell();
+            list->update();
+          });
+          break;
+        case Stage::pair_contacts:
+          timed(stage, [&] { pairs->compute(spring_dt); });
+          break;
+        case Stage::wall_contacts:
+          timed(stage, [&] { walls->compute(spring_dt, time); });
+          break;
+        case Stage::accumulate:
+          timed(stage, [&] { accumulate(); });
+          break;
+        case Stage::integrate_begin:
+        case Stage::integrate_end:
+          break;
+      }
+    }
+  }
+};
+
+}  // namespace talus
