@@ -20,6 +20,7 @@
 #include "tests/step/restart_scene.hpp"
 #include "tests/step/step_test_util.hpp"
 #include "tests/support/domain_scenes.hpp"
+#include "tests/support/feed_scenes.hpp"
 
 namespace talus {
 namespace {
@@ -132,27 +133,7 @@ TEST(HostPairList, SettlingSceneBuildsItsListFarLessOftenThanItStepsWithTheSameB
 // A feed (balls inserted one by one, tests/step/test_restart.cpp's feeding scene, shorter): each
 // insertion rebuilds the list, whose new particles have no candidates yet.
 TEST(HostPairList, FedSceneKeepsTheSameBitsAsRebuildingEveryStep) {
-  const Scene scene = scene_from(R"(time: {step: 5.0e-6, end: 0.02}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
-          restitution: 0.5}
-templates:
-  ball: {sphere: 0.003, material: glass}
-walls:
-  - box: {min: [-0.02, -0.02, 0], max: [0.02, 0.02, 0.04], material: glass}
-particles:
-  - feed:
-      template: ball
-      region: {box: {min: [-0.016, -0.016, 0.004], max: [0.016, 0.016, 0.02]}}
-      rate: 2000
-      stop: 0.01
-      velocity: [0, 0, -1]
-effects:
-  gravity: [0, 0, -9.81]
-  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
-  friction: true
-  rotation: true
-)");
+  const Scene scene = scene_from(talus::testing::thrown_feed_scene("0.02"));
   const long long steps = std::llround(scene.end_time / scene.time_step);
   const ListRun r = run_beside_skin_zero(scene, steps, 1);
   EXPECT_GT(r.contacts, 0);

@@ -23,6 +23,7 @@
 #include "solver/step/host/host_step.hpp"
 #include "tests/step/restart_scene.hpp"
 #include "tests/step/step_test_util.hpp"
+#include "tests/support/feed_scenes.hpp"
 
 namespace talus {
 namespace {
@@ -100,27 +101,7 @@ TEST(Restart, HostStepStateRoundTripIsExactFloat) {
 }
 
 // A feed into a box: 20 balls in 10 ms thrown down onto the floor; 30 ms.
-const std::string kFeedScene = R"(time: {step: 5.0e-6, end: 0.03}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
-          restitution: 0.5}
-templates:
-  ball: {sphere: 0.003, material: glass}
-walls:
-  - box: {min: [-0.02, -0.02, 0], max: [0.02, 0.02, 0.04], material: glass}
-particles:
-  - feed:
-      template: ball
-      region: {box: {min: [-0.016, -0.016, 0.004], max: [0.016, 0.016, 0.02]}}
-      rate: 2000
-      stop: 0.01
-      velocity: [0, 0, -1]
-effects:
-  gravity: [0, 0, -9.81]
-  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
-  friction: true
-  rotation: true
-)";
+const std::string kFeedScene = talus::testing::thrown_feed_scene("0.03");
 
 // A feeding run: a checkpoint in the middle of a feed (half of its 20 balls inserted) carries the
 // feeder's state (count and generator, "feeds.states"); the resumed step inserts the same balls

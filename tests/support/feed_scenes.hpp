@@ -2,6 +2,8 @@
 // and FeedGpu.FeedIntoABoxLinearMatchesHost run the same scene).
 #pragma once
 
+#include <string>
+
 namespace talus::testing {
 
 // One ball on the floor of a box, then 2000 balls per second for 10 ms (20, one every 100 steps
@@ -29,5 +31,33 @@ effects:
   friction: true
   rotation: true
 )";
+
+// 20 balls in 10 ms (2000 a second) thrown down at 1 m/s into a box, from a region low over its
+// floor, the linear model with friction and rotation, 5 us steps, ending at `end` (s): the feeding
+// scene of the host's restart and pair-list tests (tests/step/test_restart.cpp,
+// test_host_pair_list.cpp).
+inline std::string thrown_feed_scene(const std::string& end) {
+  return "time: {step: 5.0e-6, end: " + end + R"(}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.4,
+          restitution: 0.5}
+templates:
+  ball: {sphere: 0.003, material: glass}
+walls:
+  - box: {min: [-0.02, -0.02, 0], max: [0.02, 0.02, 0.04], material: glass}
+particles:
+  - feed:
+      template: ball
+      region: {box: {min: [-0.016, -0.016, 0.004], max: [0.016, 0.016, 0.02]}}
+      rate: 2000
+      stop: 0.01
+      velocity: [0, 0, -1]
+effects:
+  gravity: [0, 0, -9.81]
+  contact: {model: linear, stiffness: 1.0e4, damping: 0.5, tangential_damping: 1.0}
+  friction: true
+  rotation: true
+)";
+}
 
 }  // namespace talus::testing
