@@ -44,6 +44,7 @@ void gpu_step(benchmark::State& state) {
   talus::CudaStepOptions options;
   options.constant_templates = mode != 3;
   options.gjk_filter = mode != 4;
+  const std::size_t used_before = talus::cuda_device_used_bytes();
   talus::CudaStep<double> step(scene, options);
   step.step();  // the first step evaluates the forces at t = 0 too
   const talus::StageSeconds before = step.stage_seconds();
@@ -65,6 +66,14 @@ void gpu_step(benchmark::State& state) {
   // the overlap workspace is per-thread local memory and not among them.
   state.counters["bytes_per_particle"] = double(step.allocated_bytes()) / particles;
   state.counters["list_bytes_per_particle"] = double(step.pair_list_bytes()) / particles;
+  // What the device lost to the step (cudaMemGetInfo before and after): the arrays above with
+  // the allocator's rounding, the driver's local memory for the kernels' workspaces, the graphs.
+  state.counters["device_bytes_per_particle"] =
+      double(talus::cuda_device_used_bytes() - used_before) / particles;
+  // bytes_per_particle by part (CudaStep::memory_parts), e.g. "B_slot forces".
+  for (const auto& part : step.memory_parts()) {
+    state.counters["B_" + part.first] = double(part.second) / particles;
+  }
   state.counters["candidates"] = double(step.candidate_pair_count());
   state.counters["list_builds_per_step"] =
       steps > 0 ? double(step.pair_list_builds() - builds_before) / double(steps) : 0;

@@ -251,11 +251,11 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
 
 // `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
 // creates, feeds included: scene_particle_count) and the host below. Measured (benchmarks/
-// README.md, bench_scenes on the H100 and its 16-core host, session 18): the GPU wins from the
-// built-in scene's 63 particles up (0.35 against 0.79 ms a step; the quasi-2D drum's 300: 0.47
-// against 0.84 ms), while a handful of particles is the host's (8 of the built-in scene's
-// dodecahedra falling: 68,700 steps a second on the development host's two cores, where a GPU
-// step, some thirty dependent kernels, takes a tenth of a millisecond at the least).
+// README.md, session 19): the built-in scene with 8, 16, 32 and 63 of its dodecahedra, 12,500
+// steps by `talus run` on an H200 and its 16-core host: GPU 3,997 / 3,536 / 3,132 / 2,892 steps
+// a second, host 23,219 / 12,008 / 3,729 / 1,615. The GPU step has a floor of about 0.25 ms
+// (some thirty dependent kernels, each a thread's serial geometry at the least) whatever the
+// count, the host's grows with it; they cross between 32 and 63 particles.
 constexpr double kAutoGpuParticles = 50;
 
 // The production step's backend for the scene: the CUDA step where the scene (or --backend) asks

@@ -2,6 +2,8 @@
 
 #include <cuda_runtime.h>
 
+#include "solver/core/cuda_check.hpp"
+
 namespace talus {
 
 bool cuda_device_available(std::string* reason) {
@@ -16,6 +18,12 @@ bool cuda_device_available(std::string* reason) {
     return false;
   }
   return true;
+}
+
+std::size_t cuda_device_used_bytes() {
+  std::size_t free = 0, total = 0;
+  TALUS_CUDA_CHECK(cudaMemGetInfo(&free, &total));
+  return total - free;
 }
 
 }  // namespace talus

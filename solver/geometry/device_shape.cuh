@@ -1,6 +1,8 @@
 // Device copy of one template's arrays and the ConvexView that points into them (CUDA builds).
 #pragma once
 
+#include <cstddef>
+
 #include "solver/core/device_buffer.hpp"
 #include "solver/geometry/convex.hpp"
 
@@ -39,6 +41,16 @@ struct DeviceShape {
     view.face_loop_vertices = host.face_loop_offsets ? loop_vertices.data() : nullptr;
     view.vertex_records = host.vertex_records ? vertex_records.data() : nullptr;
     view.filter_vertices = host.filter_vertices ? filter_vertices.data() : nullptr;
+  }
+
+  std::size_t bytes() const {
+    return (vertices.size() + face_normals.size()) * sizeof(Vec3<Real>) +
+           face_offsets.size() * sizeof(Real) +
+           (edges.size() + edge_faces.size() + triangles.size() + loop_offsets.size() +
+            loop_vertices.size()) *
+               sizeof(int) +
+           vertex_records.size() * sizeof(VertexRecord<Real>) +
+           filter_vertices.size() * sizeof(FilterVertex);
   }
 };
 

@@ -375,18 +375,30 @@ void DevicePairList<Real>::update() {
 }
 
 template <class Real>
+std::vector<std::pair<const char*, std::size_t>> DevicePairList<Real>::parts() const {
+  using History = ContactHistoryData<Real>;
+  return {
+      {"slot states", slot_state_.size()},
+      {"slot histories", slot_history_.size() * sizeof(History)},
+      {"slot forces", slot_forces_.size() * sizeof(SlotForce<Real>)},
+      {"history carry-over", (old_keys_.size() + store_keys_.size()) * sizeof(PairKey) +
+                                 old_touching_.size() + store_histories_.size() * sizeof(History)},
+      {"reference positions", (built_x_.size() + built_y_.size() + built_z_.size() +
+                               mirror_x_.size() + mirror_y_.size() + mirror_z_.size()) *
+                                      sizeof(Real) +
+                                  largest_move_.size() * sizeof(unsigned long long)},
+      {"slot CSR", (entry_particle_.size() + entry_slot_.size() + sorted_particle_.size() +
+                    sorted_slot_.size() + entry_begin_.size() + entry_end_.size()) *
+                       sizeof(int)},
+      {"broad phase", broad_phase_.allocated_bytes()},
+  };
+}
+
+template <class Real>
 std::size_t DevicePairList<Real>::bytes() const {
-  return slot_state_.size() + slot_history_.size() * sizeof(ContactHistoryData<Real>) +
-         slot_forces_.size() * sizeof(SlotForce<Real>) +
-         (old_keys_.size() + store_keys_.size()) * sizeof(PairKey) + old_touching_.size() +
-         store_histories_.size() * sizeof(ContactHistoryData<Real>) +
-         (built_x_.size() + built_y_.size() + built_z_.size()) * sizeof(Real) +
-         largest_move_.size() * sizeof(unsigned long long) +
-         (mirror_x_.size() + mirror_y_.size() + mirror_z_.size()) * sizeof(Real) +
-         (entry_particle_.size() + entry_slot_.size() + sorted_particle_.size() +
-          sorted_slot_.size() + entry_begin_.size() + entry_end_.size()) *
-             sizeof(int) +
-         broad_phase_.allocated_bytes();
+  std::size_t bytes = 0;
+  for (const auto& part : parts()) bytes += part.second;
+  return bytes;
 }
 
 template class DevicePairList<double>;

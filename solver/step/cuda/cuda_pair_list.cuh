@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "solver/neighbor/contact_pairs_gpu.hpp"
@@ -98,6 +99,8 @@ class DevicePairList {
   // Device bytes of the list, its slots, the carry-over's scratch, the CSR and the positions
   // the displacements are measured from.
   std::size_t bytes() const;
+  // bytes() by part (CudaStep::memory_parts): name and device bytes.
+  std::vector<std::pair<const char*, std::size_t>> parts() const;
 
  private:
   bool deterministic() const { return shared_.scene.deterministic; }

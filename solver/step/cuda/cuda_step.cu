@@ -390,11 +390,31 @@ std::vector<std::string> CudaStep<Real>::allocated_arrays() const {
 }
 
 template <class Real>
-std::size_t CudaStep<Real>::allocated_bytes() const {
+std::vector<std::pair<std::string, std::size_t>> CudaStep<Real>::memory_parts() const {
   const Impl& m = *impl_;
-  std::size_t bytes = m.particles->bytes();
-  bytes += pair_list_bytes() + m.shared.temp.size();
-  if (m.walls) bytes += m.walls->bytes();
+  std::vector<std::pair<std::string, std::size_t>> parts;
+  parts.emplace_back("particles", m.particles->bytes());
+  if (m.list) {
+    for (const auto& part : m.list->parts()) parts.emplace_back(part.first, part.second);
+  }
+  parts.emplace_back("overlap scratch", m.pairs ? m.pairs->bytes() : 0);
+  parts.emplace_back("wall stage", m.walls ? m.walls->bytes() : 0);
+  parts.emplace_back("CUB scratch", m.shared.temp.size());
+  parts.emplace_back("renumbering and removal",
+                     (m.order.size() + m.index.size()) * sizeof(int) + m.keep_flags.size() +
+                         (m.removed_energy.size() + m.removed_sum.size()) * sizeof(double) +
+                         m.predicted.size() * sizeof(unsigned long long));
+  std::size_t shapes =
+      m.bodies.size() * sizeof(BodyProperties<Real>) + m.table_values.size() * sizeof(Real);
+  for (const auto& shape : m.device_shapes) shapes += shape ? shape->bytes() : 0;
+  parts.emplace_back("shapes and law tables", shapes);
+  return parts;
+}
+
+template <class Real>
+std::size_t CudaStep<Real>::allocated_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& part : memory_parts()) bytes += part.second;
   return bytes;
 }
 

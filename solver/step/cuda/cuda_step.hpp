@@ -28,6 +28,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
@@ -101,6 +102,11 @@ class CudaStep {
   // The device arrays that exist (names as HostStep's) and the device bytes the step holds.
   std::vector<std::string> allocated_arrays() const;
   std::size_t allocated_bytes() const;
+  // allocated_bytes() by part, in the order of the step's work: the particles, the pair list's
+  // parts (the broad phase, slot states, histories and forces, the history carry-over of a
+  // rebuild, the reference positions, the slot CSR), the overlap scratch, the wall stage, CUB's
+  // scratch, the renumbering and the shapes. The parts sum to allocated_bytes().
+  std::vector<std::pair<std::string, std::size_t>> memory_parts() const;
   // Device seconds per stage (CUDA events around each stage's work), indexed by Stage.
   const StageSeconds& stage_seconds() const;
   // Graph steps so far (CudaStepOptions::graphs).
