@@ -28,7 +28,7 @@ struct SceneCase {
 // the pair contacts level off after these steps (README.md, "Scene benchmarks").
 inline constexpr std::array<SceneCase, 6> kSceneCases{{
     // The built-in scene end to end, as `talus run` with no scene runs it: the pour and the bed.
-    {"builtin", "validation/dodecahedron_packing/scene.yaml", 0, 0, 12500, 12500, false},
+    {"builtin", "validation/dodecahedron_packing/scene.yaml", 0, 0, 17500, 17500, false},
     {"bed_1e4", "benchmarks/scenes/bed_1e4.yaml", 7500, 20, 2000, 250, false},
     {"drum_quasi2d", "benchmarks/scenes/drum_quasi2d.yaml", 15000, 50, 4000, 1000, false},
     {"hopper", "benchmarks/scenes/hopper.yaml", 12500, 20, 2000, 250, false},

@@ -9,7 +9,7 @@ if(NOT CLANG_FORMAT OR NOT SOURCE_DIR)
   message(FATAL_ERROR "format_check.cmake: pass -DCLANG_FORMAT=... and -DSOURCE_DIR=...")
 endif()
 
-set(folders solver reference tests benchmarks)
+set(folders solver reference tests benchmarks validation)
 set(pattern "\\.(hpp|cpp|cu|cuh)$")
 set(files "")
 set(listed_by_git FALSE)

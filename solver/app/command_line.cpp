@@ -37,6 +37,7 @@ const std::pair<const char*, const char*> kSynopses[] = {
     {"run", "talus run [options] [SCENE.yaml]"},
     {"resume", "talus run --resume DIR [options]"},
     {"render", "talus render [options] DIR"},
+    {"validate", "talus validate [options] [CASE...]"},
     {"overlap", "talus overlap A POSE_A B POSE_B"},
     {"shape", "talus shape A"},
     {"help", "talus help | --help | -h | COMMAND --help"}};
@@ -51,6 +52,12 @@ struct RunText {
   std::vector<std::string> scenes;
   std::string solver, backend, precision, output, threads, end, resume;
   bool quiet = false, allow_unstable_step = false, overwrite = false;
+};
+
+struct ValidateText {
+  std::vector<std::string> cases;
+  std::string output, cases_directory, backend;
+  bool full = false, quiet = false;
 };
 
 struct RenderText {
@@ -187,6 +194,30 @@ RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
   return parsed;
 }
 
+ValidateArguments validate_arguments(const CLI::App* app, const ValidateText& t) {
+  static const std::pair<const char*, Backend> kBackends[] = {
+      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
+  refuse_extras(app, "validate", "--full, --output, --backend, --cases, --quiet");
+  const auto given = [&](const char* name) { return app->count(name) > 0; };
+  ValidateArguments parsed;
+  for (const std::string& name : t.cases) {
+    if (name.empty()) throw UsageError("validate expects case names, got an empty one ''");
+  }
+  parsed.cases = t.cases;
+  parsed.full = t.full;
+  parsed.quiet = t.quiet;
+  if (given("--output")) {
+    if (t.output.empty()) throw UsageError("--output expects a directory");
+    parsed.output = t.output;
+  }
+  if (given("--cases")) {
+    if (t.cases_directory.empty()) throw UsageError("--cases expects a directory");
+    parsed.cases_directory = t.cases_directory;
+  }
+  if (given("--backend")) parsed.backend = choose("--backend", t.backend, kBackends);
+  return parsed;
+}
+
 // The operands of overlap and shape, which may begin with '-' (a negative coordinate): CLI11
 // leaves every word it does not know in remaining(), in order.
 std::vector<std::string> operands(const CLI::App* app, const std::string& command,
@@ -290,6 +321,27 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   render->add_flag("--no-label", d.no_label, "no time label on the pictures");
   render->add_flag("--quiet", d.quiet, "no line per picture on stderr");
 
+  ValidateText v;
+  CLI::App* validate =
+      app.add_subcommand("validate", "run the validation cases; their results as JSON");
+  validate->footer(
+      "Runs the published cases of validation/ (validation/README.md) on the production\n"
+      "solver: each case's quantities against its expected.yaml. Writes\n"
+      "validation-results.json, validation-summary.md and each case's files into the output\n"
+      "directory; prints the results' JSON. Exit status 1 when a case fails.");
+  validate->allow_extras();
+  validate->add_option("CASE", v.cases, "the cases to run (none: all)")->type_name("");
+  validate->add_flag("--full", v.full,
+                     "the full versions (finer sweeps, more steps: for the GPU) instead of the "
+                     "small ones CI runs");
+  text_option(validate, "--output", v.output, "DIR",
+              "where the results go (default talus-validation)");
+  text_option(validate, "--backend", v.backend, "auto|cpu|cuda",
+              "the production solver's backend (default auto: the GPU where one is usable)");
+  text_option(validate, "--cases", v.cases_directory, "DIR",
+              "the folder that holds the case folders (default: this source tree's validation/)");
+  validate->add_flag("--quiet", v.quiet, "no line per case on stderr");
+
   CLI::App* overlap = app.add_subcommand("overlap", "the overlap of two posed polyhedra, as JSON");
   overlap->allow_extras();
   overlap->footer(
@@ -346,7 +398,7 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   }
   // A word before the command (CLI11 leaves it with talus itself): "talus -x run" must not run.
   const std::vector<std::string> before = app.remaining();
-  if (!before.empty() && (*run || *render || *overlap || *shape))
+  if (!before.empty() && (*run || *render || *validate || *overlap || *shape))
     throw UsageError("unknown option '" + shown(before.front()) +
                      "' before the command; talus takes a command first and its options after "
                      "it (e.g. 'talus run --quiet SCENE.yaml')");
@@ -359,7 +411,7 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
         about = app.get_subcommand(topic.front());
       } catch (const CLI::OptionNotFound&) {
         throw UsageError("help '" + shown(topic.front()) +
-                         "': expected one of run, render, overlap, shape");
+                         "': expected one of run, render, validate, overlap, shape");
       }
     }
     // app.help() would describe the `help` command itself, the one parsed.
@@ -372,6 +424,9 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   } else if (*render) {
     command.kind = ParsedCommand::render;
     command.render_arguments = render_arguments(render, d);
+  } else if (*validate) {
+    command.kind = ParsedCommand::validate;
+    command.validate_arguments = validate_arguments(validate, v);
   } else if (*overlap) {
     command.kind = ParsedCommand::overlap;
     command.operands = operands(overlap, "overlap", 4, "A POSE_A B POSE_B");
@@ -383,11 +438,12 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
     const std::string word = words.empty() ? arguments.front() : words.front();
     // An option before any command: talus itself takes none but --help.
     if (word.size() > 1 && word[0] == '-')
-      throw UsageError("unknown option '" + shown(word) +
-                       "'; expected a command first (run, render, overlap, shape or help), or "
-                       "--help");
+      throw UsageError(
+          "unknown option '" + shown(word) +
+          "'; expected a command first (run, render, validate, overlap, shape or help), or "
+          "--help");
     throw UsageError("unknown command '" + shown(word) +
-                     "'; expected run, render, overlap, shape or help");
+                     "'; expected run, render, validate, overlap, shape or help");
   }
   return command;
 }

@@ -7,6 +7,7 @@
 
 #include "solver/app/render_arguments.hpp"
 #include "solver/app/run_arguments.hpp"
+#include "solver/app/validate_arguments.hpp"
 
 namespace talus {
 
@@ -47,6 +48,12 @@ class RunInterrupted : public std::runtime_error {
 // there; then, where OpenCV is built in, its last frame is drawn; the summary adds the final bed
 // height beside the paper's and the picture, and a line on stderr says both.
 std::string run_json(const RunArguments& args);
+
+// `talus validate [options] [CASE...]`: runs the validation cases (validation/README.md) on the
+// production solver's chosen backend, writing their results into the output directory; returns
+// the results as JSON and sets `passed` (every case passed). Throws validation::ValidationError
+// for an unknown case or a bad expected.yaml, RunError for a backend that cannot run.
+std::string validate_json(const ValidateArguments& args, bool& passed);
 
 // `talus render [options] DIR`: pictures of a run (solver/render/render_run.hpp); returns a
 // summary as JSON. Throws RunError when talus was built without OpenCV, or for a run directory

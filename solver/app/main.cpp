@@ -13,6 +13,7 @@
 #include "solver/app/message_text.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/scene/scene_loader.hpp"
+#include "validation/framework/validation.hpp"
 
 namespace {
 
@@ -45,6 +46,12 @@ int run(const std::vector<std::string>& args) {
     case talus::ParsedCommand::render:
       json = talus::render_json(command.render_arguments);
       break;
+    case talus::ParsedCommand::validate: {
+      bool passed = false;
+      json = talus::validate_json(command.validate_arguments, passed);
+      std::fputs(json.c_str(), stdout);
+      return passed ? 0 : kExitFailure;  // a case failed: its results are written all the same
+    }
   }
   std::fputs(json.c_str(), stdout);
   return 0;
@@ -71,6 +78,10 @@ int main(int argc, char** argv) {
   } catch (const talus::RunInterrupted& error) {
     std::fprintf(stderr, "talus: %s\n", talus::printable_message(error.what()).c_str());
     return 128 + error.signal();
+  } catch (const talus::validation::ValidationError& error) {
+    // An unknown case or a bad expected.yaml: named before any case runs.
+    std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
+    return kExitUsage;
   } catch (const talus::RunError& error) {
     std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
     return kExitUsage;

@@ -158,8 +158,10 @@ const std::vector<Case>& all_cases() {
 }
 
 std::string substitute(std::string text, const std::string& dir, const std::string& scene) {
-  for (const auto& [key, value] : {std::pair<std::string, std::string>{"{dir}", dir},
-                                   std::pair<std::string, std::string>{"{scene}", scene}}) {
+  for (const auto& [key, value] :
+       {std::pair<std::string, std::string>{"{dir}", dir},
+        std::pair<std::string, std::string>{"{scene}", scene},
+        std::pair<std::string, std::string>{"{source}", TALUS_SOURCE_DIR}}) {
     for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at))
       text.replace(at, key.size(), value), at += value.size();
   }

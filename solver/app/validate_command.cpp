@@ -1,0 +1,107 @@
+// `talus validate`: the validation cases (validation/README.md) on the production solver.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <sys/stat.h>
+
+#include "solver/app/commands.hpp"
+#include "solver/io/output_files.hpp"
+#include "solver/run/any_step.hpp"
+#include "validation/framework/validation.hpp"
+
+#if TALUS_HAVE_CUDA
+#include "solver/core/cuda_device.hpp"
+#include "solver/step/cuda/cuda_step.hpp"
+#endif
+
+namespace talus {
+namespace {
+
+bool is_file(const std::string& path) {
+  struct stat s {};
+  return ::stat(path.c_str(), &s) == 0 && S_ISREG(s.st_mode);
+}
+
+// The first line a shell command prints, or "" when it fails.
+std::string first_line_of(const std::string& command) {
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return "";
+  char buffer[256] = {};
+  std::string line;
+  if (std::fgets(buffer, sizeof buffer, pipe)) line = buffer;
+  const int status = ::pclose(pipe);
+  if (status != 0) return "";
+  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+  return line;
+}
+
+// TALUS_COMMIT where set (a copy of the tree without .git), else the source tree's commit with
+// "-dirty" when it has uncommitted changes, else "unknown".
+std::string commit_of(const std::string& source) {
+  if (const char* given = std::getenv("TALUS_COMMIT"); given && *given) return given;
+  const std::string git = "git -C '" + source + "' ";
+  const std::string head = first_line_of(git + "rev-parse --short=12 HEAD 2>/dev/null");
+  if (head.empty()) return "unknown";
+  const std::string changes =
+      first_line_of(git + "status --porcelain --untracked-files=no 2>/dev/null | head -1");
+  return changes.empty() ? head : head + "-dirty";
+}
+
+// Debian's Python with matplotlib (scripts/setup installs it), for the figures; "" without.
+std::string figure_python() {
+  for (const char* python : {"/usr/bin/python3"}) {
+    if (is_file(python) &&
+        std::system((std::string(python) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) ==
+            0)
+      return python;
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string validate_json(const ValidateArguments& args, bool& passed) {
+  validation::ValidationOptions options;
+  options.cases = args.cases;
+  options.full = args.full;
+  options.quiet = args.quiet;
+  options.output_directory = args.output;
+  const std::string source = TALUS_SOURCE_DIR;
+  options.cases_directory =
+      args.cases_directory.empty() ? joined_path(source, "validation") : args.cases_directory;
+  options.commit = commit_of(source);
+  options.backend = "cpu";
+  options.make_step = [](const Scene& scene) { return make_host_step(scene); };
+#if TALUS_HAVE_CUDA
+  std::string why;
+  if (args.backend != Backend::cpu && cuda_device_available(&why)) {
+    options.backend = "cuda";
+    options.make_step = make_cuda_step;
+  } else if (args.backend == Backend::cuda) {
+    throw RunError("--backend cuda: " + why);
+  }
+#else
+  if (args.backend == Backend::cuda)
+    throw RunError("--backend cuda: this talus was built without the CUDA backend");
+#endif
+  options.python = figure_python();
+  if (!args.quiet) {
+    fmt::print(stderr, "talus validate: {} versions on the {} backend, commit {}, into {}/{}\n",
+               args.full ? "full" : "small", options.backend, options.commit,
+               options.output_directory,
+               options.python.empty() ? "; no figures (no /usr/bin/python3 with matplotlib)" : "");
+  }
+  const validation::ValidationRun run = validation::run_validation(options);
+  passed = run.passed();
+  if (!args.quiet) {
+    fmt::print(stderr, "talus validate: {}; {} and {}\n",
+               passed ? "every case passed" : "SOME CASE FAILED", run.results_file,
+               run.summary_file);
+  }
+  return validation::results_json(run, options);
+}
+
+}  // namespace talus

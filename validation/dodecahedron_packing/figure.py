@@ -1,0 +1,55 @@
+"""The method paper's section 3.3 with talus's numbers: each seed's bed height and their mean
+against the paper's 16 cm, and how still each bed is at the end.
+
+usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
+"""
+import csv
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(argv):
+    if len(argv) < 3:
+        sys.exit(__doc__)
+    rows = {}
+    with open(argv[1], newline="") as f:
+        for r in csv.DictReader(f):
+            rows.setdefault(r["quantity"], []).append(r)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    steps = sorted({q.split("_dt")[1] for q in rows if "_dt" in q})
+    if not steps:
+        sys.exit(f"{argv[1]}: no rows")
+    for i, dt in enumerate(steps):
+        heights = rows.get(f"bed_height_dt{dt}", [])
+        seeds = [float(r["parameter"]) + 0.15 * i for r in heights]
+        left.plot(seeds, [100 * float(r["measured"]) for r in heights], "o", mfc="none",
+                  label=f"a seed, dt = {dt} s")
+        for r in rows.get(f"mean_bed_height_dt{dt}", []):
+            mean, tol = 100 * float(r["measured"]), 100 * float(r["tolerance"])
+            left.axhline(mean, ls="--", color=f"C{i}", lw=1,
+                         label=f"mean, dt = {dt} s ({r['verdict']})")
+        rest = rows.get(f"kinetic_fraction_dt{dt}", [])
+        right.semilogy([float(r["parameter"]) + 0.15 * i for r in rest],
+                       [max(float(r["measured"]), 1e-16) for r in rest], "s", mfc="none",
+                       label=f"dt = {dt} s")
+        if rest:
+            right.axhline(float(rest[0]["tolerance"]), color="0.5", ls=":", lw=1)
+    left.axhspan(16 - tol, 16 + tol, color="0.9", label="paper: about 16 cm, tolerance")
+    left.axhline(16, color="k", lw=1)
+    left.set_xlabel("seed")
+    left.set_ylabel("bed height (cm)")
+    left.legend(fontsize=8)
+    right.set_xlabel("seed")
+    right.set_ylabel("kinetic energy / energy released, at the end")
+    right.legend(fontsize=8)
+    fig.suptitle(argv[3] if len(argv) > 3 else "Dodecahedron packing", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(argv[2], dpi=120)
+
+
+if __name__ == "__main__":
+    main(sys.argv)

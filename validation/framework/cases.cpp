@@ -1,0 +1,17 @@
+// The validation cases, in the order `talus validate` runs them: each defined in its folder's
+// check.cpp.
+#include "validation/framework/validation.hpp"
+
+namespace talus::validation {
+
+extern const ValidationCase kFreeFallDrag;
+extern const ValidationCase kCylinderWallImpact;
+extern const ValidationCase kDodecahedronPacking;
+
+const std::vector<ValidationCase>& validation_cases() {
+  static const std::vector<ValidationCase> cases = {kFreeFallDrag, kCylinderWallImpact,
+                                                    kDodecahedronPacking};
+  return cases;
+}
+
+}  // namespace talus::validation
