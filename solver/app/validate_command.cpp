@@ -50,12 +50,12 @@ std::string commit_of(const std::string& source) {
   return changes.empty() ? head : head + "-dirty";
 }
 
-// Debian's Python with matplotlib (scripts/setup installs it), for the figures; "" without.
+// A Python with matplotlib for the figures: Debian's (scripts/setup installs it), else the
+// python3 on PATH (the GPU machine's); "" without.
 std::string figure_python() {
-  for (const char* python : {"/usr/bin/python3"}) {
-    if (is_file(python) &&
-        std::system((std::string(python) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) ==
-            0)
+  for (const std::string& python : {std::string("/usr/bin/python3"), std::string("python3")}) {
+    if (python[0] == '/' && !is_file(python)) continue;
+    if (std::system((python + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0)
       return python;
   }
   return "";
@@ -92,7 +92,7 @@ std::string validate_json(const ValidateArguments& args, bool& passed) {
     fmt::print(stderr, "talus validate: {} versions on the {} backend, commit {}, into {}/{}\n",
                args.full ? "full" : "small", options.backend, options.commit,
                options.output_directory,
-               options.python.empty() ? "; no figures (no /usr/bin/python3 with matplotlib)" : "");
+               options.python.empty() ? "; no figures (no python3 with matplotlib)" : "");
   }
   const validation::ValidationRun run = validation::run_validation(options);
   passed = run.passed();

@@ -2,6 +2,7 @@
 // The built-in scene over several seeds (its random fill's), the bed height of each and their
 // mean against the paper's, and how still each bed is at the end. README.md here.
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -15,6 +16,7 @@ namespace talus::validation {
 namespace {
 
 constexpr char kSeedLine[] = "\nseed: 33\n";  // scene.yaml's, replaced per seed
+constexpr char kTimeLine[] = "\ntime: {step: 4.0e-5, end: 0.7}\n";  // and its step, per run
 
 // Potential energy of the particles in gravity g, J (m g . x summed; x measured from the origin).
 double potential(const Scene& scene, const std::vector<TrajectoryRow>& rows, const Vec3d& g) {
@@ -37,11 +39,12 @@ void pour(const CaseContext& context, CaseResult& result, const std::string& tex
     std::string seeded = text;
     seeded.replace(seeded.find(kSeedLine), std::string(kSeedLine).size(),
                    fmt::format("\nseed: {}\n", seed));
+    seeded.replace(seeded.find(kTimeLine), std::string(kTimeLine).size(),
+                   fmt::format("\ntime: {{step: {}, end: 0.7}}\n", dt));
     const std::string path =
         joined_path(context.output_directory, fmt::format("scene{}_seed{}.yaml", suffix, seed));
     write_file_atomically(path, seeded);
-    Scene scene = load_case_scene(path, result);
-    scene.time_step = dt;
+    const Scene scene = load_case_scene(path, result);
     const Vec3d g = scene.effects.gravity.value();
     std::unique_ptr<AnyStep> step = context.make_step(scene);
     const double u0 = potential(scene, step->rows(), g);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -179,8 +180,10 @@ const Check& add_check(CaseResult& result, const ExpectedQuantity& quantity, dou
   return result.checks.back();
 }
 
-Scene load_case_scene(const std::string& path, CaseResult& result) {
+Scene load_case_scene(const std::string& path, CaseResult& result, double time_step) {
   Scene scene = load_scene(path);
+  if (time_step > 0) scene.time_step = time_step;
+  const std::string name = std::filesystem::path(path).filename().string();
   const TimeStepAdvice advice = advise_time_step(scene);
   if (scene.time_step > advice.critical_step) {
     throw ValidationError(fmt::format(
@@ -192,14 +195,14 @@ Scene load_case_scene(const std::string& path, CaseResult& result) {
     result.notes.push_back(
         fmt::format("{}: time step {:.3g} s, {:.2g} of the critical step "
                     "{:.2g} s ({})",
-                    path, scene.time_step, scene.time_step / advice.critical_step,
+                    name, scene.time_step, scene.time_step / advice.critical_step,
                     advice.critical_step, advice.describe()));
   } else {
-    result.notes.push_back(fmt::format("{}: time step {:.3g} s; no critical step: {}", path,
+    result.notes.push_back(fmt::format("{}: time step {:.3g} s; no critical step: {}", name,
                                        scene.time_step, advice.describe()));
   }
   for (const std::string& warning : check_initial_state(scene, initial_particles(scene)))
-    result.notes.push_back(path + ": " + warning);
+    result.notes.push_back(name + ": " + warning);
   return scene;
 }
 

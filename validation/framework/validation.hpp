@@ -101,10 +101,11 @@ struct CaseContext {
   Expected expected;
 };
 
-// The scene at `path` as `talus run` takes it: loaded (SceneError), its time step checked by the
-// advisor (a ValidationError naming the largest stable step when it is above it; a note of
-// dt / dt_crit otherwise) and its initial particles checked (warnings become notes).
-Scene load_case_scene(const std::string& path, CaseResult& result);
+// The scene at `path` as `talus run` takes it: loaded (SceneError), its time step (`time_step`
+// where given, > 0, else the file's) checked by the advisor (a ValidationError naming the largest
+// stable step when it is above it; a note of dt / dt_crit otherwise) and its initial particles
+// checked (warnings become notes). Notes name the file by its name alone.
+Scene load_case_scene(const std::string& path, CaseResult& result, double time_step = 0);
 
 struct ValidationCase {
   const char* name;  // its folder under validation/

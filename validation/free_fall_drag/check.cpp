@@ -14,9 +14,9 @@ constexpr double kPi = 3.14159265358979323846;
 
 // The scene's step run to its end time, sampled every `every` seconds (from `every` on): speed
 // and drop against v(t) = v_t tanh(g t / v_t) and x(t) = (v_t^2 / g) ln cosh(g t / v_t).
-void fall(const CaseContext& context, CaseResult& result, Scene scene, double dt,
-          const std::string& suffix) {
-  scene.time_step = dt;
+void fall(const CaseContext& context, CaseResult& result, double dt, const std::string& suffix) {
+  const Scene scene =
+      load_case_scene(joined_path(context.case_directory, "scene.yaml"), result, dt);
   const ExpectedQuantity& speed_q = context.expected.quantity("speed" + suffix);
   const ExpectedQuantity& drop_q = context.expected.quantity("drop" + suffix);
   const double g = std::abs(scene.effects.gravity.value().z);
@@ -44,9 +44,8 @@ void fall(const CaseContext& context, CaseResult& result, Scene scene, double dt
 }
 
 void run_case(const CaseContext& context, CaseResult& result) {
-  const Scene scene = load_case_scene(joined_path(context.case_directory, "scene.yaml"), result);
-  fall(context, result, scene, 1e-3, "_dt1e-3");
-  if (context.full) fall(context, result, scene, 1e-4, "_dt1e-4");
+  fall(context, result, 1e-3, "_dt1e-3");
+  if (context.full) fall(context, result, 1e-4, "_dt1e-4");
 }
 
 }  // namespace
