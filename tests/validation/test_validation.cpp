@@ -150,7 +150,7 @@ TEST(ValidationResults, CsvAndJsonCarryEveryCheck) {
   add_check(r, q, 70, 1, 2);
   const std::string csv = checks_csv(r);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "quantity,unit,parameter,measured,expected,tolerance,verdict");
+            "quantity,variant,unit,parameter,measured,expected,tolerance,verdict");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
   ValidationRun run;
   run.cases.push_back(r);

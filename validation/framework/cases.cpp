@@ -7,10 +7,11 @@ namespace talus::validation {
 extern const ValidationCase kFreeFallDrag;
 extern const ValidationCase kCylinderWallImpact;
 extern const ValidationCase kDodecahedronPacking;
+extern const ValidationCase kMeshResolution;
 
 const std::vector<ValidationCase>& validation_cases() {
   static const std::vector<ValidationCase> cases = {kFreeFallDrag, kCylinderWallImpact,
-                                                    kDodecahedronPacking};
+                                                    kMeshResolution, kDodecahedronPacking};
   return cases;
 }
 

@@ -161,15 +161,17 @@ const char* to_string(Verdict verdict) {
 }
 
 const Check& add_check(CaseResult& result, const ExpectedQuantity& quantity, double parameter,
-                       double measured, double expected) {
+                       double measured, double expected, const std::string& variant,
+                       bool report_only) {
   Check check;
   check.quantity = quantity.name;
+  check.variant = variant;
   check.unit = quantity.unit;
   check.parameter = parameter;
   check.measured = measured;
   check.expected = expected;
   check.tolerance = quantity.tolerance.bound(expected);
-  if (!quantity.checks(parameter)) {
+  if (report_only || !quantity.checks(parameter)) {
     check.verdict = Verdict::reported;
   } else {
     // A NaN measured value fails (the comparison is false).

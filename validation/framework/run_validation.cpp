@@ -80,9 +80,9 @@ bool ValidationRun::passed() const {
 }
 
 std::string checks_csv(const CaseResult& result) {
-  std::string text = "quantity,unit,parameter,measured,expected,tolerance,verdict\n";
+  std::string text = "quantity,variant,unit,parameter,measured,expected,tolerance,verdict\n";
   for (const Check& c : result.checks) {
-    text += c.quantity + "," + c.unit + "," + exact_decimal(c.parameter) + "," +
+    text += c.quantity + "," + c.variant + "," + c.unit + "," + exact_decimal(c.parameter) + "," +
             exact_decimal(c.measured) + "," + exact_decimal(c.expected) + "," +
             exact_decimal(c.tolerance) + "," + to_string(c.verdict) + "\n";
   }
@@ -115,6 +115,7 @@ std::string results_json(const ValidationRun& run, const ValidationOptions& opti
       Json row;
       row["case"] = r.name;
       row["quantity"] = k.quantity;
+      if (!k.variant.empty()) row["variant"] = k.variant;
       row["unit"] = k.unit;
       row["parameter"] = k.parameter;
       row["measured"] = k.measured;
@@ -154,12 +155,53 @@ std::string summary_markdown(const ValidationRun& run, const ValidationOptions& 
     if (!r.notes.empty()) md << "\n";
     if (!r.figure.empty()) md << "![" << r.name << "](" << r.figure << ")\n\n";
     if (r.checks.empty()) continue;
-    md << "| quantity | parameter | measured | expected | error | tolerance | verdict |\n";
-    md << "|---|---|---|---|---|---|---|\n";
+    // Each quantity (and setting): its verdicts and its largest error against its tolerance.
+    struct Worst {
+      std::string unit;
+      std::size_t pass = 0, fail = 0, reported = 0;
+      const Check* worst = nullptr;  // of the checked ones, the largest |error| / tolerance
+    };
+    std::vector<std::pair<std::string, Worst>> by;
     for (const Check& k : r.checks) {
-      md << "| " << k.quantity << " (" << k.unit << ") | " << fixed(k.parameter) << " | "
-         << fixed(k.measured) << " | " << fixed(k.expected) << " | "
-         << fixed(k.measured - k.expected) << " | " << fixed(k.tolerance) << " | "
+      const std::string key = k.quantity + (k.variant.empty() ? "" : ", " + k.variant);
+      auto at = std::find_if(by.begin(), by.end(), [&](const auto& b) { return b.first == key; });
+      if (at == by.end()) at = by.insert(by.end(), {key, Worst{}});
+      Worst& w = at->second;
+      w.unit = k.unit;
+      (k.verdict == Verdict::pass ? w.pass : k.verdict == Verdict::fail ? w.fail : w.reported)++;
+      const auto ratio = [](const Check& c) {
+        return std::abs(c.measured - c.expected) / c.tolerance;
+      };
+      if (k.verdict != Verdict::reported && (!w.worst || !(ratio(k) <= ratio(*w.worst))))
+        w.worst = &k;
+    }
+    md << "| quantity | passed | failed | reported | largest checked error | its tolerance | at "
+          "parameter |\n";
+    md << "|---|---|---|---|---|---|---|\n";
+    for (const auto& [key, w] : by) {
+      md << "| " << key << " (" << w.unit << ") | " << w.pass << " | " << w.fail << " | "
+         << w.reported << " | ";
+      if (w.worst) {
+        md << fixed(w.worst->measured - w.worst->expected) << " | " << fixed(w.worst->tolerance)
+           << " | " << fixed(w.worst->parameter) << " |\n";
+      } else {
+        md << "— | — | — |\n";
+      }
+    }
+    // Every check where there are few, else the failed ones (checks.csv holds them all).
+    const bool all = r.checks.size() <= 40;
+    bool header = false;
+    for (const Check& k : r.checks) {
+      if (!all && k.verdict != Verdict::fail) continue;
+      if (!header) {
+        md << "\n" << (all ? "Every check:" : "The failed checks:") << "\n\n";
+        md << "| quantity | parameter | measured | expected | error | tolerance | verdict |\n";
+        md << "|---|---|---|---|---|---|---|\n";
+        header = true;
+      }
+      md << "| " << k.quantity << (k.variant.empty() ? "" : ", " + k.variant) << " (" << k.unit
+         << ") | " << fixed(k.parameter) << " | " << fixed(k.measured) << " | " << fixed(k.expected)
+         << " | " << fixed(k.measured - k.expected) << " | " << fixed(k.tolerance) << " | "
          << (k.verdict == Verdict::fail ? "**fail**" : to_string(k.verdict)) << " |\n";
     }
   }

@@ -63,6 +63,7 @@ const char* to_string(Verdict verdict);
 
 struct Check {
   std::string quantity;
+  std::string variant;  // which setting of the case it was measured at ("lambda 2"), or empty
   std::string unit;
   double parameter = 0;  // the swept parameter's value (0 for a case without one)
   double measured = 0;
@@ -85,9 +86,11 @@ struct CaseResult {
 };
 
 // Adds a check of `measured` against `expected` under the quantity's tolerance: pass or fail
-// where the quantity checks `parameter`, reported elsewhere. Returns it.
+// where the quantity checks `parameter`, reported elsewhere (or always, with `report_only`).
+// Returns it.
 const Check& add_check(CaseResult& result, const ExpectedQuantity& quantity, double parameter,
-                       double measured, double expected);
+                       double measured, double expected, const std::string& variant = "",
+                       bool report_only = false);
 
 // What a case is given: where its folder and its outputs are, which version, and the backend's
 // step for a scene.
@@ -147,8 +150,8 @@ ValidationRun run_validation(const ValidationOptions& options);
 std::string results_json(const ValidationRun& run, const ValidationOptions& options);
 std::string summary_markdown(const ValidationRun& run, const ValidationOptions& options);
 
-// The checks as CSV (case's checks.csv; the figure scripts read it): quantity, unit, parameter,
-// measured, expected, tolerance, verdict; 17 digits.
+// The checks as CSV (case's checks.csv; the figure scripts read it): quantity, variant, unit,
+// parameter, measured, expected, tolerance, verdict; 17 digits.
 std::string checks_csv(const CaseResult& result);
 
 }  // namespace talus::validation
