@@ -16,7 +16,8 @@ grep -q '"passed": true' "$work/small.json" || fail "the results do not say pass
 cmp "$work/small/cylinder_wall_impact/scene.yaml" "$source/validation/cylinder_wall_impact/scene.yaml" ||
   fail "validation/cylinder_wall_impact/scene.yaml is not the scene its checker writes; copy $work/small/cylinder_wall_impact/scene.yaml over it"
 if /usr/bin/python3 -c 'import matplotlib' 2> /dev/null; then
-  for case in free_fall_drag cylinder_wall_impact mesh_resolution dodecahedron_packing; do
+  for case in free_fall_drag cylinder_wall_impact mesh_resolution dodecahedron_packing \
+    gravity_packing; do
     test -s "$work/small/$case/figure.png" || fail "no figure for $case: $(cat "$work/small/$case/figure.log")"
   done
 else

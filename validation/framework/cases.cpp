@@ -8,10 +8,11 @@ extern const ValidationCase kFreeFallDrag;
 extern const ValidationCase kCylinderWallImpact;
 extern const ValidationCase kDodecahedronPacking;
 extern const ValidationCase kMeshResolution;
+extern const ValidationCase kGravityPacking;
 
 const std::vector<ValidationCase>& validation_cases() {
-  static const std::vector<ValidationCase> cases = {kFreeFallDrag, kCylinderWallImpact,
-                                                    kMeshResolution, kDodecahedronPacking};
+  static const std::vector<ValidationCase> cases = {
+      kFreeFallDrag, kCylinderWallImpact, kMeshResolution, kDodecahedronPacking, kGravityPacking};
   return cases;
 }
 
