@@ -3,7 +3,9 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include <sys/stat.h>
 
@@ -12,6 +14,10 @@
 #include "solver/run/any_step.hpp"
 #include "validation/framework/validation.hpp"
 
+#if TALUS_HAVE_REFERENCE
+#include "reference/run/scene_run.hpp"
+#include "reference/world/world.hpp"
+#endif
 #if TALUS_HAVE_CUDA
 #include "solver/core/cuda_device.hpp"
 #include "solver/step/cuda/cuda_step.hpp"
@@ -61,6 +67,37 @@ std::string figure_python() {
   return "";
 }
 
+#if TALUS_HAVE_REFERENCE
+// The reference solver's world of the scene, stepped, its particles sampled as trajectory rows.
+void run_reference(
+    const Scene& scene, long long steps, long long every,
+    const std::function<void(long long, const std::vector<TrajectoryRow>&)>& sample) {
+  std::vector<int> template_of_body;
+  reference::RefWorld world(reference::world_setup(scene, template_of_body));
+  for (long long k = 1; k <= steps; ++k) {
+    world.step();
+    if (k % every != 0) continue;
+    std::vector<TrajectoryRow> rows;
+    for (std::size_t b = 0; b < world.bodies().size(); ++b) {
+      const reference::RefBody& body = world.bodies()[b];
+      const Eigen::Vector3d& x = body.state.position;
+      const Eigen::Vector3d& v = body.state.velocity;
+      const Eigen::Vector3d w = body.state.angular_velocity_world();
+      const Eigen::Quaterniond& q = body.state.orientation;
+      TrajectoryRow row;
+      row.id = body.id;
+      row.template_index = template_of_body.at(b);
+      row.position = {x.x(), x.y(), x.z()};
+      row.orientation = {q.w(), q.x(), q.y(), q.z()};
+      row.velocity = {v.x(), v.y(), v.z()};
+      row.angular_velocity = {w.x(), w.y(), w.z()};
+      rows.push_back(row);
+    }
+    sample(k, rows);
+  }
+}
+#endif
+
 }  // namespace
 
 std::string validate_json(const ValidateArguments& args, bool& passed) {
@@ -86,6 +123,9 @@ std::string validate_json(const ValidateArguments& args, bool& passed) {
 #else
   if (args.backend == Backend::cuda)
     throw RunError("--backend cuda: this talus was built without the CUDA backend");
+#endif
+#if TALUS_HAVE_REFERENCE
+  options.run_reference = run_reference;
 #endif
   options.python = figure_python();
   if (!args.quiet) {

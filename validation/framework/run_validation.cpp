@@ -240,6 +240,7 @@ ValidationRun run_validation(const ValidationOptions& options) {
     context.quiet = options.quiet;
     context.backend = options.backend;
     context.make_step = options.make_step;
+    context.run_reference = options.run_reference;
     contexts.push_back(std::move(context));
   }
   create_output_directory(options.output_directory, "validation output directory (--output)");

@@ -92,6 +92,13 @@ const Check& add_check(CaseResult& result, const ExpectedQuantity& quantity, dou
                        double measured, double expected, const std::string& variant = "",
                        bool report_only = false);
 
+// The serial reference solver's run of a scene, where talus is built with it: `steps` steps,
+// calling `sample` with the step number and the particles after every `every`-th. Empty without
+// the reference solver (validate_command.cpp sets it).
+using ReferenceRun = std::function<void(
+    const Scene& scene, long long steps, long long every,
+    const std::function<void(long long step, const std::vector<TrajectoryRow>&)>& sample)>;
+
 // What a case is given: where its folder and its outputs are, which version, and the backend's
 // step for a scene.
 struct CaseContext {
@@ -101,6 +108,7 @@ struct CaseContext {
   bool quiet = false;
   std::string backend;  // "cpu" or "cuda"
   std::function<std::unique_ptr<AnyStep>(const Scene&)> make_step;
+  ReferenceRun run_reference;  // empty: no reference solver in this talus
   Expected expected;
 };
 
@@ -131,8 +139,9 @@ struct ValidationOptions {
   std::string output_directory;
   std::string backend;  // "cpu" or "cuda", as chosen by the caller
   std::function<std::unique_ptr<AnyStep>(const Scene&)> make_step;
-  std::string commit;  // recorded in the results
-  std::string python;  // the interpreter for the figures; empty: none drawn
+  ReferenceRun run_reference;  // for the cases that also check the reference solver
+  std::string commit;          // recorded in the results
+  std::string python;          // the interpreter for the figures; empty: none drawn
 };
 
 struct ValidationRun {

@@ -1,5 +1,6 @@
 // BLAZE-DEM §5.1: one sphere falling from rest under gravity and quadratic drag; its speed and
-// drop against the closed forms every 0.1 s, at the paper's two time steps. README.md here.
+// drop against the closed forms every 0.1 s, at the paper's two time steps, on the production
+// solver and, where talus is built with it, the reference solver. README.md here.
 #include <cmath>
 
 #include <fmt/format.h>
@@ -12,9 +13,11 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The scene's step run to its end time, sampled every `every` seconds (from `every` on): speed
-// and drop against v(t) = v_t tanh(g t / v_t) and x(t) = (v_t^2 / g) ln cosh(g t / v_t).
-void fall(const CaseContext& context, CaseResult& result, double dt, const std::string& suffix) {
+// The scene run to its end time at step dt by the production solver (`reference` false: the
+// chosen backend) or the reference solver, sampled every 0.1 s: speed and drop against
+// v(t) = v_t tanh(g t / v_t) and x(t) = (v_t^2 / g) ln cosh(g t / v_t).
+void fall(const CaseContext& context, CaseResult& result, double dt, const std::string& suffix,
+          bool reference) {
   const Scene scene =
       load_case_scene(joined_path(context.case_directory, "scene.yaml"), result, dt);
   const ExpectedQuantity& speed_q = context.expected.quantity("speed" + suffix);
@@ -26,26 +29,41 @@ void fall(const CaseContext& context, CaseResult& result, double dt, const std::
   const double alpha = scene.effects.drag_alpha.value();
   const double v_t = std::sqrt(mass * g / alpha);  // terminal speed
   const double z0 = scene.particles.at(0).position.z;
-  std::unique_ptr<AnyStep> step = context.make_step(scene);
   const long long steps = std::llround(scene.end_time / dt);
   const long long every = std::llround(0.1 / dt);
-  for (long long k = 1; k <= steps; ++k) {
-    step->step();
-    if (k % every != 0) continue;
+  const char* solver = reference ? "reference" : "production";
+  const auto sample = [&](long long k, const std::vector<TrajectoryRow>& rows) {
     const double t = double(k) * dt;
-    const TrajectoryRow row = step->rows().at(0);
-    add_check(result, speed_q, t, -row.velocity.z, v_t * std::tanh(g * t / v_t));
+    const TrajectoryRow& row = rows.at(0);
+    add_check(result, speed_q, t, -row.velocity.z, v_t * std::tanh(g * t / v_t), solver);
     add_check(result, drop_q, t, z0 - row.position.z,
-              v_t * v_t / g * std::log(std::cosh(g * t / v_t)));
+              v_t * v_t / g * std::log(std::cosh(g * t / v_t)), solver);
+  };
+  if (reference) {
+    context.run_reference(scene, steps, every, sample);
+  } else {
+    std::unique_ptr<AnyStep> step = context.make_step(scene);
+    for (long long k = 1; k <= steps; ++k) {
+      step->step();
+      if (k % every == 0) sample(k, step->rows());
+    }
   }
   result.notes.push_back(fmt::format(
-      "dt {} s: {} steps on the {} backend; m = {:.4g} kg, alpha = {} kg/m, v_t = {:.4g} m/s", dt,
-      steps, context.backend, mass, alpha, v_t));
+      "dt {} s: {} steps of the {} solver{}; m = {:.4g} kg, alpha = {} kg/m, v_t = {:.4g} m/s", dt,
+      steps, solver, reference ? "" : " on the " + context.backend + " backend", mass, alpha, v_t));
 }
 
 void run_case(const CaseContext& context, CaseResult& result) {
-  fall(context, result, 1e-3, "_dt1e-3");
-  if (context.full) fall(context, result, 1e-4, "_dt1e-4");
+  for (bool reference : {false, true}) {
+    if (reference && !context.run_reference) {
+      result.notes.push_back(
+          "the reference solver is not built into this talus (it needs CGAL "
+          "and Eigen): its runs are left out");
+      continue;
+    }
+    fall(context, result, 1e-3, "_dt1e-3", reference);
+    if (context.full) fall(context, result, 1e-4, "_dt1e-4", reference);
+  }
 }
 
 }  // namespace

@@ -18,27 +18,31 @@ def main(argv):
     rows = {}
     with open(argv[1], newline="") as f:
         for r in csv.DictReader(f):
-            rows.setdefault(r["quantity"], []).append(
+            rows.setdefault((r["quantity"], r.get("variant", "")), []).append(
                 (float(r["parameter"]), float(r["measured"]), float(r["expected"])))
     if not rows:
         sys.exit(f"{argv[1]}: no rows")
     fig, axes = plt.subplots(1, 3, figsize=(13, 4))
-    for name, data in sorted(rows.items()):
+    drawn = set()
+    for (name, solver), data in sorted(rows.items()):
         data.sort()
         t = [d[0] for d in data]
         quantity, dt = name.split("_dt")
         ax = axes[0] if quantity == "speed" else axes[1]
-        if dt == "1e-3":
+        if quantity not in drawn:
             ax.plot(t, [d[2] for d in data], "k-", label="closed form")
-        ax.plot(t, [d[1] for d in data], "o" if dt == "1e-3" else "+", mfc="none",
-                label=f"talus, dt = {dt} s")
-        axes[2].semilogy(t, [abs(d[1] - d[2]) / abs(d[2]) for d in data],
-                         "o-" if quantity == "speed" else "s--", mfc="none",
-                         label=f"{quantity}, dt = {dt} s")
+            drawn.add(quantity)
+        marker = {"1e-3": "o", "1e-4": "+"}.get(dt, "x") if solver != "reference" else "^"
+        ax.plot(t, [d[1] for d in data], marker, mfc="none",
+                label=f"talus {solver}, dt = {dt} s".replace("  ", " "))
+        axes[2].semilogy(t, [max(abs(d[1] - d[2]) / abs(d[2]), 1e-17) for d in data],
+                         ("o-" if quantity == "speed" else "s--") if solver != "reference"
+                         else ("^:" if quantity == "speed" else "v:"), mfc="none",
+                         label=f"{quantity}, {solver}, dt = {dt} s")
     for ax, label in zip(axes, ("speed (m/s)", "drop (m)", "relative error")):
         ax.set_xlabel("time (s)")
         ax.set_ylabel(label)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7, loc="lower left" if ax is axes[2] else "best")
     for bound, dt in ((1e-3, "1e-3"), (1e-4, "1e-4")):
         axes[2].axhline(bound, color="0.5", lw=0.8, ls=":")
         axes[2].text(0.02, bound * 1.1, f"paper's bound at dt = {dt} s", fontsize=7,
