@@ -1,4 +1,4 @@
-// Running the validation cases and writing their results (validation/README.md, "Results").
+// Running the validation cases and writing their results (validation/README.md, "Running").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,6 +49,7 @@ void draw_figure(const ValidationOptions& options, const CaseContext& context, C
   if (options.python.empty() || !exists(script)) return;
   const std::string csv = joined_path(context.output_directory, "checks.csv");
   const std::string png = joined_path(context.output_directory, "figure.png");
+  std::remove(png.c_str());  // an earlier run's figure must not stand for this one
   const std::string command =
       shell_word(options.python) + " " + shell_word(script) + " " + shell_word(csv) + " " +
       shell_word(png) + " " + shell_word(result.title) + " > " +

@@ -151,7 +151,7 @@ struct ValidationRun {
   bool passed() const;
 };
 
-// Runs the cases and writes the results (validation/README.md, "Results"). Throws
+// Runs the cases and writes the results (validation/README.md, "Running"). Throws
 // ValidationError for an unknown case or a bad expected.yaml, before any case runs.
 ValidationRun run_validation(const ValidationOptions& options);
 
