@@ -128,12 +128,8 @@ TimeStepAdvice check_time_step(const RunArguments& args, const Scene& scene) {
                dt, stable, advice.limit, advice.model);
     return advice;
   }
-  const SourceRef& at = scene.time_step_source;
-  throw SceneError(at.file.empty() ? scene.file : at.file, at.line, at.column, "time.step",
-                   fmt::format("{:.6g} s is above the largest stable step {:.1e} s for {} "
-                               "(contact: {}); write time.step <= {:.1e} or step: auto, or pass "
-                               "--allow-unstable-step to run anyway",
-                               dt, stable, advice.limit, advice.model, stable));
+  refuse_unstable_step(scene, advice);
+  return advice;
 }
 
 // The initial particles, made once here and checked (scene/initial_state_checks.hpp): what cannot

@@ -7,9 +7,8 @@
 #include <string>
 #include <vector>
 
-#include <sys/stat.h>
-
 #include "solver/app/commands.hpp"
+#include "solver/io/input_files.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/run/any_step.hpp"
 #include "validation/framework/validation.hpp"
@@ -25,11 +24,6 @@
 
 namespace talus {
 namespace {
-
-bool is_file(const std::string& path) {
-  struct stat s {};
-  return ::stat(path.c_str(), &s) == 0 && S_ISREG(s.st_mode);
-}
 
 // The first line a shell command prints, or "" when it fails.
 std::string first_line_of(const std::string& command) {
@@ -60,7 +54,7 @@ std::string commit_of(const std::string& source) {
 // python3 on PATH (the GPU machine's); "" without.
 std::string figure_python() {
   for (const std::string& python : {std::string("/usr/bin/python3"), std::string("python3")}) {
-    if (python[0] == '/' && !is_file(python)) continue;
+    if (python[0] == '/' && !input_file_problem(python).empty()) continue;
     if (std::system((python + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0)
       return python;
   }

@@ -6,8 +6,11 @@
 #include <limits>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "solver/contact/contact_laws.hpp"
 #include "solver/scene/scene_limits.hpp"
+#include "solver/scene/scene_loader.hpp"
 
 namespace talus {
 namespace {
@@ -301,6 +304,18 @@ TimeStepAdvice advise_time_step(const Scene& scene) {
   // per half period of the contact's oscillation, the usual minimum to resolve a rebound.
   advice.recommended_step = kAutoStepFraction * advice.critical_step;
   return advice;
+}
+
+void refuse_unstable_step(const Scene& scene, const TimeStepAdvice& advice) {
+  const double dt = scene.time_step;
+  if (!(dt > advice.critical_step)) return;
+  const double stable = round_down_two_digits(advice.critical_step);
+  const SourceRef& at = scene.time_step_source;
+  throw SceneError(at.file.empty() ? scene.file : at.file, at.line, at.column, "time.step",
+                   fmt::format("{:.6g} s is above the largest stable step {:.1e} s for {} "
+                               "(contact: {}); write time.step <= {:.1e} or step: auto, or pass "
+                               "--allow-unstable-step to run anyway",
+                               dt, stable, advice.limit, advice.model, stable));
 }
 
 }  // namespace talus

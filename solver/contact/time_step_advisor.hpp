@@ -66,6 +66,11 @@ constexpr double kAutoStepFraction = 0.2;
 // is not read).
 TimeStepAdvice advise_time_step(const Scene& scene);
 
+// A SceneError at the scene's time.step when scene.time_step is above advice.critical_step, naming
+// the largest stable step (rounded down) and how to get it; nothing otherwise. `talus run`
+// (without --allow-unstable-step) and the validation cases refuse a scene through it.
+void refuse_unstable_step(const Scene& scene, const TimeStepAdvice& advice);
+
 // `value` rounded down to two significant digits (2.149e-9 -> 2.1e-9): a step we may print as
 // stable. Infinity and 0 stay as they are.
 double round_down_two_digits(double value);

@@ -48,6 +48,7 @@ struct Placed {
   double theta_deg;
   Quatd orientation;
   Vec3d position;
+  Vec3d corner;  // C, the lowest vertex, from the centre (world frame)
 };
 
 std::vector<Placed> place(const ShapeTemplate& shape, const std::vector<double>& thetas) {
@@ -61,9 +62,12 @@ std::vector<Placed> place(const ShapeTemplate& shape, const std::vector<double>&
   std::vector<Placed> placed;
   for (std::size_t k = 0; k < thetas.size(); ++k) {
     const Quatd q = about({0, 1, 0}, thetas[k] * kPi / 180) * to_x;
-    double lowest = 0;
-    for (const Vec3d& v : shape.vertices) lowest = std::min(lowest, rotate(q, v).z);
-    placed.push_back({thetas[k], q, {0, kSpacing * double(k), -lowest + kGap}});
+    Vec3d lowest;
+    for (const Vec3d& v : shape.vertices) {
+      const Vec3d r = rotate(q, v);
+      if (r.z < lowest.z) lowest = r;
+    }
+    placed.push_back({thetas[k], q, {0, kSpacing * double(k), -lowest.z + kGap}, lowest});
   }
   return placed;
 }
@@ -163,13 +167,7 @@ void run_case(const CaseContext& context, CaseResult& result) {
     // Eqs. 27-28 from the start pose: the corner's lever arm r cos(alpha + theta) is its x
     // offset from the centre, I_yy the moment about the world y axis (a transverse principal
     // axis: the tilt is about y).
-    double lowest = 0;
-    Vec3d corner;
-    for (const Vec3d& v : shape.vertices) {
-      const Vec3d r = rotate(placed[k].orientation, v);
-      if (r.z < lowest) lowest = r.z, corner = r;
-    }
-    const double arm = corner.x;
+    const double arm = placed[k].corner.x;
     const Mat3<double> rot = rotation_matrix(placed[k].orientation);
     double i_yy = 0;
     const double moments[3] = {shape.principal_moments.x, shape.principal_moments.y,

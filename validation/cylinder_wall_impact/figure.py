@@ -3,30 +3,19 @@ normal velocity after a corner-first impact against Eqs. 27-28, over the impact 
 
 usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
 """
-import csv
+import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-
-def read(path):
-    rows = {}
-    with open(path, newline="") as f:
-        for r in csv.DictReader(f):
-            rows.setdefault(r["quantity"], []).append(
-                (float(r["parameter"]), float(r["measured"]), float(r["expected"]),
-                 float(r["tolerance"]), r["verdict"]))
-    return rows
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from figure_common import plt, read_checks, save  # noqa: E402
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.exit(__doc__)
-    rows = read(argv[1])
-    title = argv[3] if len(argv) > 3 else "Cylinder-wall impact"
+    rows = {}
+    for r in read_checks(argv, __doc__):
+        rows.setdefault(r["quantity"], []).append(
+            (float(r["parameter"]), float(r["measured"]), float(r["expected"]),
+             float(r["tolerance"]), r["verdict"]))
     panels = [("omega_plus", "$\\omega_y^+$ (rad/s)", "Eq. 27"),
               ("v_z_plus", "$V_z^+$ (m/s)", "Eq. 28")]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
@@ -49,9 +38,7 @@ def main(argv):
         ax.set_xlabel("impact angle $\\theta$ (degrees)")
         ax.set_ylabel(label)
         ax.legend(fontsize=8)
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    fig.savefig(argv[2], dpi=120)
+    save(fig, argv, "Cylinder-wall impact")
 
 
 if __name__ == "__main__":

@@ -3,22 +3,17 @@ against the paper's 16 cm, and how still each bed is at the end.
 
 usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
 """
-import csv
+import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from figure_common import plt, read_checks, save  # noqa: E402
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.exit(__doc__)
     rows = {}
-    with open(argv[1], newline="") as f:
-        for r in csv.DictReader(f):
-            rows.setdefault(r["quantity"], []).append(r)
+    for r in read_checks(argv, __doc__):
+        rows.setdefault(r["quantity"], []).append(r)
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     steps = sorted({q.split("_dt")[1] for q in rows if "_dt" in q})
     if not steps:
@@ -46,9 +41,7 @@ def main(argv):
     right.set_xlabel("seed")
     right.set_ylabel("kinetic energy / energy released, at the end")
     right.legend(fontsize=8)
-    fig.suptitle(argv[3] if len(argv) > 3 else "Dodecahedron packing", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(argv[2], dpi=120)
+    save(fig, argv, "Dodecahedron packing")
 
 
 if __name__ == "__main__":

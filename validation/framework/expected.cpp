@@ -187,12 +187,7 @@ Scene load_case_scene(const std::string& path, CaseResult& result, double time_s
   if (time_step > 0) scene.time_step = time_step;
   const std::string name = std::filesystem::path(path).filename().string();
   const TimeStepAdvice advice = advise_time_step(scene);
-  if (scene.time_step > advice.critical_step) {
-    throw ValidationError(fmt::format(
-        "{}: time.step: {:.6g} s is above the largest stable step {:.1e} s for {} (contact: {})",
-        path, scene.time_step, round_down_two_digits(advice.critical_step), advice.limit,
-        advice.model));
-  }
+  refuse_unstable_step(scene, advice);  // a SceneError, as `talus run` gives
   if (advice.limited()) {
     result.notes.push_back(
         fmt::format("{}: time step {:.3g} s, {:.2g} of the critical step "

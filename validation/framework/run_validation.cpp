@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include <fmt/format.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include "solver/io/json.hpp"
@@ -16,11 +16,6 @@
 
 namespace talus::validation {
 namespace {
-
-bool exists(const std::string& path) {
-  struct stat s {};
-  return ::stat(path.c_str(), &s) == 0;
-}
 
 // `text` as one word for sh: in single quotes, each ' written '\''.
 std::string shell_word(const std::string& text) {
@@ -46,7 +41,7 @@ const ValidationCase& find_case(const std::string& name) {
 // that cannot be drawn is a note, not a failure of the case.
 void draw_figure(const ValidationOptions& options, const CaseContext& context, CaseResult& result) {
   const std::string script = joined_path(context.case_directory, "figure.py");
-  if (options.python.empty() || !exists(script)) return;
+  if (options.python.empty() || !std::filesystem::exists(script)) return;
   const std::string csv = joined_path(context.output_directory, "checks.csv");
   const std::string png = joined_path(context.output_directory, "figure.png");
   std::remove(png.c_str());  // an earlier run's figure must not stand for this one
@@ -55,7 +50,7 @@ void draw_figure(const ValidationOptions& options, const CaseContext& context, C
       shell_word(png) + " " + shell_word(result.title) + " > " +
       shell_word(joined_path(context.output_directory, "figure.log")) + " 2>&1";
   const int status = std::system(command.c_str());
-  if (status == 0 && exists(png)) {
+  if (status == 0 && std::filesystem::exists(png)) {
     result.figure = result.name + "/figure.png";
   } else {
     const int code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : status;
@@ -221,7 +216,7 @@ ValidationRun run_validation(const ValidationOptions& options) {
   for (const ValidationCase* c : chosen) {
     CaseContext context;
     context.case_directory = joined_path(options.cases_directory, c->name);
-    if (!exists(context.case_directory))
+    if (!std::filesystem::exists(context.case_directory))
       throw ValidationError("case '" + std::string(c->name) + "': its folder " +
                             context.case_directory +
                             " does not exist; --cases names the folder that holds the cases");

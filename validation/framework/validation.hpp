@@ -113,8 +113,8 @@ struct CaseContext {
 };
 
 // The scene at `path` as `talus run` takes it: loaded (SceneError), its time step (`time_step`
-// where given, > 0, else the file's) checked by the advisor (a ValidationError naming the largest
-// stable step when it is above it; a note of dt / dt_crit otherwise) and its initial particles
+// where given, > 0, else the file's) checked by the advisor (above it, the SceneError of `talus
+// run`, refuse_unstable_step; a note of dt / dt_crit otherwise) and its initial particles
 // checked (warnings become notes). Notes name the file by its name alone.
 Scene load_case_scene(const std::string& path, CaseResult& result, double time_step = 0);
 

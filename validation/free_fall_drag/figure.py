@@ -3,25 +3,18 @@ and quadratic drag against the closed forms, and the relative error at each time
 
 usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
 """
-import csv
+import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from figure_common import plt, read_checks, save  # noqa: E402
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.exit(__doc__)
     rows = {}
-    with open(argv[1], newline="") as f:
-        for r in csv.DictReader(f):
-            rows.setdefault((r["quantity"], r.get("variant", "")), []).append(
-                (float(r["parameter"]), float(r["measured"]), float(r["expected"])))
-    if not rows:
-        sys.exit(f"{argv[1]}: no rows")
+    for r in read_checks(argv, __doc__):
+        rows.setdefault((r["quantity"], r["variant"]), []).append(
+            (float(r["parameter"]), float(r["measured"]), float(r["expected"])))
     fig, axes = plt.subplots(1, 3, figsize=(13, 4))
     drawn = set()
     for (name, solver), data in sorted(rows.items()):
@@ -47,9 +40,7 @@ def main(argv):
         axes[2].axhline(bound, color="0.5", lw=0.8, ls=":")
         axes[2].text(0.02, bound * 1.1, f"paper's bound at dt = {dt} s", fontsize=7,
                      transform=axes[2].get_yaxis_transform())
-    fig.suptitle(argv[3] if len(argv) > 3 else "Free fall with drag", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(argv[2], dpi=120)
+    save(fig, argv, "Free fall with drag")
 
 
 if __name__ == "__main__":

@@ -3,26 +3,21 @@ octahedra against time, for the default volume law and BLAZE-DEM's linear law.
 
 usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
 """
-import csv
+import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from figure_common import plt, read_checks, save  # noqa: E402
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.exit(__doc__)
     series, scalars = {}, {}
-    with open(argv[1], newline="") as f:
-        for r in csv.DictReader(f):
-            if r["quantity"] == "kinetic_energy":
-                series.setdefault(r["variant"], []).append(
-                    (float(r["parameter"]), float(r["measured"])))
-            else:
-                scalars[(r["quantity"], r["variant"])] = float(r["measured"])
+    for r in read_checks(argv, __doc__):
+        if r["quantity"] == "kinetic_energy":
+            series.setdefault(r["variant"], []).append(
+                (float(r["parameter"]), float(r["measured"])))
+        else:
+            scalars[(r["quantity"], r["variant"])] = float(r["measured"])
     if not series:
         sys.exit(f"{argv[1]}: no kinetic energy rows")
     fig, ax = plt.subplots(figsize=(8, 4.5))
@@ -36,9 +31,7 @@ def main(argv):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("kinetic energy (J)")
     ax.legend(fontsize=8)
-    fig.suptitle(argv[3] if len(argv) > 3 else "Gravity packing", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(argv[2], dpi=120)
+    save(fig, argv, "Gravity packing")
 
 
 if __name__ == "__main__":

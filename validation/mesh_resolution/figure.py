@@ -3,26 +3,18 @@ across plane walls meshed at several resolutions lambda, against kappa = dx / L_
 
 usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
 """
-import csv
+import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from figure_common import plt, read_checks, save  # noqa: E402
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.exit(__doc__)
     curves = {}
-    with open(argv[1], newline="") as f:
-        for r in csv.DictReader(f):
-            key = (r["quantity"], r["variant"])
-            curves.setdefault(key, []).append((float(r["parameter"]), float(r["measured"]),
-                                               float(r["expected"]), r["verdict"]))
-    if not curves:
-        sys.exit(f"{argv[1]}: no rows")
+    for r in read_checks(argv, __doc__):
+        curves.setdefault((r["quantity"], r["variant"]), []).append(
+            (float(r["parameter"]), float(r["measured"]), float(r["expected"]), r["verdict"]))
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7), sharex=True,
                                       gridspec_kw={"height_ratios": [3, 2]})
     variants = sorted({v for _, v in curves}, key=lambda v: float(v.split()[-1]))
@@ -43,9 +35,7 @@ def main(argv):
     bottom.set_ylabel("normal force less $\\lambda$ = 16's")
     bottom.set_xlabel("$\\kappa = \\Delta x / L_c$ (shaded: wholly on the wall)")
     top.legend(fontsize=8, ncol=3)
-    fig.suptitle(argv[3] if len(argv) > 3 else "Wall mesh resolution", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(argv[2], dpi=120)
+    save(fig, argv, "Wall mesh resolution")
 
 
 if __name__ == "__main__":
