@@ -37,7 +37,8 @@ ALLOWED = {
     r"environment\.txt|profile\.txt|bench_\w+\.json|ncu_\w+\.(csv|txt)":
         "scripts/gpu-check: the files it writes into $OUT",
     r"ab\.txt": "scripts/gpu-ab: the summary it writes into $OUT",
-    r"validation-(results\.json|summary\.md)|checks\.csv|figure\.(png|log)":
+    r"validation-(results\.json|summary\.md)|checks\.csv|figure\.(png|log)|fields\.csv"
+    r"|detections\.csv":
         "what talus validate writes into its output directory (validation/README.md)",
     r"(drum|fill|errors)\.yaml": "the scene file named in examples of error messages",
     r"scenes/grains/missing\.stl": "docs/scenes.md: the missing mesh of an error example",

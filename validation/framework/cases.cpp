@@ -9,10 +9,13 @@ extern const ValidationCase kCylinderWallImpact;
 extern const ValidationCase kDodecahedronPacking;
 extern const ValidationCase kMeshResolution;
 extern const ValidationCase kGravityPacking;
+extern const ValidationCase kRotatingDrum;
+extern const ValidationCase kHopperFlow;
 
 const std::vector<ValidationCase>& validation_cases() {
   static const std::vector<ValidationCase> cases = {
-      kFreeFallDrag, kCylinderWallImpact, kMeshResolution, kDodecahedronPacking, kGravityPacking};
+      kFreeFallDrag, kCylinderWallImpact, kMeshResolution, kDodecahedronPacking,
+      kRotatingDrum, kGravityPacking,     kHopperFlow};
   return cases;
 }
 
