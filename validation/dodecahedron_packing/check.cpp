@@ -54,6 +54,10 @@ void pour(const CaseContext& context, CaseResult& result, const std::string& tex
     const double released = u0 - potential(scene, step->rows(), g);
     const double kinetic = step->kinetic_energy();
     heights.push_back(height);
+    // The bed as a camera beside the tube sees it (the paper's Fig. 13b), one per seed.
+    write_particle_picture(
+        scene, step->rows(), scene.end_time, "y", 360, 360,
+        joined_path(context.output_directory, fmt::format("bed{}_seed{}.png", suffix, seed)));
     add_check(result, height_q, seed, height, 0.16);
     add_check(result, rest_q, seed, kinetic / released, 0);
     result.notes.push_back(fmt::format(

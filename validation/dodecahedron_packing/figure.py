@@ -1,9 +1,12 @@
 """The method paper's section 3.3 with talus's numbers: each seed's bed height and their mean
-against the paper's 16 cm, and how still each bed is at the end.
+against the paper's 16 cm, how still each bed is at the end, and each bed's picture (Fig. 13b;
+bed_dt<step>_seed<seed>.png beside CHECKS_CSV, where talus drew them).
 
 usage: figure.py CHECKS_CSV OUTPUT_PNG [TITLE]   (talus validate runs it; Debian's matplotlib)
 """
+import glob
 import os
+import re
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
@@ -14,7 +17,21 @@ def main(argv):
     rows = {}
     for r in read_checks(argv, __doc__):
         rows.setdefault(r["quantity"], []).append(r)
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    folder = os.path.dirname(os.path.abspath(argv[1]))
+    beds = sorted(glob.glob(os.path.join(folder, "bed_dt*_seed*.png")))
+    fig = plt.figure(figsize=(10, 7.5 if beds else 4))
+    grid = fig.add_gridspec(2 if beds else 1, max(2, len(beds)),
+                            height_ratios=[1, 1] if beds else [1])
+    top = grid[0, :].subgridspec(1, 2)
+    left = fig.add_subplot(top[0])
+    right = fig.add_subplot(top[1])
+    for k, path in enumerate(beds):
+        ax = fig.add_subplot(grid[1, k])
+        ax.imshow(plt.imread(path))
+        ax.axis("off")
+        match = re.search(r"bed_dt(.+)_seed(\d+)\.png$", path)
+        ax.set_title(f"seed {match.group(2)}, dt {match.group(1)} s" if match else path,
+                     fontsize=7)
     steps = sorted({q.split("_dt")[1] for q in rows if "_dt" in q})
     if not steps:
         sys.exit(f"{argv[1]}: no rows")
@@ -39,7 +56,7 @@ def main(argv):
     left.set_ylabel("bed height (cm)")
     left.legend(fontsize=8)
     right.set_xlabel("seed")
-    right.set_ylabel("kinetic energy / energy released, at the end")
+    right.set_ylabel("kinetic energy at the end / released")
     right.legend(fontsize=8)
     save(fig, argv, "Dodecahedron packing")
 

@@ -118,6 +118,14 @@ struct CaseContext {
 // checked (warnings become notes). Notes name the file by its name alone.
 Scene load_case_scene(const std::string& path, CaseResult& result, double time_step = 0);
 
+// A picture of `rows` as talus render draws them (`normal` colouring: shaded as a camera sees
+// them), looking along `view` (projection.hpp's names), fit to the particles with 16 px to spare,
+// the scene's walls at `time` outlined; written to `path` as PNG. False, with nothing written,
+// where talus is built without OpenCV.
+bool write_particle_picture(const Scene& scene, const std::vector<TrajectoryRow>& rows, double time,
+                            const std::string& view, int width, int height,
+                            const std::string& path);
+
 struct ValidationCase {
   const char* name;  // its folder under validation/
   const char* title;
