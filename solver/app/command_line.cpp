@@ -63,7 +63,7 @@ struct ValidateText {
 struct RenderText {
   std::vector<std::string> directories;
   std::string view, color, width, height, every, output, scene, fit, max_speed;
-  bool last = false, no_label = false, quiet = false;
+  bool last = false, no_label = false, outline = false, quiet = false;
 };
 
 // Adds a text option whose value is checked after parsing.
@@ -156,7 +156,7 @@ RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
   static const std::pair<const char*, bool> kFits[] = {{"all", true}, {"particles", false}};
   refuse_extras(app, "render",
                 "--view, --color, --width, --height, --every, --last, --output, --scene, --fit, "
-                "--max-speed, --no-label, --quiet");
+                "--max-speed, --outline, --no-label, --quiet");
   const auto given = [&](const char* name) { return app->count(name) > 0; };
   RenderArguments parsed;
   RenderSettings& s = parsed.settings;
@@ -187,6 +187,7 @@ RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
     s.max_speed = positive_number("--max-speed", t.max_speed, "speed in m/s");
   s.last_only = t.last;
   s.label = !t.no_label;
+  s.outline = t.outline;
   parsed.quiet = t.quiet;
   if (s.width <= 2 * s.margin || s.height <= 2 * s.margin)
     throw UsageError("--width and --height: expected more than " + std::to_string(2 * s.margin) +
@@ -318,6 +319,9 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   text_option(render, "--scene", d.scene, "FILE",
               "the scene, when run.json's path does not lead to it");
   text_option(render, "--output", d.output, "DIR", "where the pictures go");
+  render->add_flag(
+      "--outline", d.outline,
+      "each particle's silhouette as a dark line (occluding contours, as in a photograph)");
   render->add_flag("--no-label", d.no_label, "no time label on the pictures");
   render->add_flag("--quiet", d.quiet, "no line per picture on stderr");
 

@@ -50,6 +50,30 @@ Vec3d face_normal(const std::vector<Vec3d>& corners) {
   return length > 0 ? n / length : n;
 }
 
+// The convex hull of points in the picture, counter-clockwise in (column, row) without repeats
+// (Andrew's monotone chain).
+std::vector<PixelPoint> hull_2d(std::vector<PixelPoint> points) {
+  std::sort(points.begin(), points.end(), [](const PixelPoint& a, const PixelPoint& b) {
+    return a.column < b.column || (a.column == b.column && a.row < b.row);
+  });
+  if (points.size() < 3) return points;
+  const auto turn = [](const PixelPoint& o, const PixelPoint& a, const PixelPoint& b) {
+    return (a.column - o.column) * (b.row - o.row) - (a.row - o.row) * (b.column - o.column);
+  };
+  std::vector<PixelPoint> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // lower chain
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);  // the last point is the first
+  return hull;
+}
+
 void add_wall_outline(const Projection& projection, const TriangleMesh& mesh,
                       std::vector<DrawSegment>& out) {
   const double crease_cos = std::cos(30.0 * 3.14159265358979323846 / 180.0);
@@ -136,6 +160,16 @@ FrameDrawing draw_frame(const Projection& projection, const std::vector<Template
           settings.color == ColorMode::id ? base : scaled(base, shade(projection.axes, normal));
       for (const Vec3d& c : corners) polygon.corners.push_back(projection.project(c));
       drawing.polygons.push_back(std::move(polygon));
+    }
+    if (settings.outline) {
+      std::vector<PixelPoint> projected;
+      for (const Vec3d& v : posed) projected.push_back(projection.project(v));
+      DrawPolygon outline;
+      outline.corners = hull_2d(std::move(projected));
+      outline.color = kOutlineColor;
+      outline.particle = static_cast<int>(k);
+      outline.outline = true;
+      drawing.polygons.push_back(std::move(outline));
     }
   }
   for (const TriangleMesh& wall : walls) add_wall_outline(projection, wall, drawing.wall_edges);

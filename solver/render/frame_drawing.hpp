@@ -35,7 +35,8 @@ Rgb speed_color(double fraction);
 struct DrawPolygon {
   std::vector<PixelPoint> corners;
   Rgb color;
-  int particle = 0;  // the row of the frame it belongs to
+  int particle = 0;      // the row of the frame it belongs to
+  bool outline = false;  // a closed line along the corners (a silhouette), not filled
 };
 
 struct DrawSegment {
@@ -50,14 +51,21 @@ struct FrameDrawing {
 struct DrawSettings {
   ColorMode color = ColorMode::normal;
   double max_speed = 0;  // m/s: the speed drawn red (velocity mode)
+  // Each particle's silhouette (the convex hull of its projected corners) as a dark line over
+  // its faces, so that a nearer particle's edge shows where it hides a farther one, as the
+  // occluding contours of a photograph do; particles of one colour would otherwise merge.
+  bool outline = false;
 };
+
+// The outline's colour: dark and neutral (blue equals red, unlike any particle colour but id's).
+constexpr Rgb kOutlineColor{35, 35, 35};
 
 // The particles of `rows` (their templates' surfaces: template_surface of vtk_output.hpp) and
 // the walls (as they stand at the frame's time: walls_at). Particles are painted farthest first
 // by their centres' depth, each particle's faces that face the camera only (for a convex body
-// they do not overlap one another). A wall's outline: its boundary edges, creases (neighbouring
-// triangles more than 30 degrees apart) and silhouette edges (one neighbour facing the camera,
-// the other not).
+// they do not overlap one another), then its outline where settings.outline. A wall's outline: its
+// boundary edges, creases (neighbouring triangles more than 30 degrees apart) and silhouette edges
+// (one neighbour facing the camera, the other not).
 FrameDrawing draw_frame(const Projection& projection, const std::vector<TemplateSurface>& surfaces,
                         const std::vector<TrajectoryRow>& rows,
                         const std::vector<TriangleMesh>& walls, const DrawSettings& settings);

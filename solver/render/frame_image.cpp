@@ -29,6 +29,12 @@ FrameImage render_frame_image(const FrameDrawing& drawing, int width, int height
     corners.clear();
     for (const PixelPoint& p : polygon.corners) corners.push_back(fixed_point(p));
     const cv::Scalar bgr(polygon.color.b, polygon.color.g, polygon.color.r);
+    if (polygon.outline) {  // one pixel wide, 8-connected, part of its particle
+      const std::vector<std::vector<cv::Point>> line{corners};
+      cv::polylines(image, line, true, bgr, 1, cv::LINE_8, kShift);
+      cv::polylines(owner, line, true, cv::Scalar(polygon.particle), 1, cv::LINE_8, kShift);
+      continue;
+    }
     cv::fillConvexPoly(image, corners, bgr, cv::LINE_8, kShift);
     cv::fillConvexPoly(owner, corners, cv::Scalar(polygon.particle), cv::LINE_8, kShift);
   }

@@ -1,7 +1,8 @@
 // The raster of a FrameDrawing (OpenCV: core, imgproc, imgcodecs): white background, the
 // polygons filled back to front without anti-aliasing (each pixel takes one polygon's colour,
-// exactly), corners placed to 1/16 px; the walls' outline as anti-aliased dark grey lines on
-// top; a label in the top-left corner. Also which particle each pixel shows.
+// exactly; an outline is a 1 px closed line), corners placed to 1/16 px; the walls' outline as
+// anti-aliased dark grey lines on top; a label in the top-left corner. Also which particle each
+// pixel shows.
 #pragma once
 
 #include <string>

@@ -172,6 +172,7 @@ RenderReport render_run(const RenderSettings& settings,
   DrawSettings draw;
   draw.color = settings.color;
   draw.max_speed = report.max_speed;
+  draw.outline = settings.outline;
   std::vector<FrameEntry> entries;
   for (const TrajectoryFrame* frame : frames) {
     const double time = frame->step * info.time_step;

@@ -36,6 +36,7 @@ struct RenderSettings {
   bool fit_walls = true;
   double max_speed = 0;  // m/s, drawn red in velocity mode; 0: the fastest of the frames
   bool label = true;     // the time in the top-left corner
+  bool outline = false;  // each particle's silhouette as a dark line (DrawSettings::outline)
 };
 
 struct RenderReport {

@@ -187,6 +187,36 @@ TEST(RenderRun, NearerParticleHidesTheFartherOne) {
   EXPECT_GT(table[1].depth, table[0].depth);
 }
 
+// --outline: the nearer particle's silhouette runs across the farther one, so the two are
+// parted by a line of the outline colour along the row through both centres; without it, that
+// row goes from one particle's colour to the other's with no such pixel between them.
+TEST(RenderRun, OutlineShowsWhereANearerParticleHidesAFartherOne) {
+  // Looking along +y, 20 mm apart in x: the 30 mm dodecahedra overlap by about 5 mm.
+  const HandRun run = make_run("outline", {{0, 0.05, 0}, {0.02, -0.05, 0}});
+  for (const bool outline : {false, true}) {
+    RenderSettings settings;
+    settings.run_directory = run.dir;
+    settings.label = false;
+    settings.outline = outline;
+    settings.output_directory = run.dir + (outline ? "/outlined" : "/plain");
+    render_run(settings);
+    const std::vector<CentreRow> table =
+        read_centres(settings.output_directory + "/frame_000000040.csv");
+    const cv::Mat image =
+        cv::imread(settings.output_directory + "/frame_000000040.png", cv::IMREAD_COLOR);
+    const int row = int(std::lround(table[1].row));
+    int dark = 0;
+    for (int c = int(std::lround(table[0].column)); c <= int(std::lround(table[1].column)); ++c) {
+      const cv::Vec3b p = image.at<cv::Vec3b>(row, c);
+      dark += p[2] == kOutlineColor.r && p[1] == kOutlineColor.g && p[0] == kOutlineColor.b;
+    }
+    if (outline)
+      EXPECT_GE(dark, 1) << "no outline between the two particles";
+    else
+      EXPECT_EQ(dark, 0) << "an outline pixel without --outline";
+  }
+}
+
 TEST(RenderRun, BadInputNamesTheFileAndWhatWasExpected) {
   RenderSettings settings;
   settings.run_directory = "/nonexistent/talus-run";

@@ -143,7 +143,11 @@ void run_case(const CaseContext& context, CaseResult& result) {
   std::vector<double> errors;  // px between a matched detection and its particle's centre
   std::vector<PlanePoint> previous;
   std::string kept_csv = "frame,column,row,pixels\n";
-  DrawSettings draw;  // `normal`: each face shaded by the light, as a camera sees it
+  // `normal`: each face shaded by the light, as a camera sees it, with the particles' occluding
+  // contours (`talus render --outline`): the bed is 1.1 particles thick, so particles overlap in
+  // the picture, and one colour on another has no edge a camera would not also show darker.
+  DrawSettings draw;
+  draw.outline = true;
   for (int f = 0; f < frame_count; ++f) {
     if (f > 0)
       for (long long s = 0; s < frame_every; ++s) step->step();
@@ -157,17 +161,19 @@ void run_case(const CaseContext& context, CaseResult& result) {
 
     // The DEM's truth: each centre in the picture's plane, its velocity there.
     std::vector<PlanePoint> truth, truth_visible;
-    std::vector<long long> seen = picture.visible_pixels;
+    // A particle in full view shows about the 90th percentile of the visible areas (the
+    // projected area varies by 15 % with the orientation; most of the bed hides a little).
+    const std::vector<long long>& seen = picture.visible_pixels;
     std::vector<long long> sorted_seen(seen);
-    std::nth_element(sorted_seen.begin(), sorted_seen.begin() + sorted_seen.size() / 2,
-                     sorted_seen.end());
-    const long long typical = sorted_seen[sorted_seen.size() / 2];
+    const std::size_t high = sorted_seen.size() * 9 / 10;
+    std::nth_element(sorted_seen.begin(), sorted_seen.begin() + high, sorted_seen.end());
+    const long long typical = sorted_seen[high];
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const PixelPoint p = projection.project(rows[k].position);
       const PlanePoint at = to_plane(p.column, p.row);
       truth.push_back(at);
       dem_field.add(at, dot(axes.right, rows[k].velocity), dot(axes.up, rows[k].velocity));
-      // Half hidden behind another (the drum is 1.1 particles thick): not required to be found.
+      // More than half hidden behind nearer ones: not required to be found.
       if (2 * seen[k] >= typical) truth_visible.push_back(at);
     }
     dem.add(truth, drum.radius, rising_right);
@@ -237,7 +243,8 @@ void run_case(const CaseContext& context, CaseResult& result) {
   result.notes.push_back(fmt::format(
       "{} dodecahedra in a drum {} m across on the {} backend, dt {} s: {} s of spinning up, "
       "then {} frames of {} x {} px every {} s ({:.1f} px per particle diameter); {} particles "
-      "seen (at least half their usual area), {} found, {} detections of which {} lie on a "
+      "seen (at least half the area of one in full view), {} found, {} detections of which {} lie "
+      "on a "
       "particle; median centroid error {:.2f} px; {} frame-to-frame links; R^2 {:.4f} over {} "
       "cells of {:.1f} mm; angle of repose {:.1f} deg (pictures {:.1f}), highest lift {:.1f} deg "
       "(pictures {:.1f}); frames {}, {} kept in frames/",

@@ -5,8 +5,9 @@
 //
 // What a pixel shows is read from its colour: talus render's `normal` colouring paints particles
 // a light steel blue shaded by the light (blue exceeds red by 17 to 50 of 255 from the darkest
-// face to the brightest), on white, with the walls' outline in grey (blue equals red). A camera
-// with coloured particles against a plain background gives the same contrast.
+// face to the brightest), on white, with the walls' outline and the particles' occluding
+// contours (`--outline`) in grey (blue equals red). A camera with coloured particles against a
+// plain background gives the same contrast.
 #pragma once
 
 #include <string>
