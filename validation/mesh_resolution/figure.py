@@ -15,8 +15,8 @@ def main(argv):
     for r in read_checks(argv, __doc__):
         curves.setdefault((r["quantity"], r["variant"]), []).append(
             (float(r["parameter"]), float(r["measured"]), float(r["expected"]), r["verdict"]))
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7), sharex=True,
-                                      gridspec_kw={"height_ratios": [3, 2]})
+    fig, (top, bottom, off) = plt.subplots(3, 1, figsize=(8, 10), sharex=True,
+                                           gridspec_kw={"height_ratios": [3, 2, 2]})
     variants = sorted({v for _, v in curves}, key=lambda v: float(v.split()[-1]))
     for i, variant in enumerate(variants):
         normal = sorted(curves.get(("normal_force", variant), []))
@@ -27,13 +27,18 @@ def main(argv):
         top.plot([d[0] for d in tangential], [d[1] for d in tangential], ":", color=f"C{i}",
                  lw=1)
         bottom.plot(kappa, [d[1] - d[2] for d in normal], "-", color=f"C{i}", lw=1)
-    for ax in (top, bottom):
+        unweighted = sorted(curves.get(("normal_force_unweighted", variant), []))
+        off.semilogy([d[0] for d in unweighted], [max(d[1], 1e-3) for d in unweighted], "-",
+                     color=f"C{i}", lw=1)
+    for ax in (top, bottom, off):
         ax.axvspan(1, 2, color="0.93", zorder=0)
     bottom.axhline(0.02, color="0.5", ls="--", lw=0.8)
     bottom.axhline(-0.02, color="0.5", ls="--", lw=0.8)
     top.set_ylabel("force / force scale (normal solid, friction dotted)")
     bottom.set_ylabel("normal force less $\\lambda$ = 16's")
-    bottom.set_xlabel("$\\kappa = \\Delta x / L_c$ (shaded: wholly on the wall)")
+    off.set_ylabel("normal force / force scale,\nwithout the area weights")
+    off.set_ylim(1e-2, None)
+    off.set_xlabel("$\\kappa = \\Delta x / L_c$ (shaded: wholly on the wall)")
     top.legend(fontsize=8, ncol=3)
     save(fig, argv, "Wall mesh resolution")
 
