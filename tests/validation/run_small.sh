@@ -17,7 +17,7 @@ cmp "$work/small/cylinder_wall_impact/scene.yaml" "$source/validation/cylinder_w
   fail "validation/cylinder_wall_impact/scene.yaml is not the scene its checker writes; copy $work/small/cylinder_wall_impact/scene.yaml over it"
 if /usr/bin/python3 -c 'import matplotlib' 2> /dev/null; then
   for case in free_fall_drag cylinder_wall_impact mesh_resolution dodecahedron_packing \
-    rotating_drum gravity_packing; do
+    rotating_drum gravity_packing hopper_flow; do
     test -s "$work/small/$case/figure.png" || fail "no figure for $case: $(cat "$work/small/$case/figure.log")"
   done
 else
