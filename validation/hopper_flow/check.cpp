@@ -228,7 +228,11 @@ std::string scene_text(const ParticleSet& set, double mass, const std::string& p
       "  contact: {{model: linear, stiffness: {}, damping: {}, tangential_damping: {}}}\n"
       "  friction: true\n"
       "  rotation: true\n"
-      "{}",
+      "{}"
+      "\noutputs:\n"
+      "  # Asked for so that either backend keeps the energy ledger (dissipation), which the\n"
+      "  # balance check reads (the CUDA step keeps it only then); talus validate writes no file.\n"
+      "  probes: {{every: 1000, file: probes.csv, quantities: [energy]}}\n",
       set.description, settling ? "settling on the closed outlet of" : "discharging from",
       kSide * 1e3, kOutlet * 1e3, set.name == "corn" ? kCornFloorDegrees : 0, kStep,
       settling ? set.settle_time : set.discharge_time, -reach, -reach, -kFallBelow, reach, reach,
