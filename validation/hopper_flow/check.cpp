@@ -391,6 +391,13 @@ void discharge(const CaseContext& context, CaseResult& result, const ParticleSet
     observe(double(s) * kStep, step->rows());
   }
   const EnergyTerms end = step->energy();
+  // A flow of frictional, damped contacts dissipates: a ledger that shows none was not kept (the
+  // CUDA step keeps it only for a scene that asks for the energy probe), and a balance check on
+  // it would pass without testing anything.
+  if (!(end.ledger.dissipated > start.ledger.dissipated))
+    throw std::runtime_error(set.name +
+                             ": the step kept no energy ledger (nothing dissipated in the "
+                             "discharge); the scene must ask for the energy probe");
 
   std::string series = "time,discharged,discharged_mass,bin,stream,removed\n";
   for (const Sample& s : samples)
