@@ -101,7 +101,7 @@ struct Measures {
 
 void run_case(const CaseContext& context, CaseResult& result) {
   // Small (CI, host): a drum half the size, 81 particles, 0.05 s of frames; full: the paper's
-  // 0.3 m drum with 361 particles, 0.5 s of frames after 1.5 s (two turns) of spinning up.
+  // 0.3 m drum with 361 particles, 0.5 s of frames after 1.5 s (1.1 turns) of spinning up.
   const Drum drum = context.full ? Drum{0.15, 19, 1.5, 0.5, 20} : Drum{0.075, 9, 0.5, 0.05, 10};
   const std::string path = joined_path(context.output_directory, "scene.yaml");
   write_file_atomically(path, scene_text(drum));
@@ -209,8 +209,8 @@ void run_case(const CaseContext& context, CaseResult& result) {
   }
   write_file_atomically(joined_path(context.output_directory, "detections.csv"), kept_csv);
 
-  // The velocity fields, for the figure; R^2 over cells with 20 samples in each field (at 10
-  // frames a particle-diameter of travel, 20 samples average at least two crossings).
+  // The velocity fields, for the figure; R^2 over the cells with at least 20 samples (particle
+  // frames) in each field: a cell's mean averages 20 particle-frames at least.
   constexpr int kMinSamples = 20;
   std::string fields = "a,b,u_image,w_image,n_image,u_dem,w_dem,n_dem\n";
   for (int j = 0; j < drum.cells; ++j)
