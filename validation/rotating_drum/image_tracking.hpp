@@ -33,7 +33,8 @@ struct DetectionSettings {
 // transform), one seed per local maximum of that distance at least 0.4 `inradius` deep, none
 // higher in the square of half-side 0.8 `inradius` about it and no seed within that distance
 // (touching convex particles meet at a neck, each keeps its own maximum near its centre), each
-// particle pixel given to its nearest seed, and each seed's pixels' centroid. Throws std::runtime_error naming the file when it cannot be read as an image.
+// particle pixel given to its nearest seed, and each seed's pixels' centroid. Throws
+// std::runtime_error naming the file when it cannot be read as an image.
 std::vector<ImageDetection> detect_particles(const std::string& path,
                                              const DetectionSettings& settings);
 
