@@ -57,7 +57,8 @@ struct DrawSettings {
   bool outline = false;
 };
 
-// The outline's colour: dark and neutral (blue equals red, unlike any particle colour but id's).
+// The outline's colour: a dark neutral grey (blue equals red), which no face of the normal or
+// velocity colourings has, and no id colour.
 constexpr Rgb kOutlineColor{35, 35, 35};
 
 // The particles of `rows` (their templates' surfaces: template_surface of vtk_output.hpp) and
