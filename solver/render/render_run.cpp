@@ -55,13 +55,7 @@ std::vector<Vec3d> fit_points(const Scene& scene, const ViewAxes& axes,
                               bool with_walls) {
   std::vector<Vec3d> points;
   for (const TrajectoryFrame* frame : frames) {
-    for (const TrajectoryRow& row : frame->rows) {
-      const double r = scene.templates[row.template_index].bounding_radius;
-      for (const Vec3d& d : {axes.right, axes.up}) {
-        points.push_back(row.position + d * r);
-        points.push_back(row.position - d * r);
-      }
-    }
+    add_particle_extent(scene, axes, frame->rows, points);
     if (with_walls)
       for (const TriangleMesh& wall : walls_at(scene, meshes, frame->step * time_step))
         points.insert(points.end(), wall.vertices.begin(), wall.vertices.end());
@@ -114,6 +108,17 @@ std::string centres_csv(const Projection& projection, const std::vector<Trajecto
 }
 
 }  // namespace
+
+void add_particle_extent(const Scene& scene, const ViewAxes& axes,
+                         const std::vector<TrajectoryRow>& rows, std::vector<Vec3d>& points) {
+  for (const TrajectoryRow& row : rows) {
+    const double r = scene.templates.at(row.template_index).bounding_radius;
+    for (const Vec3d& d : {axes.right, axes.up}) {
+      points.push_back(row.position + d * r);
+      points.push_back(row.position - d * r);
+    }
+  }
+}
 
 RenderReport render_run(const RenderSettings& settings,
                         const std::function<void(const std::string&)>& progress) {

@@ -19,6 +19,7 @@
 
 #include "solver/render/frame_drawing.hpp"
 #include "solver/render/projection.hpp"
+#include "solver/scene/scene.hpp"
 
 namespace talus {
 
@@ -45,6 +46,11 @@ struct RenderReport {
   double max_speed = 0;
   std::vector<std::string> images;
 };
+
+// Each particle's bounding circle in the picture's plane, as the points (centre plus and minus
+// its bounding radius along `right` and `up`) that fit_projection fits a picture to.
+void add_particle_extent(const Scene& scene, const ViewAxes& axes,
+                         const std::vector<TrajectoryRow>& rows, std::vector<Vec3d>& points);
 
 // Throws std::runtime_error naming the file or directory and what was expected (no run.json,
 // no trajectory files, a scene that cannot be found), SceneError for a scene that does not

@@ -7,6 +7,7 @@
 #include "solver/io/vtk_output.hpp"
 #include "solver/render/frame_drawing.hpp"
 #include "solver/render/frame_image.hpp"
+#include "solver/render/render_run.hpp"
 #include "solver/scene/wall_meshes.hpp"
 #endif
 
@@ -18,14 +19,8 @@ bool write_particle_picture(const Scene& scene, const std::vector<TrajectoryRow>
                             const std::string& view, int width, int height,
                             const std::string& path) {
   const ViewAxes axes = view_axes(view);
-  std::vector<Vec3d> extent;  // each particle's bounding circle in the picture's plane
-  for (const TrajectoryRow& row : rows) {
-    const double r = scene.templates.at(row.template_index).bounding_radius;
-    for (const Vec3d& d : {axes.right, axes.up}) {
-      extent.push_back(row.position + d * r);
-      extent.push_back(row.position - d * r);
-    }
-  }
+  std::vector<Vec3d> extent;
+  add_particle_extent(scene, axes, rows, extent);
   const Projection projection = fit_projection(axes, extent, width, height, 16);
   std::vector<TemplateSurface> surfaces;
   for (const ParticleTemplate& t : scene.templates) surfaces.push_back(template_surface(t));

@@ -93,10 +93,14 @@ void pour(const CaseContext& context, CaseResult& result, const Grid& grid, cons
   const long long steps = std::llround(grid.duration / kStep);
   const long long every = steps / kSamples;
   const EnergyTerms initial = step->energy();
-  // What the run has found so far: [0] the last step done, [1] the largest kinetic energy, [2]
-  // the largest rise of the balance, [3] the balance and [4] the gravitational energy at the
-  // start; and the kinetic energy at each sample (time, J).
-  std::vector<double> state = {0, 0, 0, initial.balance(), initial.gravitational};
+  // What the run has found so far, and the kinetic energy at each sample (time, J).
+  struct Progress {
+    long long step = 0;   // the last step done
+    double peak = 0;      // the largest kinetic energy, J
+    double gain = 0;      // the largest rise of the balance, J
+    double balance0 = 0;  // the balance at the start, J
+    double gravity0 = 0;  // the gravitational energy at the start, J
+  } state{0, 0, 0, initial.balance(), initial.gravitational};
   std::vector<double> samples;
   // The run resumes from `<law>.resume` when an earlier run of the same scene into the same
   // output directory was cut off (a GPU machine's calls are limited to minutes; the full pour
@@ -107,38 +111,38 @@ void pour(const CaseContext& context, CaseResult& result, const Grid& grid, cons
     const Checkpoint saved = read_checkpoint(resume);
     if (saved.text("validation_scene") == scene_file) {
       step->restore_state(saved);
-      state = saved.get<double>("validation_state");
+      state = saved.get_value<Progress>("validation_state");
       samples = saved.get<double>("validation_samples");
       result.notes.push_back(
-          fmt::format("{} law: resumed at step {} from {}", name, std::llround(state[0]), resume));
+          fmt::format("{} law: resumed at step {} from {}", name, state.step, resume));
     }
   }
   const auto save = [&] {
     Checkpoint c;
     step->save_state(c);
     c.put_text("validation_scene", scene_file);
-    c.put("validation_state", state);
+    c.put_value("validation_state", state);
     c.put("validation_samples", samples);
     write_checkpoint(resume, c);
   };
-  for (long long s = std::llround(state[0]) + 1; s <= steps; ++s) {
+  for (long long s = state.step + 1; s <= steps; ++s) {
     step->step();
-    state[0] = double(s);
+    state.step = s;
     if (s % every == 0) {
       const EnergyTerms e = step->energy();
-      state[1] = std::max(state[1], e.kinetic());
-      state[2] = std::max(state[2], e.balance() - state[3]);
+      state.peak = std::max(state.peak, e.kinetic());
+      state.gain = std::max(state.gain, e.balance() - state.balance0);
       samples.push_back(double(s) * kStep);
       samples.push_back(e.kinetic());
     }
     if (s % kResumeEvery == 0 || s == steps) save();
   }
-  const double peak = state[1], gain = state[2];
+  const double peak = state.peak, gain = state.gain;
   for (std::size_t k = 0; k + 1 < samples.size(); k += 2)
     add_check(result, ke_q, samples[k], samples[k + 1], 0, name, true);
   const double kinetic = samples.empty() ? 0.0 : samples.back();
   const EnergyTerms end = step->energy();
-  const double released = state[4] - end.gravitational;
+  const double released = state.gravity0 - end.gravitational;
   if (!(released > 0)) throw std::runtime_error("the particles did not fall");
   add_check(result, rest_q, grid.duration, kinetic / peak, 0, name);
   // The linear law's point force is not the gradient of its energy (README.md here): reported.

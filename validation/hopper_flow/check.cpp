@@ -67,11 +67,6 @@ constexpr int kSampleEvery = 50;  // steps between samples: 5 ms
 constexpr int kMarbleLayer = 132, kMarbleLayers = 6;
 constexpr int kCornLayers = 9;  // the corn's: nine of equal count (three of the 27 rows)
 
-struct Pose {
-  Vec3d position;  // world
-  Quatd orientation;
-};
-
 // Uniform in [low, high) from the generator's raw output, the same on every platform (the
 // standard distributions are not specified bit for bit).
 double uniform(std::mt19937& rng, double low, double high) {
@@ -102,10 +97,10 @@ double mean_floor(double cone) {
 // The marbles: sub-layers of 10 x 10 and 9 x 9 alternating (each 9 x 9 marble in the dip of
 // four below it), 12 mm apart in height, each marble moved by up to 0.5 mm at random so that the
 // bed settles into a random packing; the last sub-layer's places are drawn at random.
-std::vector<Pose> marble_poses(int count) {
+std::vector<Posed> marble_poses(int count) {
   std::mt19937 rng(53);
   const double spacing = kSide / 10;  // 17.6 mm: 1.6 mm between neighbours
-  std::vector<Pose> poses;
+  std::vector<Posed> poses;
   double z = kMarble / 2 + 0.001;
   for (int sub = 0; int(poses.size()) < count; ++sub, z += 0.012) {
     const int n = sub % 2 == 0 ? 10 : 9;
@@ -131,11 +126,11 @@ std::vector<Pose> marble_poses(int count) {
 // thickness on z; each kernel is stood tip down or tip up at random and tilted by up to 5 degrees
 // about x (its tip then reaches 8.8 mm up or down, 5.1 mm across y): a grid with the disorder
 // a packing needs, no two kernels touching.
-std::vector<Pose> corn_poses(int rows, double cone) {
+std::vector<Posed> corn_poses(int rows, double cone) {
   std::mt19937 rng(19);
   const double sx = kSide / 32, sy = kSide / 16, sz = 0.0185;
   const double bottom = cone + 0.0098;  // the lowest tips 1 mm above the floor's top
-  std::vector<Pose> poses;
+  std::vector<Posed> poses;
   for (int k = 0; k < rows; ++k)
     for (int j = 0; j < 16; ++j)
       for (int i = 0; i < 32; ++i) {
@@ -161,7 +156,7 @@ struct ParticleSet {
   double drag = 0;            // kg/m, the settling's quadratic drag (0: none)
   double settle_time = 0;     // s on the closed outlet
   double discharge_time = 0;  // s after the opening
-  std::vector<Pose> poses;
+  std::vector<Posed> poses;   // world
   std::vector<double> snapshots;  // s after the opening
   bool checked = false;           // the rate, steadiness, energy and rest checked (else reported)
 };
@@ -296,7 +291,7 @@ struct Settled {
 Settled settle(const CaseContext& context, CaseResult& result, const ParticleSet& set,
                double mass) {
   std::string particles;
-  for (const Pose& p : set.poses) particles += particle_line(p.position, p.orientation, {}, {});
+  for (const Posed& p : set.poses) particles += particle_line(p.position, p.orientation, {}, {});
   const std::string path =
       joined_path(context.output_directory, fmt::format("scene_{}_settle.yaml", set.name));
   write_file_atomically(path, scene_text(set, mass, particles, true));
