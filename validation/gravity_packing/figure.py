@@ -25,9 +25,10 @@ def main(argv):
         data.sort()
         gain = scalars.get(("energy_gain", law), float("nan"))
         fraction = scalars.get(("packing_fraction", law), float("nan"))
+        count = scalars.get(("particles", law), float("nan"))
         ax.semilogy([d[0] for d in data], [max(d[1], 1e-16) for d in data], "-", color=f"C{i}",
-                    label=f"{law} law: balance rose by {100 * gain:.2g} % of the energy "
-                          f"released; packing {fraction:.3f}")
+                    label=f"{law} law, {count:,.0f} octahedra: balance rose by {100 * gain:.2g} % "
+                          f"of the energy released; packing {fraction:.3f}")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("kinetic energy (J)")
     ax.legend(fontsize=8)
