@@ -26,8 +26,8 @@ constexpr double kLift = 0.01;      // m from the floor to the lattice's lowest 
 // 0.4 of its critical one (the advisor's 4.8e-5 s at E = 5 MPa)
 constexpr double kStep = 2e-5;
 constexpr int kSamples = 100;  // energy samples over the run
-// Steps between the run's resume points (below): at 1e6 particles about a minute of an H200's
-// time, the saving a second or two.
+// Steps between the run's resume points (below): at 1e6 particles about 100 s of an H200's time
+// once the bed forms, the saving a second or two.
 constexpr long long kResumeEvery = 5000;
 constexpr long long kProgressEvery = 1000;  // steps between progress lines on stderr (full only)
 
