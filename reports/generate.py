@@ -9,6 +9,7 @@ exit status 2. matplotlib (Debian's) draws off screen (Agg).
 """
 import argparse
 import base64
+import csv
 import datetime
 import html
 import io
@@ -38,6 +39,19 @@ STANDARD_ROW = {"name", "family_index", "per_family_instance_index", "run_name",
 RATE_KEYS = ("particle_steps_per_s", "particle_steps/s", "polyhedron_steps/s")
 BYTES_KEYS = ("bytes_per_particle", "device_bytes_per_particle")
 OWN_COLUMNS = {"steps_per_s", "particles", "threads"} | set(RATE_KEYS) | set(BYTES_KEYS)
+# talus accuracy's CSV (experiments/accuracy/): its columns, the knobs and scenes it varies.
+ACCURACY_COLUMNS = ("knob", "setting", "value", "scene", "metric", "reference", "error",
+                    "wall_seconds", "simulated_seconds", "steps", "particles", "precision")
+ACCURACY_NUMBERS = ("value", "error", "wall_seconds", "simulated_seconds", "steps", "particles")
+KNOBS = ("contact_law", "shape_resolution", "wall_mesh", "precision", "time_step", "skin")
+SCENES = ("impact", "packing", "drum")
+# bench_effects' rows: effects/<backend>/all and effects/<backend>/without_<effect>, with Google
+# Benchmark's suffixes: those of how it was timed are dropped (/iterations:300/manual_time), any
+# other (/threads:2) becomes part of the backend's column.
+EFFECT_NAME = re.compile(r"^effects/(?P<backend>[^/]+)/(?:all|without_(?P<effect>[^/]+))"
+                         r"(?:/(?P<rest>.+))?$")
+TIMING_SUFFIX = re.compile(r"^(iterations:\d+|repeats:\d+|(min_|min_warmup_)time:[^/]*|"
+                           r"manual_time|real_time|process_time)$")
 
 
 class Refusal(Exception):
@@ -375,13 +389,26 @@ def speed_blocks(benchmarks, figures):
     return blocks
 
 
-def bar_chart(bars, rate_name):
-    try:  # only where there is something to draw
+def pyplot(what):
+    """matplotlib's pyplot drawing off screen, imported only where there is something to draw."""
+    try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise Refusal("matplotlib is needed for the speed figure (Debian's python3-matplotlib)")
+        raise Refusal(f"matplotlib is needed for {what} (Debian's python3-matplotlib)")
+    return plt
+
+
+def png_of(fig, plt):
+    out = io.BytesIO()
+    fig.savefig(out, format="png", dpi=120)
+    plt.close(fig)
+    return out.getvalue()
+
+
+def bar_chart(bars, rate_name):
+    plt = pyplot("the speed figure")
     labels, values = zip(*reversed(bars))  # the table's first row at the top
     fig, ax = plt.subplots(figsize=(8, 1.2 + 0.4 * len(bars)))
     ax.barh(range(len(bars)), values, color="C0", tick_label=labels)
@@ -395,10 +422,586 @@ def bar_chart(bars, rate_name):
     ax.set_xlabel(rate_name)
     ax.set_title(f"{rate_name} (source and benchmark name on the left)", fontsize=10)
     fig.tight_layout()
-    out = io.BytesIO()
-    fig.savefig(out, format="png", dpi=120)
-    plt.close(fig)
-    return out.getvalue()
+    return png_of(fig, plt)
+
+
+# --- The accuracy-against-time study (talus accuracy's CSV) -------------------------------------
+
+def finite(value):
+    return is_number(value) and math.isfinite(value)
+
+
+def read_accuracy(path):
+    """talus accuracy's CSV: leading `# key: value` lines (machine, commit, command, date,
+    backend), then a header and one row per run. Every bad line is refused with its number."""
+    what = ("talus accuracy's CSV: '# key: value' lines, then the header "
+            + ",".join(ACCURACY_COLUMNS))
+    try:
+        with open(path, encoding="utf-8", newline="") as f:
+            lines = f.read().splitlines()
+    except UnicodeDecodeError:
+        raise Refusal(f"{path}: not UTF-8 text; expected {what}")
+    except OSError as e:
+        raise Refusal(f"{path}: cannot be read ({e.strerror})")
+    meta, header, rows = {}, None, []
+    for number, line in enumerate(lines, 1):
+        if not line.strip():
+            continue
+        if line.startswith("#"):
+            key, colon, value = line[1:].partition(":")
+            if header is None and colon:
+                meta[key.strip()] = value.strip()
+            continue
+        cells = [c.strip() for c in next(csv.reader([line]))]
+        where = f"{path}:{number}"
+        if header is None:
+            missing = [c for c in ACCURACY_COLUMNS if c not in cells]
+            if missing:
+                raise Refusal(f"{where}: the header has no column '{missing[0]}'; expected {what}")
+            header = cells
+            continue
+        if len(cells) != len(header):
+            raise Refusal(f"{where}: {len(cells)} fields where the header has {len(header)}; "
+                          f"expected {what}")
+        row = dict(zip(header, cells))
+        for key in ACCURACY_NUMBERS:
+            try:
+                row[key] = float(row[key])
+            except ValueError:
+                raise Refusal(f"{where}: column '{key}' is '{row[key]}', not a number; "
+                              f"expected {what}")
+            if key != "error" and not (math.isfinite(row[key]) and row[key] >= 0):
+                raise Refusal(f"{where}: column '{key}' is {row[key]}; expected a finite "
+                              "number >= 0")
+        if row["knob"] not in KNOBS:
+            raise Refusal(f"{where}: knob '{row['knob']}'; expected one of {', '.join(KNOBS)}")
+        if row["scene"] not in SCENES:
+            raise Refusal(f"{where}: scene '{row['scene']}'; expected one of {', '.join(SCENES)}")
+        if row["error"] < 0:  # nan passes: a row whose error cannot be measured
+            raise Refusal(f"{where}: error {row['error']}; expected a relative error >= 0 "
+                          "or nan")
+        row["line"] = number
+        rows.append(row)
+    if header is None:
+        raise Refusal(f"{path}: no header row; expected {what}")
+    return {"meta": meta, "rows": rows}
+
+
+def accuracy_source(sid, path, data, given):
+    meta = data["meta"]
+    recorded = [f"backend {meta.get('backend', 'not recorded')}", f"{len(data['rows'])} rows"]
+    recorded += [f"{k} {v}" for k, v in meta.items()
+                 if k not in ("machine", "commit", "command", "date", "backend")]
+    row = source(sid, "accuracy", path, given, meta.get("machine"), meta.get("commit"),
+                 meta.get("command"), meta.get("date"), "; ".join(recorded))
+    row["backend"] = meta.get("backend", "not recorded")
+    return row
+
+
+def cost(row):
+    """Wall time per simulated second; nan where nothing was simulated."""
+    return row["wall_seconds"] / row["simulated_seconds"] if row["simulated_seconds"] > 0 \
+        else math.nan
+
+
+def measurable(row):
+    return math.isfinite(row["error"]) and math.isfinite(cost(row)) and cost(row) > 0
+
+
+def pareto_status(rows):
+    """id(row) -> "front" or "dominated" among the measurable rows given (one scene's): a row is
+    dominated when another is at least as good in error and in cost and better in one."""
+    points = [(r["error"], cost(r), r) for r in rows if measurable(r)]
+    status = {}
+    for e, c, r in points:
+        dominated = any(e2 <= e and c2 <= c and (e2 < e or c2 < c) for e2, c2, _ in points)
+        status[id(r)] = "dominated" if dominated else "front"
+    return status
+
+
+def setting_name(row):
+    return f"{row['knob']} '{row['setting']}'"
+
+
+def accuracy_summary(rows, status):
+    """The "best/worst accuracy per time" lines: per scene the front's lowest error x cost and
+    the dominated setting's highest; the knob whose settings span the widest error range."""
+    lines = []
+    for scene in SCENES:
+        scene_rows = [r for r in rows if r["scene"] == scene and id(r) in status]
+        if not scene_rows:
+            continue
+        front = [r for r in scene_rows if status[id(r)] == "front"]
+        dominated = [r for r in scene_rows if status[id(r)] == "dominated"]
+        best = min(front, key=lambda r: r["error"] * cost(r))
+        line = (f"{scene}: best accuracy per time {setting_name(best)} (error "
+                f"{fmt(best['error'])} at {fmt(cost(best))} s a simulated s, on the Pareto "
+                "front); ")
+        if dominated:
+            worst = max(dominated, key=lambda r: r["error"] * cost(r))
+            line += (f"worst {setting_name(worst)} (error {fmt(worst['error'])} at "
+                     f"{fmt(cost(worst))} s a simulated s, dominated).")
+        else:
+            line += "no setting is dominated."
+        lines.append(line)
+    spans = []  # (factor, knob, scene, lowest, highest)
+    for knob in KNOBS:
+        for scene in SCENES:
+            errors = [r["error"] for r in rows if r["knob"] == knob and r["scene"] == scene
+                      and math.isfinite(r["error"]) and r["error"] > 0]
+            if len(errors) > 1:
+                spans.append((max(errors) / min(errors), knob, scene, min(errors), max(errors)))
+    if spans:
+        factor, knob, scene, low, high = max(spans)
+        lines.append(f"Widest error range: {knob} ({scene}: error from {fmt(low)} to "
+                     f"{fmt(high)} across its settings, a factor {fmt(factor)}).")
+    return lines
+
+
+def accuracy_blocks(accuracies, figures):
+    rows = [(s, r) for s, data in accuracies for r in data["rows"]]
+    status = {}
+    for scene in SCENES:  # errors are compared within a scene, never across scenes
+        status.update(pareto_status([r for _, r in rows if r["scene"] == scene]))
+    order = {k: i for i, k in enumerate(KNOBS)}
+    rows.sort(key=lambda sr: (order[sr[1]["knob"]], sr[1]["scene"], sr[1]["value"]))
+    table = Table(["source", "knob", "setting", "scene", "error", "error of (against)",
+                   "wall s per simulated s", "particles", "backend", "Pareto"])
+    for s, r in rows:
+        table.add([s["id"], r["knob"], r["setting"], r["scene"], fmt(r["error"]),
+                   f"{r['metric']} (against {r['reference']})", fmt(cost(r)),
+                   fmt(r["particles"]), s["backend"],
+                   status.get(id(r), "not drawn: error or cost not measurable")])
+    note = ("Each row is one run of the study: its relative error against the reference named, "
+            "and its cost, wall time per simulated second. Pareto: on the front of its scene "
+            "(no other run of the scene, of any knob, has both a lower or equal error and a "
+            "lower or equal cost) or dominated. A row whose error is nan (the reference "
+            "itself) is listed and not drawn.")
+    blocks = [("h2", "Accuracy against time"), ("p", note),
+              ("list", accuracy_summary([r for _, r in rows], status)), ("table", table)]
+    drawn = [r for _, r in rows if measurable(r) and r["error"] > 0]
+    zero = len([r for _, r in rows if measurable(r) and r["error"] == 0])
+    if zero:
+        blocks.append(("p", f"Not drawn (log axes): {zero} row{'s' * (zero > 1)} of error 0."))
+    for knob in KNOBS:
+        points = [r for r in drawn if r["knob"] == knob]
+        if points:
+            name = f"accuracy-{knob}.png"
+            figures[name] = knob_chart(knob, points)
+            blocks.append(("figure", name, f"{knob}: error against wall time per simulated "
+                                           "second, each point labelled with its setting"))
+    if drawn:
+        figures["accuracy-pareto.png"] = pareto_chart(drawn, status)
+        blocks.append(("figure", "accuracy-pareto.png",
+                       "every knob's runs; the line joins each scene's Pareto front (runs no "
+                       "other run of the scene beats in both error and cost)"))
+    return blocks
+
+
+def plain_log_labels(ax):
+    """Log axes labelled as the tables write numbers (0.02, not 2 x 10^-2), with a grid."""
+    from matplotlib.ticker import FuncFormatter
+
+    def minor(axis):  # every minor tick within a decade, 2, 3 and 5 within two, else none
+        def label(v, _):
+            low, high = sorted(axis.get_view_interval())
+            lead = round(v / 10 ** math.floor(math.log10(v) + 1e-9)) if v > 0 else 0
+            shown = low > 0 and (high / low < 10 or (high / low < 100 and lead in (2, 3, 5)))
+            return fmt(float(f"{v:.3g}")) if shown else ""
+        return FuncFormatter(label)
+
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_formatter(FuncFormatter(lambda v, _: fmt(float(f"{v:.3g}"))))
+        axis.set_minor_formatter(minor(axis))
+    ax.grid(True, which="both", linewidth=0.3)
+
+
+SCENE_STYLE = {"impact": ("o", "C0", "-"), "packing": ("s", "C1", "--"),
+               "drum": ("^", "C2", ":")}
+
+
+def knob_chart(knob, rows):
+    plt = pyplot("the accuracy figures")
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for scene in SCENES:
+        points = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["value"])
+        if not points:
+            continue
+        marker, colour, _ = SCENE_STYLE[scene]
+        ordered = len({r["value"] for r in points}) == len(points)  # else no order to join
+        ax.plot([cost(r) for r in points], [r["error"] for r in points], marker=marker,
+                color=colour, linestyle="-" if ordered else "none", linewidth=0.6, label=scene)
+        for r in points:
+            ax.annotate(r["setting"], (cost(r), r["error"]), textcoords="offset points",
+                        xytext=(4, 4), fontsize=7, color=colour)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.margins(0.15)
+    ax.set_xlabel("wall time per simulated second (s)")
+    ax.set_ylabel("relative error")
+    ax.set_title(f"{knob}: error against cost (settings joined in the order of their value)",
+                 fontsize=10)
+    plain_log_labels(ax)
+    ax.legend(fontsize=8, title="scene", title_fontsize=8)
+    fig.tight_layout()
+    return png_of(fig, plt)
+
+
+def pareto_chart(rows, status):
+    plt = pyplot("the accuracy figures")
+    fig, ax = plt.subplots(figsize=(10.5, 6))
+    knobs = [k for k in KNOBS if any(r["knob"] == k for r in rows)]
+    colours = {k: f"C{i + 3}" for i, k in enumerate(knobs)}
+    for r in rows:
+        ax.plot(cost(r), r["error"], marker=SCENE_STYLE[r["scene"]][0], color=colours[r["knob"]],
+                linestyle="none", alpha=1.0 if status.get(id(r)) == "front" else 0.45)
+    for scene in SCENES:
+        front = sorted((r for r in rows if r["scene"] == scene
+                        and status.get(id(r)) == "front"), key=cost)
+        if not front:
+            continue
+        ax.plot([cost(r) for r in front], [r["error"] for r in front], color="black",
+                linestyle=SCENE_STYLE[scene][2], linewidth=1, drawstyle="steps-post")
+        for r in front:
+            ax.annotate(f"{r['knob']}: {r['setting']}", (cost(r), r["error"]),
+                        textcoords="offset points", xytext=(4, -10), fontsize=7)
+    handles = [plt.Line2D([], [], color=colours[k], marker="o", linestyle="none", label=k)
+               for k in knobs]
+    handles += [plt.Line2D([], [], color="black", marker=SCENE_STYLE[s][0],
+                           linestyle=SCENE_STYLE[s][2], label=f"{s} (front)")
+                for s in SCENES if any(r["scene"] == s for r in rows)]
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.margins(0.15)
+    ax.set_xlabel("wall time per simulated second (s)")
+    ax.set_ylabel("relative error")
+    ax.set_title("Every knob's runs; dominated runs pale, the fronts joined", fontsize=10)
+    plain_log_labels(ax)
+    fig.tight_layout()
+    return png_of(fig, plt)
+
+
+# --- The effect-cost table (bench_effects: effects/<backend>/all and .../without_<effect>) ------
+
+def effect_blocks(benchmarks):
+    """Per effect, per backend: ms a step with every effect, without it, and the difference."""
+    times, sources, effects = {}, {}, []
+    for s, data in benchmarks:
+        for _, row in chosen_rows(data):
+            match = EFFECT_NAME.match(row.get("run_name") or row["name"])
+            if not match:
+                continue
+            rest = "/".join(part for part in (match["rest"] or "").split("/")
+                            if part and not TIMING_SUFFIX.match(part))
+            backend = match["backend"] + (f" ({rest})" if rest else "")
+            variant = match["effect"] or "all"
+            if variant != "all" and variant not in effects:
+                effects.append(variant)
+            ms = row.get("ms_per_step")
+            times.setdefault(backend, {})[variant] = (
+                "skipped" if row.get("error_occurred") else ms if finite(ms) else None)
+            sources.setdefault(backend, [])
+            if s["id"] not in sources[backend]:
+                sources[backend].append(s["id"])
+    if not times:
+        return []
+    headers = ["effect"]
+    for backend in times:
+        tag = f"{backend} ({', '.join(sources[backend])})"
+        headers += [f"{tag}: all, ms a step", "without it", "its cost, ms",
+                    "its cost, % of all"]
+    table = Table(headers)
+    for effect in effects:
+        cells = [effect]
+        for variants in times.values():
+            every, without = variants.get("all"), variants.get(effect)
+            cells += [fmt(every) if every != "skipped" else "skipped",
+                      fmt(without) if without != "skipped" else "skipped"]
+            if finite(every) and finite(without):
+                cells += [fmt(every - without),
+                          fmt(100 * (every - without) / every) + " %" if every else "—"]
+            else:
+                cells += ["—", "—"]
+        table.add(cells)
+    note = ("From the benchmarks named effects/<backend>/all and effects/<backend>/without_"
+            "<effect> (their counter ms_per_step, the median where repeated): an effect's cost "
+            "is the step with every effect less the step without it. A cost within a few per "
+            "cent of zero, or below it, is within the benchmark's noise.")
+    return [("h2", "What each effect costs"), ("p", note), ("table", table)]
+
+
+# --- History: the night's numbers, the earlier nights', and what regressed ----------------------
+
+# The noise bands beyond which a number is flagged as regressed. Speed (a benchmark's time an
+# iteration, the accuracy study's wall time per simulated second, a long case's wall time): 10 %
+# slower. The nights run on whichever GPU machine of a kind comes, and machines of one kind
+# differ by a few per cent, up to 10 % (benchmarks/README.md, "Hardware"); within one machine
+# the GPU step repeats to 0.3 % (6.43-6.45 ms). A band of 10 % stays clear of the spread between
+# machines and still catches a change that matters (the renumbering by cell was worth 5.5 %, a
+# slower law 4 %: those show over a few nights against the median, not in one). The comparison is
+# with the median of the last BASELINE_NIGHTS earlier nights of the same machine name, so one
+# noisy night neither raises a flag nor hides one.
+SPEED_BAND = 0.10
+# Accuracy: an error up by more than 10 % of itself and by more than 1e-12. The study's errors
+# are deterministic on one machine and build; 10 % leaves room for the order of float sums
+# changing with the thread count or the GPU's atomics, and 1e-12 keeps round-off-level errors
+# (the reference comparisons at 1e-14) from flagging on their last digits.
+ERROR_BAND = 0.10
+ERROR_FLOOR = 1e-12
+# A validation case's wall time is flagged like speed only where it took this long on both
+# nights: a small case's second is mostly the process starting and matplotlib drawing.
+WALL_MIN_SECONDS = 10.0
+BASELINE_NIGHTS = 5
+HISTORY_SHOWN = 30  # the nights drawn: the last 30 of this machine
+HISTORY_KEYS = ("date", "commit", "machine", "numbers")
+TIME_UNIT_MS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
+
+
+def read_history(path, missing_ok=False):
+    """The nights of a JSON-lines history file, each with its line number."""
+    what = 'one JSON object a line: {"date", "commit", "machine", "numbers": {name: number}}'
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except FileNotFoundError:
+        if missing_ok:
+            return [], ""
+        raise Refusal(f"{path}: cannot be read (No such file or directory)")
+    except UnicodeDecodeError:
+        raise Refusal(f"{path}: not UTF-8 text; expected {what}")
+    except OSError as e:
+        raise Refusal(f"{path}: cannot be read ({e.strerror})")
+    nights = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            night = json.loads(line)
+        except json.JSONDecodeError as e:
+            raise Refusal(f"{path}:{number}: not JSON ({e.msg}, column {e.colno}); "
+                          f"expected {what}")
+        if not isinstance(night, dict) or any(k not in night for k in HISTORY_KEYS):
+            raise Refusal(f"{path}:{number}: not an object with date, commit, machine and "
+                          f"numbers; expected {what}")
+        if not isinstance(night["numbers"], dict) or any(
+                v is not None and not is_number(v) for v in night["numbers"].values()):
+            raise Refusal(f"{path}:{number}: 'numbers' is not an object of name to number; "
+                          f"expected {what}")
+        night["line"], night["raw"] = number, line
+        nights.append(night)
+    return nights, text
+
+
+def rounded(value):
+    """6 significant figures, ample for bands of 10 %, and a history line a third as long."""
+    return float(f"{value:.6g}")
+
+
+def night_numbers(validations, benchmarks, accuracies):
+    """The numbers of tonight's inputs, named kind/group/...: speed/<file>/<benchmark> (ms an
+    iteration), error/<backend>/<scene>/<knob>/<setting>, cost/... (wall s per simulated s),
+    check/<case>/<quantity>[/<variant>]@<parameter> (|measured - expected| / tolerance; null
+    where infinite), passed/<case> (1 or 0), wall/<case> (seconds)."""
+    numbers = {}
+
+    def put(name, value):
+        key, k = name, 2
+        while key in numbers:
+            key, k = f"{name} #{k}", k + 1
+        numbers[key] = rounded(value) if finite(value) else None
+
+    for s, data in benchmarks:
+        stem = os.path.splitext(os.path.basename(s["file"]))[0]
+        for _, row in chosen_rows(data):
+            unit = TIME_UNIT_MS.get(row.get("time_unit"))
+            if not row.get("error_occurred") and unit and finite(row.get("real_time")):
+                put(f"speed/{stem}/{row.get('run_name') or row['name']}",
+                    row["real_time"] * unit)
+    for s, data in accuracies:
+        backend = data["meta"].get("backend", "unknown")
+        for r in data["rows"]:
+            name = f"{backend}/{r['scene']}/{r['knob']}/{r['setting']}"
+            if math.isfinite(r["error"]):
+                put("error/" + name, r["error"])
+            if math.isfinite(cost(r)):
+                put("cost/" + name, cost(r))
+    for s, data in validations:
+        for case in data["cases"]:
+            put(f"passed/{case['case']}", 1.0 if case["passed"] else 0.0)
+            put(f"wall/{case['case']}", case["wall_seconds"])
+        for r in data["results"]:
+            if r["verdict"] not in ("pass", "fail"):
+                continue
+            variant = f"/{r['variant']}" if r.get("variant") else ""
+            parameter = r.get("parameter")
+            name = f"check/{r['case']}/{r['quantity']}{variant}@" + (
+                f"{parameter:g}" if finite(parameter) else "-")
+            ratio = error_ratio(r)
+            if r["verdict"] == "fail" and finite(ratio) and rounded(ratio) <= 1:
+                ratio = 1.000001  # a fail stays a fail once rounded
+            put(name, ratio)
+    return numbers
+
+
+def median(values):
+    values = sorted(values)
+    n = len(values)
+    return values[n // 2] if n % 2 else 0.5 * (values[n // 2 - 1] + values[n // 2])
+
+
+def regressions(numbers, earlier):
+    """Each number of tonight's beyond its noise band against the earlier nights (already those
+    of tonight's machine), as (name, line of text)."""
+    flags = []
+    for name, value in numbers.items():
+        past = [n["numbers"][name] for n in earlier if name in n["numbers"]]
+        if not past:
+            continue
+        kind = name.split("/", 1)[0]
+        recent = [v for v in past[-BASELINE_NIGHTS:] if finite(v)]
+        against = f"the median of the last {len(recent)} earlier nights" if len(recent) > 1 \
+            else "the earlier night"
+        if kind in ("speed", "cost", "wall") and finite(value) and recent:
+            base = median(recent)
+            if kind == "wall" and min(value, base) < WALL_MIN_SECONDS:
+                continue
+            if base > 0 and value > base * (1 + SPEED_BAND):
+                unit = {"speed": "ms an iteration", "cost": "s a simulated s", "wall": "s"}[kind]
+                flags.append((name, f"{name}: {fmt(value)} {unit} against {fmt(base)} "
+                                    f"({against}): {fmt(100 * (value / base - 1))} % slower "
+                                    f"(band {SPEED_BAND:.0%})"))
+        elif kind == "error" and finite(value) and recent:
+            base = median(recent)
+            if value > base * (1 + ERROR_BAND) and value - base > ERROR_FLOOR:
+                rise = f"{fmt(100 * (value / base - 1))} %" if base else "from 0"
+                flags.append((name, f"{name}: error {fmt(value)} against {fmt(base)} "
+                                    f"({against}): up {rise} (band {ERROR_BAND:.0%} and "
+                                    f"{ERROR_FLOOR:g})"))
+        elif kind == "check":
+            was_pass = past[-1] is not None and past[-1] <= 1
+            if was_pass and (value is None or value > 1):
+                flags.append((name, f"{name}: failed (|measured - expected| / tolerance "
+                                    f"{fmt(value) if value is not None else 'infinite'}), passed "
+                                    f"the night before ({fmt(past[-1])})"))
+        elif kind == "passed" and past[-1] == 1 and value == 0:
+            flags.append((name, f"{name}: the case failed; it passed the night before"))
+    return flags
+
+
+def history_group(name):
+    """The small multiple a number is drawn in."""
+    parts = name.split("/")
+    if parts[0] in ("speed", "check"):
+        return "/".join(parts[:2])
+    if parts[0] in ("error", "cost"):
+        return "/".join(parts[:3])  # per backend and scene
+    return parts[0]  # wall (every case), passed (not drawn)
+
+
+def history_chart(nights, flagged):
+    """One small multiple per group over the nights given (the last is tonight), of the numbers
+    that some earlier night has too: speed, costs, errors and wall times each divided by its
+    median over the nights; a case's checks as its worst |measured - expected| / tolerance a
+    night. None when no number of tonight's has an earlier value."""
+    groups = {}
+    for name in nights[-1]["numbers"]:
+        earlier = [n["numbers"].get(name) for n in nights[:-1] if name in n["numbers"]]
+        if earlier and not name.startswith("passed/"):
+            groups.setdefault(history_group(name), []).append(name)
+    if not groups:
+        return None
+    plt = pyplot("the history figure")
+    columns = 3
+    rows = (len(groups) + columns - 1) // columns
+    fig, axes = plt.subplots(rows, columns, figsize=(12, 2.7 * rows), squeeze=False)
+    x = list(range(len(nights)))
+    step = max(1, (len(x) + 7) // 8)  # at most 8 dates under an axis, tonight's always
+    labels = [n["date"][5:10] if (len(x) - 1 - k) % step == 0 else ""
+              for k, n in enumerate(nights)]
+    for ax, (group, names) in zip(axes.flat, groups.items()):
+        if group.startswith("check/"):
+            worst = []
+            for night in nights:
+                values = [night["numbers"].get(n, math.nan) for n in names]
+                worst.append(math.inf if any(v is None for v in values) else
+                             max((v for v in values if finite(v)), default=math.nan))
+            floor = 1e-6  # an exact match (0) drawn at the bottom of the log axis
+            ax.plot(x, [max(w, floor) if math.isfinite(w) else math.nan for w in worst],
+                    marker="o", markersize=3, color="C0")
+            for k, w in enumerate(worst):
+                if w == math.inf:  # not measured (NaN): a failure, drawn as a red cross
+                    ax.plot(k, 1, marker="x", color="red", markersize=8)
+            ax.axhline(1, color="red", linewidth=0.8, linestyle="--")
+            ax.set_yscale("log")
+            plain_log_labels(ax)
+            ax.set_ylabel("worst |m - e| / tol", fontsize=7)
+        else:
+            band = ERROR_BAND if group.startswith("error") else SPEED_BAND
+            few = len(names) <= 6
+            for n in names:
+                series = [night["numbers"].get(n) for night in nights]
+                typical = median([v for v in series if finite(v)])
+                if typical <= 0:
+                    continue  # an error of 0 every night: nothing to draw
+                red = n in flagged
+                ax.plot(x, [v / typical if finite(v) else math.nan for v in series],
+                        marker="o" if few or red else None, markersize=3,
+                        linewidth=1.6 if red else 0.7, zorder=3 if red else 2,
+                        color="red" if red else (None if few else "0.55"),
+                        label=n.split("/", 2)[-1][-40:] if few else None)
+            ax.axhline(1 + band, color="red", linewidth=0.8, linestyle="--")
+            ax.set_ylabel("÷ its median", fontsize=7)
+            ax.grid(True, linewidth=0.3)
+            if few:
+                ax.legend(fontsize=5, loc="best")
+        ax.set_title(f"{group} ({len(names)})", fontsize=8)
+        ax.set_xticks(x)
+        ax.set_xticklabels(labels, fontsize=6, rotation=45)
+        ax.tick_params(axis="y", which="both", labelsize=6)
+    for ax in list(axes.flat)[len(groups):]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    return png_of(fig, plt)
+
+
+def history_blocks(tonight, earlier, path, figures):
+    """The history section and the flags for the top of the page: (alert, blocks)."""
+    same = [n for n in earlier if n["machine"] == tonight["machine"]]
+    flags = regressions(tonight["numbers"], same)
+    bands = (f"Noise bands: speed (benchmark times, the study's wall time per simulated second, "
+             f"a case's wall time above {WALL_MIN_SECONDS:g} s) {SPEED_BAND:.0%} slower; "
+             f"accuracy an error up by {ERROR_BAND:.0%} of itself and by {ERROR_FLOOR:g}; "
+             "validation a check or case that passed and now fails. Compared with the median "
+             f"of the last {BASELINE_NIGHTS} earlier nights of the same machine "
+             "(reports/README.md, \"History\").")
+    blocks = [("h2", "History")]
+    if not same:
+        blocks.append(("p", f"No earlier night of this machine ({tonight['machine']}) in "
+                            f"{path} ({len(earlier)} of other machines): nothing to compare "
+                            f"with or draw. Tonight has {len(tonight['numbers']):,} numbers."))
+        return [], blocks
+    shown = same[-(HISTORY_SHOWN - 1):] + [tonight]
+    blocks.append(("p", f"Tonight ({tonight['date']}, {tonight['commit']}, "
+                        f"{tonight['machine']}) against {len(same)} earlier nights of the same "
+                        f"machine in {path}; the last {len(shown)} drawn. " + bands))
+    chart = history_chart(shown, {name for name, _ in flags})
+    if chart:
+        figures["history.png"] = chart
+        blocks.append(("figure", "history.png",
+                       "one small multiple per group, of the numbers earlier nights have too: "
+                       "each divided by its median over the nights drawn (dashed: the band), "
+                       "a case's checks as its worst |measured - expected| / tolerance "
+                       "(dashed: the tolerance); regressed numbers red"))
+    else:
+        blocks.append(("p", "None of tonight's numbers was measured on an earlier night."))
+    alert = []
+    if flags:
+        alert = [f"{len(flags)} numbers regressed beyond their noise band against the earlier "
+                 f"nights of {tonight['machine']}:"] + [text for _, text in flags]
+    else:
+        blocks.append(("p", "Nothing regressed beyond its noise band."))
+    return alert, blocks
 
 
 def md_cell(text):
@@ -411,6 +1014,9 @@ def to_markdown(title, blocks):
         kind = block[0]
         if kind in ("h2", "h3"):
             out += [("## " if kind == "h2" else "### ") + block[1], ""]
+        elif kind == "alert" and block[1]:
+            out += [f"**REGRESSED: {block[1][0]}**", ""] + [f"- **{i}**" for i in block[1][1:]]
+            out.append("")
         elif kind == "p":
             out += [block[1], ""]
         elif kind == "list" and block[1]:
@@ -432,20 +1038,35 @@ def to_markdown(title, blocks):
 
 
 CSS = """body{font-family:sans-serif;margin:2em;max-width:90em;color:#222}
+.alert{border:2px solid #c00;background:#fde8e8;color:#900;padding:0.5em 1em;margin:1em 0}
+.alert p{font-weight:bold;margin:0.3em 0}nav{font-size:0.9em;margin:0 0 1em}
+nav a{margin-right:1em}
 table{border-collapse:collapse;margin:0.5em 0 1em;font-size:0.9em}
 th,td{border:1px solid #bbb;padding:0.2em 0.5em;text-align:left;vertical-align:top}
 th{background:#eee}tr.fail td{background:#f6c6c6;color:#800;font-weight:bold}
 figure{margin:1em 0}img{max-width:100%}figcaption{font-size:0.9em;color:#555}"""
 
 
+def anchor(heading):
+    return re.sub(r"[^a-z0-9]+", "-", heading.lower()).strip("-")
+
+
 def to_html(title, blocks, figures):
     e = html.escape
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
            f"<title>{e(title)}</title><style>{CSS}</style></head><body>", f"<h1>{e(title)}</h1>"]
+    sections = [b[1] for b in blocks if b[0] == "h2"]
+    out.append("<nav>" + "".join(f'<a href="#{anchor(h)}">{e(h)}</a>' for h in sections)
+               + "</nav>")
     for block in blocks:
         kind = block[0]
-        if kind in ("h2", "h3"):
-            out.append(f"<{kind}>{e(block[1])}</{kind}>")
+        if kind == "h2":
+            out.append(f'<h2 id="{anchor(block[1])}">{e(block[1])}</h2>')
+        elif kind == "h3":
+            out.append(f"<h3>{e(block[1])}</h3>")
+        elif kind == "alert" and block[1]:
+            out.append('<div class="alert"><p>REGRESSED: ' + e(block[1][0]) + "</p><ul>"
+                       + "".join(f"<li>{e(i)}</li>" for i in block[1][1:]) + "</ul></div>")
         elif kind == "p":
             out.append(f"<p>{e(block[1])}</p>")
         elif kind == "list" and block[1]:
@@ -486,6 +1107,21 @@ def parse_arguments(argv):
                         help="a validation-results.json written by talus validate")
     parser.add_argument("--benchmark", action="append", default=[], metavar="FILE",
                         help="a Google Benchmark JSON file (--benchmark_out_format=json)")
+    parser.add_argument("--accuracy", action="append", default=[], metavar="FILE",
+                        help="a CSV of talus accuracy (the accuracy-against-time study)")
+    parser.add_argument("--history", metavar="FILE",
+                        help="JSON lines, one a night: the earlier nights to compare with")
+    parser.add_argument("--append-history", metavar="FILE",
+                        help="append tonight's numbers to FILE (created if missing; it is the "
+                             "history compared with where --history is not given); a night "
+                             "of the same date, commit and machine is replaced")
+    parser.add_argument("--night-date", metavar="YYYY-MM-DD",
+                        help="tonight's date for the history (default: today, UTC)")
+    parser.add_argument("--night-commit", metavar="TEXT",
+                        help="tonight's commit for the history (default: the first input's)")
+    parser.add_argument("--night-machine", metavar="TEXT",
+                        help="tonight's machine for the history; only nights of the same "
+                             "machine are compared (default: the first input's)")
     parser.add_argument("--provenance", metavar="FILE",
                         help="JSON: input path or file name -> {machine, command, commit, ...}")
     parser.add_argument("--max-check-rows", type=int, default=100, metavar="N",
@@ -493,43 +1129,85 @@ def parse_arguments(argv):
     parser.add_argument("--title", default="talus report")
     parser.add_argument("--output", required=True, metavar="DIR")
     args = parser.parse_args(argv)
-    if not args.validation and not args.benchmark:
-        parser.error("give at least one --validation or --benchmark file")
+    if not args.validation and not args.benchmark and not args.accuracy:
+        parser.error("give at least one --validation, --benchmark or --accuracy file")
     return args
 
 
+def night_of(args, sources, numbers):
+    """Tonight's history line: date, commit and machine given, else from the first input."""
+    first = sources[0]
+    commit = args.night_commit or re.sub(r" \(the provenance file says .*\)$", "",
+                                         first["commit"])
+    date = args.night_date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+    return {"date": date, "commit": commit, "machine": args.night_machine or first["machine"],
+            "numbers": numbers}
+
+
 def build(args):
-    """Everything read and drawn in memory: (markdown, html, figures by name)."""
+    """Everything read and drawn in memory: (markdown, html, figures by name, the history file's
+    new text or None)."""
     provenance = read_provenance(args.provenance)
     validations = [(validation_source(f"V{k}", p, d, provenance_entry(provenance, p)), d)
                    for k, p in enumerate(args.validation, 1) for d in [read_validation(p)]]
     benchmarks = [(benchmark_source(f"B{k}", p, d, provenance_entry(provenance, p)), d)
                   for k, p in enumerate(args.benchmark, 1) for d in [read_benchmark(p)]]
+    accuracies = [(accuracy_source(f"A{k}", p, d, provenance_entry(provenance, p)), d)
+                  for k, p in enumerate(args.accuracy, 1) for d in [read_accuracy(p)]]
+    history_path = args.history or args.append_history
+    earlier, appended = [], None
+    if history_path:
+        earlier, _ = read_history(history_path, missing_ok=not args.history)
+    if args.append_history and args.append_history != history_path:
+        read_history(args.append_history, missing_ok=True)  # refused before anything is written
+    sources = [s for s, _ in validations + benchmarks + accuracies]
     figures = {}
-    blocks = provenance_blocks([s for s, _ in validations + benchmarks])
+    blocks = provenance_blocks(sources)
     if validations:
         blocks += summary_blocks(validations) + checks_blocks(validations, args.max_check_rows)
         blocks += figure_blocks(validations, figures)
     else:
         blocks += [("h2", "Validation"), ("p", "No validation results given.")]
+    if accuracies:
+        blocks += accuracy_blocks(accuracies, figures)
+    else:
+        blocks += [("h2", "Accuracy against time"), ("p", "No accuracy results given.")]
     if benchmarks:
-        blocks += speed_blocks(benchmarks, figures)
+        blocks += speed_blocks(benchmarks, figures) + effect_blocks(benchmarks)
     else:
         blocks += [("h2", "Speed"), ("p", "No benchmark results given.")]
+    alert = []
+    if history_path or args.append_history:
+        tonight = night_of(args, sources, night_numbers(validations, benchmarks, accuracies))
+        key = (tonight["date"], tonight["commit"], tonight["machine"])
+        # A rerun of tonight's report replaces tonight's line, and is not compared with it.
+        earlier = [n for n in earlier if (n["date"], n["commit"], n["machine"]) != key]
+        alert, history = history_blocks(tonight, earlier, history_path, figures)
+        blocks += history
+        if args.append_history:
+            kept, _ = read_history(args.append_history, missing_ok=True)
+            text = "".join(n["raw"] + "\n" for n in kept
+                           if (n["date"], n["commit"], n["machine"]) != key)
+            appended = text + json.dumps(tonight, separators=(",", ":")) + "\n"
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
     blocks.insert(0, ("p", f"Generated {now} by reports/generate.py from the files below."))
-    return to_markdown(args.title, blocks), to_html(args.title, blocks, figures), figures
+    blocks.insert(0, ("alert", alert))
+    return (to_markdown(args.title, blocks), to_html(args.title, blocks, figures), figures,
+            appended)
 
 
 def main(argv):
     args = parse_arguments(argv)
     try:
-        markdown, page, figures = build(args)
+        markdown, page, figures, history = build(args)
         os.makedirs(os.path.join(args.output, "figures"), exist_ok=True)
         for name, png in figures.items():
             write_atomic(os.path.join(args.output, "figures", name), png)
         write_atomic(os.path.join(args.output, "report.md"), markdown.encode("utf-8"))
         write_atomic(os.path.join(args.output, "index.html"), page.encode("utf-8"))
+        if history is not None:
+            os.makedirs(os.path.dirname(os.path.abspath(args.append_history)), exist_ok=True)
+            write_atomic(os.path.abspath(args.append_history), history.encode("utf-8"))
     except Refusal as e:
         print(f"generate.py: {e}", file=sys.stderr)
         return 2
@@ -537,7 +1215,8 @@ def main(argv):
         print(f"generate.py: {e.filename or args.output}: cannot write ({e.strerror})",
               file=sys.stderr)
         return 2
-    print(f"generate.py: wrote {os.path.join(args.output, 'index.html')} and report.md")
+    print(f"generate.py: wrote {os.path.join(args.output, 'index.html')} and report.md"
+          + (f", appended tonight to {args.append_history}" if history is not None else ""))
     return 0
 
 

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """reports/generate.py on the fixed inputs of data/: the numbers that could come out wrong (the
-summary's counts, the failed check, the rates as formatted), the figure and its embedding, the
-provenance row, the errors (exit status 2, one line naming the file, nothing written) and the
-atomic writes. Runs the generator as a command, as a user would. Exit status 77 (skipped)
-without matplotlib.
+summary's counts, the failed check, the rates as formatted, the accuracy study's costs, Pareto
+front and best and worst settings, the effects' costs), the figures and their embedding, the
+provenance rows, the history's flags (a night 20 % slower flagged, 5 % not, a fresh history
+drawing and flagging nothing), the errors (exit status 2, one line naming the file and line,
+nothing written) and the atomic writes. Runs the generator as a command, as a user would. Exit
+status 77 (skipped) without matplotlib.
 """
 import base64
 import importlib.util
@@ -21,6 +23,12 @@ GENERATE = os.path.join(HERE, "..", "..", "reports", "generate.py")
 VALIDATION = os.path.join(DATA, "validation-results.json")
 BENCHMARK = os.path.join(DATA, "bench_scenes.json")
 MALFORMED = os.path.join(DATA, "malformed.json")
+ACCURACY = os.path.join(DATA, "accuracy.csv")
+EFFECTS = os.path.join(DATA, "bench_effects.json")
+BAD_HISTORY = os.path.join(DATA, "history-bad.jsonl")
+# The fixture's bed_1e4 row (bench_scenes.json): 0.76812 ms an iteration.
+BED = "speed/bench_scenes/scenes/bed_1e4/cuda/iterations:2000"
+BED_MS = 0.76812
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
@@ -181,6 +189,195 @@ class OneKindOfInput(Scratch):
         self.assertEqual([(r[1], r[2]) for r in shown], [("bench (median of 2)", "2.5 us")])
 
 
+class Accuracy(Scratch):
+    def setUp(self):
+        super().setUp()
+        result = generate("--accuracy", ACCURACY, "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.markdown = self.read("report.md")
+        # source, knob, setting, scene, error, error of, cost, particles, backend, Pareto
+        self.rows = {(r[1], r[2], r[3]): r for r in md_rows(self.markdown, "A1") if len(r) == 10}
+
+    def test_cost_is_wall_time_per_simulated_second(self):
+        # 0.2 s of wall time for 0.1 s simulated; 200 s for 2 s.
+        self.assertEqual(self.rows[("contact_law", "linear", "impact")][6], "2")
+        self.assertEqual(self.rows[("contact_law", "linear", "drum")][6], "100")
+        self.assertEqual(self.rows[("skin", "skin 0.1", "packing")][4:10],
+                         ["0.001", "bed_height (against finest setting)", "40", "63", "cpu",
+                          "front"])
+
+    def test_pareto_front_per_scene(self):
+        status = {key: r[9] for key, r in self.rows.items()}
+        # volume (0.02 at 4 s) is beaten by float precision (0.02 at 3 s) of another knob.
+        self.assertEqual(status[("contact_law", "volume", "impact")], "dominated")
+        self.assertEqual(status[("precision", "float", "impact")], "front")
+        self.assertEqual(status[("shape_resolution", "sphere", "impact")], "front")
+        self.assertEqual(status[("skin", "skin 0.4", "packing")], "dominated")
+        # The drum's 0-error run is the front of its own scene, not compared with the impact's.
+        self.assertEqual(status[("contact_law", "linear", "drum")], "front")
+        # The reference rows (error nan) are listed, not drawn.
+        self.assertTrue(status[("time_step", "dt/4", "impact")].startswith("not drawn"))
+        self.assertEqual(self.rows[("time_step", "dt/4", "impact")][4], "nan")
+        self.assertEqual(len(self.rows), 19)
+
+    def test_best_and_worst_line(self):
+        # impact: error x cost is lowest for dt/2 (0.001 x 20) on the front, highest for
+        # volume_paper (0.03 x 5) among the dominated; shape_resolution spans 0.01 to 0.3.
+        self.assertIn("impact: best accuracy per time time_step 'dt/2' (error 0.001 at 20 s",
+                      self.markdown)
+        self.assertIn("worst contact_law 'volume_paper' (error 0.03 at 5 s", self.markdown)
+        self.assertIn("packing: best accuracy per time skin 'skin 0.1'", self.markdown)
+        self.assertIn("worst skin 'skin 0.4'", self.markdown)
+        self.assertIn("drum: best accuracy per time contact_law 'linear' (error 0 at 100 s",
+                      self.markdown)
+        self.assertIn("Widest error range: shape_resolution (impact: error from 0.01 to 0.3 "
+                      "across its settings, a factor 30)", self.markdown)
+
+    def test_figures_and_provenance(self):
+        figures = sorted(os.listdir(os.path.join(self.out, "figures")))
+        self.assertEqual(figures, ["accuracy-contact_law.png", "accuracy-pareto.png",
+                                   "accuracy-precision.png", "accuracy-shape_resolution.png",
+                                   "accuracy-skin.png", "accuracy-time_step.png",
+                                   "accuracy-wall_mesh.png"])
+        html = self.read("index.html")
+        for name in figures:
+            with open(os.path.join(self.out, "figures", name), "rb") as f:
+                png = f.read()
+            self.assertTrue(png.startswith(PNG_MAGIC))
+            self.assertIn(base64.b64encode(png).decode(), html)
+        row = [r for r in md_rows(self.markdown, "A1") if r[1] == "accuracy"][0]
+        self.assertEqual(row[3:7], ["test host, 2 cores", "0123456789ab",
+                                    "talus accuracy --output acc",
+                                    "2025-11-21T03:00:00+00:00"])
+        self.assertIn("backend cpu; 19 rows", row[7])
+        self.assertIn("No validation results given.", self.markdown)
+        self.assertIn("Not drawn (log axes): 1 row of error 0.", self.markdown)
+
+
+class Effects(Scratch):
+    def test_cost_of_each_effect_per_backend(self):
+        result = generate("--benchmark", EFFECTS, "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        markdown = self.read("report.md")
+        self.assertIn("| effect | cpu (B1): all, ms a step | without it | its cost, ms | "
+                      "its cost, % of all | cuda (B1): all, ms a step |", markdown)
+        rows = {r[0]: r for r in md_rows(markdown, "walls") + md_rows(markdown, "friction")
+                + md_rows(markdown, "drag")}
+        # cpu's all is the median of 9, 10 and 12.5 ms (10; the mean is 10.5).
+        self.assertEqual(rows["walls"][1:], ["10", "7", "3", "30 %", "2", "1.5", "0.5", "25 %"])
+        self.assertEqual(rows["friction"][1:5], ["10", "9", "1", "10 %"])
+        self.assertEqual(rows["drag"][1:], ["10", "10.1", "-0.1", "-1 %", "2", "skipped", "—",
+                                            "—"])
+
+
+class History(Scratch):
+    """Tonight's numbers from the fixtures against a history written here."""
+    MACHINE = "test machine"
+
+    def night(self, date, numbers, machine=MACHINE, commit="0000000"):
+        return json.dumps({"date": date, "commit": commit, "machine": machine,
+                           "numbers": numbers})
+
+    def history(self, *lines):
+        path = os.path.join(self.scratch, "history.jsonl")
+        with open(path, "w") as f:
+            f.write("".join(line + "\n" for line in lines))
+        return path
+
+    def run_night(self, history, *inputs):
+        result = generate("--benchmark", BENCHMARK, *inputs, "--append-history", history,
+                          "--night-date", "2025-11-21", "--night-commit", "1111111",
+                          "--night-machine", self.MACHINE, "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return self.read("report.md"), self.read("index.html")
+
+    def nights(self, history):
+        with open(history) as f:
+            return [json.loads(line) for line in f]
+
+    def test_twenty_percent_slower_is_flagged(self):
+        history = self.history(self.night("2025-11-20", {BED: BED_MS / 1.2}))
+        markdown, html = self.run_night(history)
+        self.assertIn("**REGRESSED: 1 numbers regressed", markdown)
+        self.assertIn(f"- **{BED}: 0.7681 ms an iteration against 0.6401 (the earlier night): "
+                      "20 % slower (band 10%)**", markdown)
+        # At the very top: before the first section.
+        self.assertLess(html.index('<div class="alert">'), html.index("<h2"))
+        self.assertTrue(os.path.exists(os.path.join(self.out, "figures", "history.png")))
+        nights = self.nights(history)
+        self.assertEqual([n["date"] for n in nights], ["2025-11-20", "2025-11-21"])
+        self.assertEqual(nights[1]["numbers"][BED], BED_MS)
+        self.assertEqual(nights[1]["machine"], self.MACHINE)
+
+    def test_five_percent_slower_is_not(self):
+        history = self.history(self.night("2025-11-20", {BED: BED_MS / 1.05}))
+        markdown, html = self.run_night(history)
+        self.assertNotIn("REGRESSED", markdown)
+        self.assertNotIn('class="alert"', html)
+        self.assertIn("Nothing regressed beyond its noise band.", markdown)
+        self.assertTrue(os.path.exists(os.path.join(self.out, "figures", "history.png")))
+
+    def test_fresh_history_draws_and_flags_nothing(self):
+        history = os.path.join(self.scratch, "new", "history.jsonl")
+        markdown, html = self.run_night(history)
+        self.assertNotIn("REGRESSED", markdown)
+        self.assertIn("No earlier night of this machine (test machine)", markdown)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "figures", "history.png")))
+        nights = self.nights(history)
+        self.assertEqual(len(nights), 1)
+        self.assertEqual(nights[0]["numbers"][BED], BED_MS)
+        self.assertEqual(sorted(os.listdir(os.path.dirname(history))), ["history.jsonl"])
+
+    def test_one_noisy_night_is_outvoted_by_the_median(self):
+        # Of three earlier nights one was 20 % faster: the median (tonight's time) is no flag.
+        history = self.history(self.night("2025-11-18", {BED: BED_MS}),
+                               self.night("2025-11-19", {BED: BED_MS / 1.2}),
+                               self.night("2025-11-20", {BED: BED_MS}))
+        markdown, _ = self.run_night(history)
+        self.assertNotIn("REGRESSED", markdown)
+
+    def test_other_machines_are_not_compared(self):
+        history = self.history(self.night("2025-11-20", {BED: BED_MS / 2}, machine="other"))
+        markdown, _ = self.run_night(history)
+        self.assertNotIn("REGRESSED", markdown)
+        self.assertIn("No earlier night of this machine (test machine)", markdown)
+        self.assertIn("(1 of other machines)", markdown)
+
+    def test_rerun_replaces_tonight(self):
+        history = self.history(self.night("2025-11-20", {BED: BED_MS / 1.2}))
+        self.run_night(history)
+        markdown, _ = self.run_night(history)
+        self.assertIn("REGRESSED", markdown)  # compared with the 20th, not with itself
+        self.assertEqual([n["date"] for n in self.nights(history)],
+                         ["2025-11-20", "2025-11-21"])
+        self.assertEqual(sorted(os.listdir(self.scratch)), ["history.jsonl", "report"])
+
+    def test_pass_that_became_fail(self):
+        # Tonight omega_after at theta 20 fails (0.1235 against 0.1 +- 0.005: 4.69 tolerances)
+        # and its case with it; the night before both passed. theta 10 passes on both nights.
+        check = "check/cylinder_wall_impact/omega_after/theta@20"
+        history = self.history(self.night("2025-11-20", {
+            check: 0.5, "check/cylinder_wall_impact/omega_after/theta@10": 0.5,
+            "passed/cylinder_wall_impact": 1, "passed/free_fall_drag": 1}))
+        markdown, _ = self.run_night(history, "--validation", VALIDATION)
+        self.assertIn("**REGRESSED: 2 numbers regressed", markdown)
+        self.assertIn(f"- **{check}: failed (|measured - expected| / tolerance 4.691), passed "
+                      "the night before (0.5)**", markdown)
+        self.assertIn("- **passed/cylinder_wall_impact: the case failed", markdown)
+
+    def test_accuracy_band(self):
+        # linear's error 0.08 against 0.06: up 33 %, flagged; skin 0.2's 3e-14 against 2e-14:
+        # up 50 % but by 1e-14, under the 1e-12 floor; prism 8's 0.1 against 0.095: 5 %.
+        history = self.history(self.night("2025-11-20", {
+            "error/cpu/impact/contact_law/linear": 0.06,
+            "error/cpu/drum/skin/skin 0.2": 2e-14,
+            "error/cpu/impact/shape_resolution/prism 8": 0.095}))
+        markdown, _ = self.run_night(history, "--accuracy", ACCURACY)
+        self.assertIn("**REGRESSED: 1 numbers regressed", markdown)
+        self.assertIn("- **error/cpu/impact/contact_law/linear: error 0.08 against 0.06 (the "
+                      "earlier night): up 33.33 %", markdown)
+
+
 class BadInputs(Scratch):
     def assert_refused(self, result, name, *words):
         self.assertEqual(result.returncode, 2, result.stderr)
@@ -217,6 +414,51 @@ class BadInputs(Scratch):
     def test_benchmark_given_as_validation(self):
         self.assert_refused(generate("--validation", BENCHMARK, "--output", self.out),
                             "bench_scenes.json", "'commit'")
+
+    def write_text(self, name, text):
+        path = os.path.join(self.scratch, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def test_accuracy_without_a_column(self):
+        with open(ACCURACY) as f:
+            text = f.read().replace(",error,", ",err,")
+        path = self.write_text("no-error.csv", text)
+        self.assert_refused(generate("--accuracy", path, "--output", self.out),
+                            "no-error.csv:6:", "no column 'error'")
+        self.assertFalse(os.path.exists(self.out))
+
+    def test_accuracy_row_not_a_number(self):
+        with open(ACCURACY) as f:
+            lines = f.read().splitlines()
+        lines[7] = lines[7].replace(",0.4,0.1,", ",fast,0.1,")  # line 8: volume's wall time
+        path = self.write_text("not-a-number.csv", "\n".join(lines) + "\n")
+        self.assert_refused(generate("--accuracy", path, "--output", self.out),
+                            "not-a-number.csv:8:", "'wall_seconds' is 'fast'")
+
+    def test_accuracy_unknown_knob(self):
+        path = self.write_text("knob.csv", "knob,setting,value,scene,metric,reference,error,"
+                               "wall_seconds,simulated_seconds,steps,particles,precision\n"
+                               "gravity,g,9.8,impact,m,r,0.1,1,1,1,1,double\n")
+        self.assert_refused(generate("--accuracy", path, "--output", self.out),
+                            "knob.csv:2:", "knob 'gravity'", "contact_law")
+
+    def test_history_line_not_json(self):
+        with open(BAD_HISTORY) as f:
+            before = f.read()
+        self.assert_refused(generate("--benchmark", BENCHMARK, "--append-history", BAD_HISTORY,
+                                     "--output", self.out),
+                            "history-bad.jsonl:2:", "not JSON", '"numbers"')
+        self.assertFalse(os.path.exists(self.out))
+        with open(BAD_HISTORY) as f:
+            self.assertEqual(f.read(), before)
+
+    def test_history_line_without_numbers(self):
+        path = self.write_text("h.jsonl", '{"date": "2025-11-20", "commit": "a", '
+                                          '"machine": "m"}\n')
+        self.assert_refused(generate("--benchmark", BENCHMARK, "--history", path,
+                                     "--output", self.out), "h.jsonl:1:", "numbers")
 
     def test_missing_file(self):
         self.assert_refused(generate("--benchmark", os.path.join(DATA, "absent.json"),
