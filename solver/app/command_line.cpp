@@ -38,6 +38,7 @@ const std::pair<const char*, const char*> kSynopses[] = {
     {"resume", "talus run --resume DIR [options]"},
     {"render", "talus render [options] DIR"},
     {"validate", "talus validate [options] [CASE...]"},
+    {"accuracy", "talus accuracy [options]"},
     {"overlap", "talus overlap A POSE_A B POSE_B"},
     {"shape", "talus shape A"},
     {"help", "talus help | --help | -h | COMMAND --help"}};
@@ -58,6 +59,11 @@ struct ValidateText {
   std::vector<std::string> cases;
   std::string output, cases_directory, backend;
   bool full = false, quiet = false;
+};
+
+struct AccuracyText {
+  std::string scenes, knobs, output, backend;
+  bool quick = false, quiet = false;
 };
 
 struct RenderText {
@@ -219,6 +225,40 @@ ValidateArguments validate_arguments(const CLI::App* app, const ValidateText& t)
   return parsed;
 }
 
+// "a,b" as its words; an empty word is refused.
+std::vector<std::string> comma_list(const char* option, const std::string& text) {
+  std::vector<std::string> words;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string word = text.substr(start, comma - start);
+    if (word.empty())
+      throw UsageError(std::string(option) + " '" + shown(text) +
+                       "': expected names separated by commas, got an empty one");
+    words.push_back(word);
+    if (comma == std::string::npos) return words;
+    start = comma + 1;
+  }
+}
+
+AccuracyArguments accuracy_arguments(const CLI::App* app, const AccuracyText& t) {
+  static const std::pair<const char*, Backend> kBackends[] = {
+      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
+  refuse_extras(app, "accuracy", "--scenes, --knobs, --quick, --output, --backend, --quiet");
+  const auto given = [&](const char* name) { return app->count(name) > 0; };
+  AccuracyArguments parsed;
+  if (given("--scenes")) parsed.scenes = comma_list("--scenes", t.scenes);
+  if (given("--knobs")) parsed.knobs = comma_list("--knobs", t.knobs);
+  parsed.quick = t.quick;
+  parsed.quiet = t.quiet;
+  if (given("--output")) {
+    if (t.output.empty()) throw UsageError("--output expects a directory");
+    parsed.output = t.output;
+  }
+  if (given("--backend")) parsed.backend = choose("--backend", t.backend, kBackends);
+  return parsed;
+}
+
 // The operands of overlap and shape, which may begin with '-' (a negative coordinate): CLI11
 // leaves every word it does not know in remaining(), in order.
 std::vector<std::string> operands(const CLI::App* app, const std::string& command,
@@ -346,6 +386,29 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
               "the folder that holds the case folders (default: this source tree's validation/)");
   validate->add_flag("--quiet", v.quiet, "no line per case on stderr");
 
+  AccuracyText a;
+  CLI::App* accuracy = app.add_subcommand(
+      "accuracy", "the accuracy-against-time study: each fidelity knob's error and cost");
+  accuracy->footer(
+      "Sets each fidelity knob (contact law, shape and wall-mesh resolution, precision, time\n"
+      "step, neighbour-list skin) in turn on the same scenes (the section 3.1 impact, the\n"
+      "section 3.3 packing, a quasi-2D drum) and writes each setting's error against its\n"
+      "reference and its wall time per simulated second to accuracy.csv in the output\n"
+      "directory (experiments/accuracy/README.md); prints a summary as JSON.");
+  accuracy->allow_extras();
+  text_option(accuracy, "--scenes", a.scenes, "impact,packing,drum",
+              "the scenes to run (default all)");
+  text_option(accuracy, "--knobs", a.knobs, "LIST",
+              "the knobs to set, of contact_law, shape_resolution, wall_mesh, precision, "
+              "time_step, skin (default all)");
+  accuracy->add_flag("--quick", a.quick,
+                     "CI's size: fewer particles, shorter runs, fewer settings");
+  text_option(accuracy, "--output", a.output, "DIR",
+              "where accuracy.csv and the scenes go (default talus-accuracy)");
+  text_option(accuracy, "--backend", a.backend, "auto|cpu|cuda",
+              "the production solver's backend (default auto: the GPU where one is usable)");
+  accuracy->add_flag("--quiet", a.quiet, "no line per run on stderr");
+
   CLI::App* overlap = app.add_subcommand("overlap", "the overlap of two posed polyhedra, as JSON");
   overlap->allow_extras();
   overlap->footer(
@@ -402,7 +465,7 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   }
   // A word before the command (CLI11 leaves it with talus itself): "talus -x run" must not run.
   const std::vector<std::string> before = app.remaining();
-  if (!before.empty() && (*run || *render || *validate || *overlap || *shape))
+  if (!before.empty() && (*run || *render || *validate || *accuracy || *overlap || *shape))
     throw UsageError("unknown option '" + shown(before.front()) +
                      "' before the command; talus takes a command first and its options after "
                      "it (e.g. 'talus run --quiet SCENE.yaml')");
@@ -415,7 +478,7 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
         about = app.get_subcommand(topic.front());
       } catch (const CLI::OptionNotFound&) {
         throw UsageError("help '" + shown(topic.front()) +
-                         "': expected one of run, render, validate, overlap, shape");
+                         "': expected one of run, render, validate, accuracy, overlap, shape");
       }
     }
     // app.help() would describe the `help` command itself, the one parsed.
@@ -431,6 +494,9 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   } else if (*validate) {
     command.kind = ParsedCommand::validate;
     command.validate_arguments = validate_arguments(validate, v);
+  } else if (*accuracy) {
+    command.kind = ParsedCommand::accuracy;
+    command.accuracy_arguments = accuracy_arguments(accuracy, a);
   } else if (*overlap) {
     command.kind = ParsedCommand::overlap;
     command.operands = operands(overlap, "overlap", 4, "A POSE_A B POSE_B");
@@ -442,12 +508,12 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
     const std::string word = words.empty() ? arguments.front() : words.front();
     // An option before any command: talus itself takes none but --help.
     if (word.size() > 1 && word[0] == '-')
-      throw UsageError(
-          "unknown option '" + shown(word) +
-          "'; expected a command first (run, render, validate, overlap, shape or help), or "
-          "--help");
+      throw UsageError("unknown option '" + shown(word) +
+                       "'; expected a command first (run, render, validate, accuracy, overlap, "
+                       "shape or help), or "
+                       "--help");
     throw UsageError("unknown command '" + shown(word) +
-                     "'; expected run, render, validate, overlap, shape or help");
+                     "'; expected run, render, validate, accuracy, overlap, shape or help");
   }
   return command;
 }

@@ -1,6 +1,7 @@
 // The `talus` command line, defined once with CLI11: the commands (run, render, validate,
-// overlap, shape, help), their options and the generated help. Parsing is apart from running, so
-// that every bad argument is a UsageError naming it and what was expected before any file is read.
+// accuracy, overlap, shape, help), their options and the generated help. Parsing is apart from
+// running, so that every bad argument is a UsageError naming it and what was expected before any
+// file is read.
 #pragma once
 
 #include <string>
@@ -15,11 +16,12 @@ namespace talus {
 struct ParsedCommand {
   // `talus` alone is `run` with no options (the built-in scene); `help` also stands for
   // `--help`, `-h` and `COMMAND --help`, with the text to print in `help_text`.
-  enum Kind { run, render, validate, overlap, shape, help } kind = run;
+  enum Kind { run, render, validate, accuracy, overlap, shape, help } kind = run;
   bool bare = false;                     // `talus` with no argument at all
   RunArguments run_arguments;            // kind run
   RenderArguments render_arguments;      // kind render
   ValidateArguments validate_arguments;  // kind validate
+  AccuracyArguments accuracy_arguments;  // kind accuracy
   std::vector<std::string> operands;     // kind overlap (A POSE_A B POSE_B) or shape (A)
   std::string help_text;                 // kind help: the generated help, newline-terminated
 };

@@ -8,6 +8,7 @@
 #include "solver/app/render_arguments.hpp"
 #include "solver/app/run_arguments.hpp"
 #include "solver/app/validate_arguments.hpp"
+#include "solver/run/production_run.hpp"
 
 namespace talus {
 
@@ -54,6 +55,23 @@ std::string run_json(const RunArguments& args);
 // the results as JSON and sets `passed` (every case passed). Throws validation::ValidationError
 // for an unknown case or a bad expected.yaml, RunError for a backend that cannot run.
 std::string validate_json(const ValidateArguments& args, bool& passed);
+
+// `talus accuracy [options]`: the accuracy-against-time study (experiments/accuracy/README.md)
+// on the chosen backend, into the output directory's accuracy.csv; returns a summary as JSON.
+// Throws UsageError for an unknown scene or knob, RunError for a backend that cannot run.
+std::string accuracy_json(const AccuracyArguments& args);
+
+// The production step's maker for `--backend`: the CUDA step where asked (`cuda`, or `auto` with a
+// usable device), else the host's; `name` gets "cuda" or "cpu". RunError for `cuda` where no
+// device is usable or talus was built without CUDA.
+StepFactory step_factory(Backend backend, std::string& name);
+
+// The first line a shell command prints, or "" when it fails.
+std::string first_line_of(const std::string& command);
+
+// TALUS_COMMIT where set (a copy of the tree without .git), else the source tree's commit with
+// "-dirty" when it has uncommitted changes, else "unknown".
+std::string commit_of(const std::string& source);
 
 // `talus render [options] DIR`: pictures of a run (solver/render/render_run.hpp); returns a
 // summary as JSON. Throws RunError when talus was built without OpenCV, or for a run directory

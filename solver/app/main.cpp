@@ -46,6 +46,9 @@ int run(const std::vector<std::string>& args) {
     case talus::ParsedCommand::render:
       json = talus::render_json(command.render_arguments);
       break;
+    case talus::ParsedCommand::accuracy:
+      json = talus::accuracy_json(command.accuracy_arguments);
+      break;
     case talus::ParsedCommand::validate: {
       bool passed = false;
       json = talus::validate_json(command.validate_arguments, passed);

@@ -23,9 +23,7 @@
 #endif
 
 namespace talus {
-namespace {
 
-// The first line a shell command prints, or "" when it fails.
 std::string first_line_of(const std::string& command) {
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return "";
@@ -38,8 +36,22 @@ std::string first_line_of(const std::string& command) {
   return line;
 }
 
-// TALUS_COMMIT where set (a copy of the tree without .git), else the source tree's commit with
-// "-dirty" when it has uncommitted changes, else "unknown".
+StepFactory step_factory(Backend backend, std::string& name) {
+  name = "cpu";
+#if TALUS_HAVE_CUDA
+  std::string why;
+  if (backend != Backend::cpu && cuda_device_available(&why)) {
+    name = "cuda";
+    return make_cuda_step;
+  }
+  if (backend == Backend::cuda) throw RunError("--backend cuda: " + why);
+#else
+  if (backend == Backend::cuda)
+    throw RunError("--backend cuda: this talus was built without the CUDA backend");
+#endif
+  return [](const Scene& scene) { return make_host_step(scene); };
+}
+
 std::string commit_of(const std::string& source) {
   if (const char* given = std::getenv("TALUS_COMMIT"); given && *given) return given;
   const std::string git = "git -C '" + source + "' ";
@@ -49,6 +61,8 @@ std::string commit_of(const std::string& source) {
       first_line_of(git + "status --porcelain --untracked-files=no 2>/dev/null | head -1");
   return changes.empty() ? head : head + "-dirty";
 }
+
+namespace {
 
 // A Python with matplotlib for the figures: Debian's (scripts/setup installs it), else the
 // python3 on PATH (the GPU machine's); "" without.
@@ -104,20 +118,7 @@ std::string validate_json(const ValidateArguments& args, bool& passed) {
   options.cases_directory =
       args.cases_directory.empty() ? joined_path(source, "validation") : args.cases_directory;
   options.commit = commit_of(source);
-  options.backend = "cpu";
-  options.make_step = [](const Scene& scene) { return make_host_step(scene); };
-#if TALUS_HAVE_CUDA
-  std::string why;
-  if (args.backend != Backend::cpu && cuda_device_available(&why)) {
-    options.backend = "cuda";
-    options.make_step = make_cuda_step;
-  } else if (args.backend == Backend::cuda) {
-    throw RunError("--backend cuda: " + why);
-  }
-#else
-  if (args.backend == Backend::cuda)
-    throw RunError("--backend cuda: this talus was built without the CUDA backend");
-#endif
+  options.make_step = step_factory(args.backend, options.backend);
 #if TALUS_HAVE_REFERENCE
   options.run_reference = run_reference;
 #endif
