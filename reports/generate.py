@@ -204,7 +204,7 @@ def provenance_blocks(sources):
 def summary_blocks(validations):
     table = Table(["source", "case", "result", "checks passed", "failed", "reported",
                    "backend", "wall time", "commit"])
-    notes = []
+    notes, verdicts = [], {}
     for source, data in validations:
         for case in data["cases"]:
             result = ("pass" if case["passed"] else "FAIL") + (
@@ -220,8 +220,11 @@ def summary_blocks(validations):
                 notes.append(f"{source['id']} {case['case']}: its rows count {counted} passed, "
                              "failed and reported, not what its summary says.")
         verdict = "every case passes" if data["passed"] else "a case FAILS"
-        notes.append(f"{source['id']}: {verdict} ({data['version']} versions, backend "
-                     f"{data['backend']}, commit {data['commit']}).")
+        verdicts.setdefault(f"{verdict} ({data['version']} versions, backend "
+                            f"{data['backend']}, commit {data['commit']}).", []).append(
+                                source["id"])
+    # One line per verdict: the nightly's one file per case would repeat it for every file.
+    notes += [f"{', '.join(ids)}: {text}" for text, ids in verdicts.items()]
     return [("h2", "Validation summary"), ("table", table), ("list", notes)]
 
 
@@ -271,31 +274,40 @@ def check_cells(source, row, show_parameter):
 
 
 def checks_blocks(validations, max_rows):
-    table = Table(["source", "case", "quantity", "variant / parameter", "measured", "expected",
-                   "tolerance", "verdict"])
-    notes = []
+    """One table per case, headed by its counts; on the page a case's table is folded away
+    (a click opens it) unless one of its rows failed."""
+    blocks = [("h2", "Checks"), ("p", "Failed rows are marked FAIL (red on the HTML page). "
+                                      "Tolerances are absolute bounds on |measured - expected|; "
+                                      "reported rows are measured, never failed. On the page a "
+                                      "case's rows are folded away unless one failed.")]
     for source, data in validations:
         for case in data["cases"]:
+            table = Table(["source", "case", "quantity", "variant / parameter", "measured",
+                           "expected", "tolerance", "verdict"])
             rows = [r for r in data["results"] if r["case"] == case["case"]]
-            shown = rows
+            shown, note = rows, ""
             if len(rows) > max_rows:
                 shown, left_out = summarised(rows)
-                note = (f"{source['id']} {case['case']}: {len(rows):,} rows summarised as "
-                        f"{len(shown)}: every failed row and the worst checked row "
-                        "(largest |measured - expected| / tolerance) of each quantity")
+                note = (f"{len(rows):,} rows summarised as {len(shown)}: every failed row and "
+                        "the worst checked row (largest |measured - expected| / tolerance) of "
+                        "each quantity")
                 if left_out:
                     note += "; not shown: " + ", ".join(left_out)
-                notes.append(note + ".")
             counts = {}
             for r in rows:
                 counts[quantity_key(r)] = counts.get(quantity_key(r), 0) + 1
             for r in shown:
                 show_parameter = counts[quantity_key(r)] > 1 or r.get("parameter")
                 table.add(check_cells(source, r, show_parameter), failed=r["verdict"] == "fail")
-    blocks = [("h2", "Checks"), ("p", "Failed rows are marked FAIL (red on the HTML page). "
-                                       "Tolerances are absolute bounds on |measured - expected|; "
-                                       "reported rows are measured, never failed.")]
-    return blocks + [("table", table), ("list", notes)]
+            verdicts = [sum(r["verdict"] == v for r in rows) for v in ("pass", "fail")]
+            heading = (f"{source['id']} {case['case']}: {verdicts[0]:,} passed, "
+                       f"{verdicts[1]:,} failed, {len(rows) - sum(verdicts):,} reported"
+                       + (f" ({note})" if note else ""))
+            if rows:
+                blocks.append(("table", table, {"fold": heading, "open": verdicts[1] > 0}))
+            else:
+                blocks.append(("p", heading + ": no rows."))
+    return blocks
 
 
 def figure_blocks(validations, figures):
@@ -571,7 +583,8 @@ def accuracy_blocks(accuracies, figures):
         table.add([s["id"], r["knob"], r["setting"], r["scene"], fmt(r["error"]),
                    f"{r['metric']} (against {r['reference']})", fmt(cost(r)),
                    fmt(r["particles"]), s["backend"],
-                   status.get(id(r), "not drawn: error or cost not measurable")])
+                   status.get(id(r), "not drawn: error nan" if math.isnan(r["error"])
+                              else "not drawn: no simulated time")])
     note = ("Each row is one run of the study: its relative error against the reference named, "
             "and its cost, wall time per simulated second. Pareto: on the front of its scene "
             "(no other run of the scene, of any knob, has both a lower or equal error and a "
@@ -870,13 +883,13 @@ def regressions(numbers, earlier):
                 unit = {"speed": "ms an iteration", "cost": "s a simulated s", "wall": "s"}[kind]
                 flags.append((name, f"{name}: {fmt(value)} {unit} against {fmt(base)} "
                                     f"({against}): {fmt(100 * (value / base - 1))} % slower "
-                                    f"(band {SPEED_BAND:.0%})"))
+                                    f"(band {SPEED_BAND * 100:g} %)"))
         elif kind == "error" and finite(value) and recent:
             base = median(recent)
             if value > base * (1 + ERROR_BAND) and value - base > ERROR_FLOOR:
                 rise = f"{fmt(100 * (value / base - 1))} %" if base else "from 0"
                 flags.append((name, f"{name}: error {fmt(value)} against {fmt(base)} "
-                                    f"({against}): up {rise} (band {ERROR_BAND:.0%} and "
+                                    f"({against}): up {rise} (band {ERROR_BAND * 100:g} % and "
                                     f"{ERROR_FLOOR:g})"))
         elif kind == "check":
             was_pass = past[-1] is not None and past[-1] <= 1
@@ -970,8 +983,9 @@ def history_blocks(tonight, earlier, path, figures):
     same = [n for n in earlier if n["machine"] == tonight["machine"]]
     flags = regressions(tonight["numbers"], same)
     bands = (f"Noise bands: speed (benchmark times, the study's wall time per simulated second, "
-             f"a case's wall time above {WALL_MIN_SECONDS:g} s) {SPEED_BAND:.0%} slower; "
-             f"accuracy an error up by {ERROR_BAND:.0%} of itself and by {ERROR_FLOOR:g}; "
+             f"a case's wall time above {WALL_MIN_SECONDS:g} s) {SPEED_BAND * 100:g} % slower; "
+             f"accuracy an error up by {ERROR_BAND * 100:g} % of itself and by "
+             f"{ERROR_FLOOR:g}; "
              "validation a check or case that passed and now fails. Compared with the median "
              f"of the last {BASELINE_NIGHTS} earlier nights of the same machine "
              "(reports/README.md, \"History\").")
@@ -1023,6 +1037,8 @@ def to_markdown(title, blocks):
             out += [f"- {item}" for item in block[1]] + [""]
         elif kind == "table":
             t = block[1]
+            if len(block) > 2:
+                out += [f"**{block[2]['fold']}**", ""]
             out.append("| " + " | ".join(t.headers) + " |")
             out.append("|" + "---|" * len(t.headers))
             for cells, failed in t.rows:
@@ -1040,10 +1056,11 @@ def to_markdown(title, blocks):
 CSS = """body{font-family:sans-serif;margin:2em;max-width:90em;color:#222}
 .alert{border:2px solid #c00;background:#fde8e8;color:#900;padding:0.5em 1em;margin:1em 0}
 .alert p{font-weight:bold;margin:0.3em 0}nav{font-size:0.9em;margin:0 0 1em}
-nav a{margin-right:1em}
+nav a{margin-right:1em}summary{cursor:pointer;margin:0.4em 0}
 table{border-collapse:collapse;margin:0.5em 0 1em;font-size:0.9em}
 th,td{border:1px solid #bbb;padding:0.2em 0.5em;text-align:left;vertical-align:top}
 th{background:#eee}tr.fail td{background:#f6c6c6;color:#800;font-weight:bold}
+.figures{display:flex;flex-wrap:wrap;gap:1em;align-items:flex-start}
 figure{margin:1em 0}img{max-width:100%}figcaption{font-size:0.9em;color:#555}"""
 
 
@@ -1051,15 +1068,19 @@ def anchor(heading):
     return re.sub(r"[^a-z0-9]+", "-", heading.lower()).strip("-")
 
 
-def to_html(title, blocks, figures):
+def to_html(title, blocks, figures, link_figures=False):
     e = html.escape
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
            f"<title>{e(title)}</title><style>{CSS}</style></head><body>", f"<h1>{e(title)}</h1>"]
     sections = [b[1] for b in blocks if b[0] == "h2"]
     out.append("<nav>" + "".join(f'<a href="#{anchor(h)}">{e(h)}</a>' for h in sections)
                + "</nav>")
+    in_row = False  # consecutive figures share a row (a flex box that wraps)
     for block in blocks:
         kind = block[0]
+        if in_row != (kind == "figure"):
+            out.append("</div>" if in_row else '<div class="figures">')
+            in_row = kind == "figure"
         if kind == "h2":
             out.append(f'<h2 id="{anchor(block[1])}">{e(block[1])}</h2>')
         elif kind == "h3":
@@ -1073,16 +1094,29 @@ def to_html(title, blocks, figures):
             out.append("<ul>" + "".join(f"<li>{e(i)}</li>" for i in block[1]) + "</ul>")
         elif kind == "table":
             t = block[1]
+            if len(block) > 2:
+                out.append(f"<details{' open' if block[2]['open'] else ''}><summary>"
+                           f"{e(block[2]['fold'])}</summary>")
             out.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in t.headers) + "</tr>")
             for cells, failed in t.rows:
                 row_class = ' class="fail"' if failed else ""
                 out.append(f"<tr{row_class}>" + "".join(f"<td>{e(c)}</td>" for c in cells)
                            + "</tr>")
-            out.append("</table>")
+            out.append("</table>" + ("</details>" if len(block) > 2 else ""))
         elif kind == "figure":
-            data = base64.b64encode(figures[block[1]]).decode("ascii")
-            out.append(f'<figure><img alt="{e(block[2])}" src="data:image/png;base64,{data}">'
-                       f"<figcaption>{e(block[2])}</figcaption></figure>")
+            png = figures[block[1]]
+            source = f"figures/{block[1]}" if link_figures else \
+                "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+            # A figure under 1,100 pixels (drawn at 120 dpi) is shown at 2/3 of its size, so that
+            # two 7-inch figures stand side by side on a wide screen (a row wraps as the window
+            # narrows); a wider one (the history's small multiples) at its own, within the page.
+            width = int.from_bytes(png[16:20], "big") if png.startswith(PNG_MAGIC) else 900
+            width = width * 2 // 3 if width < 1100 else width
+            out.append(f'<figure style="width:{width}px;max-width:100%"><img alt="'
+                       f'{e(block[2])}" src="{source}"><figcaption>'
+                       f"{e(block[2])}</figcaption></figure>")
+    if in_row:
+        out.append("</div>")
     return "\n".join(out + ["</body></html>", ""])
 
 
@@ -1126,6 +1160,11 @@ def parse_arguments(argv):
                         help="JSON: input path or file name -> {machine, command, commit, ...}")
     parser.add_argument("--max-check-rows", type=int, default=100, metavar="N",
                         help="a case with more check rows is summarised (default 100)")
+    parser.add_argument("--note", action="append", default=[], metavar="TEXT",
+                        help="a line for the top of the page (repeatable), e.g. what ran")
+    parser.add_argument("--link-figures", action="store_true",
+                        help="the page links its figures in figures/ instead of holding them "
+                             "(half the size, for a report kept as a folder)")
     parser.add_argument("--title", default="talus report")
     parser.add_argument("--output", required=True, metavar="DIR")
     args = parser.parse_args(argv)
@@ -1190,10 +1229,10 @@ def build(args):
                            if (n["date"], n["commit"], n["machine"]) != key)
             appended = text + json.dumps(tonight, separators=(",", ":")) + "\n"
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
-    blocks.insert(0, ("p", f"Generated {now} by reports/generate.py from the files below."))
-    blocks.insert(0, ("alert", alert))
-    return (to_markdown(args.title, blocks), to_html(args.title, blocks, figures), figures,
-            appended)
+    blocks[0:0] = [("alert", alert), ("p", f"Generated {now} by reports/generate.py from the "
+                                           "files below."), ("list", args.note)]
+    return (to_markdown(args.title, blocks),
+            to_html(args.title, blocks, figures, args.link_figures), figures, appended)
 
 
 def main(argv):

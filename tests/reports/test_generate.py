@@ -93,6 +93,13 @@ class BothInputs(Scratch):
         self.assertNotIn("class=\"fail\"><td>V1</td><td>cylinder_wall_impact</td>"
                          "<td>omega_after (rad/s)</td><td>theta at 10</td>", self.html)
 
+    def test_case_with_a_failure_is_unfolded(self):
+        self.assertIn("<details open><summary>V1 cylinder_wall_impact: 1 passed, 1 failed, "
+                      "1 reported</summary>", self.html)
+        self.assertIn("<details><summary>V1 free_fall_drag: 2 passed, 0 failed, 1 reported"
+                      "</summary>", self.html)
+        self.assertIn("**V1 free_fall_drag: 2 passed, 0 failed, 1 reported**", self.markdown)
+
     def test_speed_numbers(self):
         rows = {r[1]: r for r in md_rows(self.markdown, "B1")}
         scene = rows["scenes/bed_1e4/cuda/iterations:2000"]
@@ -142,6 +149,28 @@ class OneKindOfInput(Scratch):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertIn("No benchmark results given.", self.read("index.html"))
         self.assertFalse(os.path.exists(os.path.join(self.out, "figures", "speed.png")))
+
+    def test_one_verdict_line_for_files_that_agree(self):
+        result = generate("--validation", VALIDATION, "--validation", VALIDATION,
+                          "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("- V1, V2: a case FAILS (small versions, backend cpu, commit "
+                      "abc1234def56).", self.read("report.md"))
+
+    def test_linked_figures(self):
+        result = generate("--benchmark", BENCHMARK, "--link-figures", "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        html = self.read("index.html")
+        self.assertIn('src="figures/speed.png"', html)
+        self.assertNotIn("data:image/png", html)
+
+    def test_notes_at_the_top(self):
+        result = generate("--benchmark", BENCHMARK, "--note", "nightly part tests: failed",
+                          "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        markdown = self.read("report.md")
+        self.assertLess(markdown.index("- nightly part tests: failed"),
+                        markdown.index("## Provenance"))
 
     def test_provenance_file_fills_in(self):
         provenance = self.write_json("provenance.json", {"validation-results.json": {
@@ -245,6 +274,9 @@ class Accuracy(Scratch):
                 png = f.read()
             self.assertTrue(png.startswith(PNG_MAGIC))
             self.assertIn(base64.b64encode(png).decode(), html)
+        # The seven figures side by side in one row that wraps, each at 2/3 of its pixels.
+        self.assertEqual(html.count('<div class="figures">'), 1)
+        self.assertEqual(html.count('<figure style="width:560px;max-width:100%">'), 6)
         row = [r for r in md_rows(self.markdown, "A1") if r[1] == "accuracy"][0]
         self.assertEqual(row[3:7], ["test host, 2 cores", "0123456789ab",
                                     "talus accuracy --output acc",
@@ -300,7 +332,7 @@ class History(Scratch):
         markdown, html = self.run_night(history)
         self.assertIn("**REGRESSED: 1 numbers regressed", markdown)
         self.assertIn(f"- **{BED}: 0.7681 ms an iteration against 0.6401 (the earlier night): "
-                      "20 % slower (band 10%)**", markdown)
+                      "20 % slower (band 10 %)**", markdown)
         # At the very top: before the first section.
         self.assertLess(html.index('<div class="alert">'), html.index("<h2"))
         self.assertTrue(os.path.exists(os.path.join(self.out, "figures", "history.png")))
