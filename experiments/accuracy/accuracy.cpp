@@ -638,9 +638,11 @@ StudyResult run_study(const StudyOptions& options) {
         row.scene = scene;
         row.metric = metric_of(scene, knob);
         row.reference = reference_of(scene, knob, spec.reference);
-        // The skin changes the work, never the result: against the default skin's run, to the
-        // bit where the backend is deterministic.
-        if (knob == "skin") {
+        if (m.skipped) {
+          row.error = std::nan("");  // nothing was measured: no field, no bed, no spin
+        } else if (knob == "skin") {
+          // The skin changes the work, never the result: against the default skin's run, to the
+          // bit where the backend is deterministic.
           const Measured& base = measure(spec.defaults);
           row.reference = "the default skin's run";
           row.metric = "largest relative change of the measured quantity";
@@ -660,7 +662,6 @@ StudyResult run_study(const StudyOptions& options) {
                                                                : scene_error(scene, m, *reference);
         }
         if (m.skipped) {
-          row.error = std::nan("");
           row.metric = fmt::format("not run: {} steps of {:.3g} s, over the study's {:g}", m.steps,
                                    m.dt, kMaxSteps);
         }
