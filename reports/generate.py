@@ -482,6 +482,11 @@ def read_accuracy(path):
             except ValueError:
                 raise Refusal(f"{where}: column '{key}' is '{row[key]}', not a number; "
                               f"expected {what}")
+            # error and wall_seconds are nan for a setting talus accuracy listed but did not run
+            # (more steps than the study allows): drawn nowhere, listed in the table.
+            if key == "error" and math.isnan(row[key]) or \
+                    key == "wall_seconds" and math.isnan(row[key]) and math.isnan(row["error"]):
+                continue
             if key != "error" and not (math.isfinite(row[key]) and row[key] >= 0):
                 raise Refusal(f"{where}: column '{key}' is {row[key]}; expected a finite "
                               "number >= 0")
@@ -531,6 +536,13 @@ def pareto_status(rows):
     return status
 
 
+def scene_backends(rows):
+    """The (scene, backend) pairs present, scenes in SCENES' order: errors and costs are
+    compared within one scene on one backend, never across."""
+    return [(s, b) for s in SCENES for b in sorted({r["backend"] for r in rows})
+            if any(r["scene"] == s and r["backend"] == b for r in rows)]
+
+
 def setting_name(row):
     return f"{row['knob']} '{row['setting']}'"
 
@@ -539,14 +551,15 @@ def accuracy_summary(rows, status):
     """The "best/worst accuracy per time" lines: per scene the front's lowest error x cost and
     the dominated setting's highest; the knob whose settings span the widest error range."""
     lines = []
-    for scene in SCENES:
-        scene_rows = [r for r in rows if r["scene"] == scene and id(r) in status]
+    for scene, backend in scene_backends(rows):
+        scene_rows = [r for r in rows if r["scene"] == scene and r["backend"] == backend
+                      and id(r) in status]
         if not scene_rows:
             continue
         front = [r for r in scene_rows if status[id(r)] == "front"]
         dominated = [r for r in scene_rows if status[id(r)] == "dominated"]
         best = min(front, key=lambda r: (r["error"] * cost(r), cost(r)))
-        line = (f"{scene}: best accuracy per time {setting_name(best)} (error "
+        line = (f"{scene} ({backend}): best accuracy per time {setting_name(best)} (error "
                 f"{fmt(best['error'])} at {fmt(cost(best))} s a simulated s, on the Pareto "
                 "front); ")
         inexact = [r for r in front if r["error"] > 0]
@@ -579,9 +592,12 @@ def accuracy_summary(rows, status):
 
 def accuracy_blocks(accuracies, figures):
     rows = [(s, r) for s, data in accuracies for r in data["rows"]]
+    for s, r in rows:
+        r["backend"] = s["backend"]
     status = {}
-    for scene in SCENES:  # errors are compared within a scene, never across scenes
-        status.update(pareto_status([r for _, r in rows if r["scene"] == scene]))
+    for scene, backend in scene_backends([r for _, r in rows]):
+        status.update(pareto_status([r for _, r in rows
+                                     if r["scene"] == scene and r["backend"] == backend]))
     order = {k: i for i, k in enumerate(KNOBS)}
     rows.sort(key=lambda sr: (order[sr[1]["knob"]], sr[1]["scene"], sr[1]["value"]))
     table = Table(["source", "knob", "setting", "scene", "error", "error of (against)",
@@ -594,8 +610,8 @@ def accuracy_blocks(accuracies, figures):
                               else "not drawn: no simulated time")])
     note = ("Each row is one run of the study: its relative error against the reference named, "
             "and its cost, wall time per simulated second. Pareto: on the front of its scene "
-            "(no other run of the scene, of any knob, has both a lower or equal error and a "
-            "lower or equal cost) or dominated. A row whose error is nan (the reference "
+            "and backend (no other run of the scene on that backend, of any knob, has both a "
+            "lower or equal error and a lower or equal cost) or dominated. A row whose error is nan (the reference "
             "itself) is listed and not drawn.")
     blocks = [("h2", "Accuracy against time"), ("p", note),
               ("list", accuracy_summary([r for _, r in rows], status)), ("table", table)]
@@ -643,14 +659,18 @@ SCENE_STYLE = {"impact": ("o", "C0", "-"), "packing": ("s", "C1", "--"),
 def knob_chart(knob, rows):
     plt = pyplot("the accuracy figures")
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for scene in SCENES:
-        points = sorted((r for r in rows if r["scene"] == scene), key=lambda r: r["value"])
-        if not points:
-            continue
+    pairs = scene_backends(rows)
+    several = len({b for _, b in pairs}) > 1  # then the host's series are drawn hollow
+    for scene, backend in pairs:
+        points = sorted((r for r in rows if r["scene"] == scene and r["backend"] == backend),
+                        key=lambda r: r["value"])
         marker, colour, _ = SCENE_STYLE[scene]
         ordered = len({r["value"] for r in points}) == len(points)  # else no order to join
+        hollow = several and backend == "cpu"
         ax.plot([cost(r) for r in points], [r["error"] for r in points], marker=marker,
-                color=colour, linestyle="-" if ordered else "none", linewidth=0.6, label=scene)
+                color=colour, linestyle="-" if ordered else "none", linewidth=0.6,
+                markerfacecolor="none" if hollow else colour,
+                label=f"{scene} ({backend})" if several else scene)
         for r in points:
             ax.annotate(r["setting"], (cost(r), r["error"]), textcoords="offset points",
                         xytext=(4, 4), fontsize=7, color=colour)

@@ -247,19 +247,22 @@ class Accuracy(Scratch):
         # The reference rows (error nan) are listed, not drawn.
         self.assertTrue(status[("time_step", "dt/4", "impact")].startswith("not drawn"))
         self.assertEqual(self.rows[("time_step", "dt/4", "impact")][4], "nan")
-        self.assertEqual(len(self.rows), 19)
+        self.assertEqual(len(self.rows), 20)
+        # A setting listed but not run (error and wall time nan) is listed, not drawn.
+        self.assertTrue(status[("contact_law", "volume_paper", "drum")].startswith("not drawn"))
+        self.assertEqual(self.rows[("contact_law", "volume_paper", "drum")][6], "nan")
 
     def test_best_and_worst_line(self):
         # impact: error x cost is lowest for dt/2 (0.001 x 20) on the front, highest for
         # volume_paper (0.03 x 5) among the dominated; shape_resolution spans 0.01 to 0.3.
-        self.assertIn("impact: best accuracy per time time_step 'dt/2' (error 0.001 at 20 s",
+        self.assertIn("impact (cpu): best accuracy per time time_step 'dt/2' (error 0.001 at 20 s",
                       self.markdown)
         self.assertIn("worst contact_law 'volume_paper' (error 0.03 at 5 s", self.markdown)
-        self.assertIn("packing: best accuracy per time skin 'skin 0.1'", self.markdown)
+        self.assertIn("packing (cpu): best accuracy per time skin 'skin 0.1'", self.markdown)
         self.assertIn("worst skin 'skin 0.4'", self.markdown)
         # The drum's linear run gives its reference's answer (error 0): the best of those that
         # change it is named too.
-        self.assertIn("drum: best accuracy per time contact_law 'linear' (error 0 at 100 s a "
+        self.assertIn("drum (cpu): best accuracy per time contact_law 'linear' (error 0 at 100 s a "
                       "simulated s, on the Pareto front); of the settings that change the "
                       "answer, skin 'skin 0.2' (error 3e-14 at 80 s); no setting is dominated.",
                       self.markdown)
@@ -285,7 +288,7 @@ class Accuracy(Scratch):
         self.assertEqual(row[3:7], ["test host, 2 cores", "0123456789ab",
                                     "talus accuracy --output acc",
                                     "2025-11-21T03:00:00+00:00"])
-        self.assertIn("backend cpu; 19 rows", row[7])
+        self.assertIn("backend cpu; 20 rows", row[7])
         self.assertIn("No validation results given.", self.markdown)
         self.assertIn("Not drawn (log axes): 1 row of error 0.", self.markdown)
 
@@ -472,6 +475,13 @@ class BadInputs(Scratch):
         path = self.write_text("not-a-number.csv", "\n".join(lines) + "\n")
         self.assert_refused(generate("--accuracy", path, "--output", self.out),
                             "not-a-number.csv:8:", "'wall_seconds' is 'fast'")
+
+    def test_accuracy_wall_time_nan_only_where_not_run(self):
+        path = self.write_text("wall.csv", "knob,setting,value,scene,metric,reference,error,"
+                               "wall_seconds,simulated_seconds,steps,particles,precision\n"
+                               "precision,float,32,impact,m,r,0.1,nan,1,1,1,float\n")
+        self.assert_refused(generate("--accuracy", path, "--output", self.out),
+                            "wall.csv:2:", "'wall_seconds' is nan")
 
     def test_accuracy_unknown_knob(self):
         path = self.write_text("knob.csv", "knob,setting,value,scene,metric,reference,error,"
