@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "benchmarks/effect_cases.hpp"
+#include "benchmarks/scene_cases.hpp"
 #include "solver/contact/time_step_advisor.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/probes.hpp"
@@ -150,7 +151,8 @@ Settled& settled() {
   if (tried) return s;
   tried = true;
   try {
-    s.scene = talus::load_scene((fs::path(TALUS_SOURCE_DIR) / kEffectsCase.file).string());
+    s.scene =
+        talus::load_scene((fs::path(talus_bench::source_root()) / kEffectsCase.file).string());
     refuse_like_talus_run(s.scene);
     s.variants = talus_bench::effect_variants(s.scene);
     s.steps = steps_of(kEffectsCase.settle_steps, 1);
@@ -258,8 +260,8 @@ void run_variant(benchmark::State& state, std::size_t index, bool cuda) {
 void register_variants() {
   std::vector<std::string> names;
   try {
-    for (const EffectVariant& v : talus_bench::effect_variants(
-             talus::load_scene((fs::path(TALUS_SOURCE_DIR) / kEffectsCase.file).string())))
+    for (const EffectVariant& v : talus_bench::effect_variants(talus::load_scene(
+             (fs::path(talus_bench::source_root()) / kEffectsCase.file).string())))
       names.push_back(v.name);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_effects: %s\n", e.what());

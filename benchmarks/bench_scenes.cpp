@@ -121,7 +121,7 @@ struct Prepared {
 };
 
 std::string scene_path(const SceneCase& c) {
-  return (fs::path(TALUS_SOURCE_DIR) / c.file).string();
+  return (fs::path(talus_bench::source_root()) / c.file).string();
 }
 
 // talus run's refusals before it steps (solver/app/run_command.cpp): a time step above the

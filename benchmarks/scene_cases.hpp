@@ -5,8 +5,18 @@
 #pragma once
 
 #include <array>
+#include <cstdlib>
+#include <string>
 
 namespace talus_bench {
+
+// The source tree the scene files are read from: TALUS_SOURCE_DIR in the environment where set (a
+// binary built on one machine and carried to another, scripts/gpu-carry-build, whose tree is
+// elsewhere), else the tree it was built from.
+inline std::string source_root() {
+  const char* given = std::getenv("TALUS_SOURCE_DIR");
+  return given && *given ? std::string(given) : std::string(TALUS_SOURCE_DIR);
+}
 
 struct SceneCase {
   const char* name;  // the benchmarks' names: scenes/<name>/cpu, scenes/<name>/cuda
