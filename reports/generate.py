@@ -725,8 +725,9 @@ def pareto_chart(rows, status):
 # --- The effect-cost table (bench_effects: effects/<backend>/all and .../without_<effect>) ------
 
 def effect_blocks(benchmarks):
-    """Per effect, per backend: ms a step with every effect, without it, and the difference."""
-    times, sources, effects = {}, {}, []
+    """Per effect, per backend and source file (one machine's run): ms a step with every effect,
+    without it, and the difference. Files are never mixed: two machines' steps differ."""
+    times, effects = {}, []
     for s, data in benchmarks:
         for _, row in chosen_rows(data):
             match = EFFECT_NAME.match(row.get("run_name") or row["name"])
@@ -739,16 +740,12 @@ def effect_blocks(benchmarks):
             if variant != "all" and variant not in effects:
                 effects.append(variant)
             ms = row.get("ms_per_step")
-            times.setdefault(backend, {})[variant] = (
+            times.setdefault(f"{backend} ({s['id']})", {})[variant] = (
                 "skipped" if row.get("error_occurred") else ms if finite(ms) else None)
-            sources.setdefault(backend, [])
-            if s["id"] not in sources[backend]:
-                sources[backend].append(s["id"])
     if not times:
         return []
     headers = ["effect"]
-    for backend in times:
-        tag = f"{backend} ({', '.join(sources[backend])})"
+    for tag in times:
         headers += [f"{tag}: all, ms a step", "without it", "its cost, ms",
                     "its cost, % of all"]
     table = Table(headers)

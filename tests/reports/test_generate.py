@@ -308,6 +308,18 @@ class Effects(Scratch):
         self.assertEqual(rows["drag"][1:], ["10", "10.1", "-0.1", "-1 %", "2", "skipped", "—",
                                             "—"])
 
+    def test_two_machines_are_not_mixed(self):
+        # The same file given twice stands for two machines' runs: each keeps its own columns,
+        # with its own numbers, rather than one median over both.
+        result = generate("--benchmark", EFFECTS, "--benchmark", EFFECTS, "--output", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        markdown = self.read("report.md")
+        self.assertIn("| effect | cpu (B1): all, ms a step | without it | its cost, ms | "
+                      "its cost, % of all | cuda (B1): all, ms a step |", markdown)
+        self.assertIn("| cpu (B2): all, ms a step |", markdown)
+        walls = md_rows(markdown, "walls")[0]
+        self.assertEqual(walls[1:9], walls[9:17])
+
 
 class History(Scratch):
     """Tonight's numbers from the fixtures against a history written here."""
