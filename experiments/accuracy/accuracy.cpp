@@ -590,6 +590,7 @@ StudyResult run_study(const StudyOptions& options) {
       if (planned > kMaxSteps) {
         Measured skipped;
         skipped.skipped = true;
+        skipped.wall_seconds = std::nan("");
         skipped.dt = built.time_step;
         skipped.steps = std::llround(planned);
         skipped.particles = built.particles.size();
@@ -640,6 +641,8 @@ StudyResult run_study(const StudyOptions& options) {
         row.reference = reference_of(scene, knob, spec.reference);
         if (m.skipped) {
           row.error = std::nan("");  // nothing was measured: no field, no bed, no spin
+          row.metric = fmt::format("not run: {} steps of {:.3g} s, over the study's {:g}", m.steps,
+                                   m.dt, kMaxSteps);
         } else if (knob == "skin") {
           // The skin changes the work, never the result: against the default skin's run, to the
           // bit where the backend is deterministic.
@@ -661,11 +664,7 @@ StudyResult run_study(const StudyOptions& options) {
           row.error = ks.setting.key() == spec.reference.key() ? std::nan("")
                                                                : scene_error(scene, m, *reference);
         }
-        if (m.skipped) {
-          row.metric = fmt::format("not run: {} steps of {:.3g} s, over the study's {:g}", m.steps,
-                                   m.dt, kMaxSteps);
-        }
-        row.wall_seconds = m.skipped ? std::nan("") : m.wall_seconds;
+        row.wall_seconds = m.wall_seconds;
         row.simulated_seconds = m.simulated_seconds;
         row.steps = m.steps;
         row.particles = m.particles;

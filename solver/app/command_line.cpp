@@ -43,6 +43,10 @@ const std::pair<const char*, const char*> kSynopses[] = {
     {"shape", "talus shape A"},
     {"help", "talus help | --help | -h | COMMAND --help"}};
 
+// The values of --backend (run, validate, accuracy).
+const std::pair<const char*, Backend> kBackends[] = {
+    {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
+
 // The most host threads --threads takes: beyond any machine's cores, below what makes starting
 // them fail (a billion threads' stacks are more than any memory).
 constexpr int kMaxThreads = 1024;
@@ -101,8 +105,6 @@ void refuse_extras(const CLI::App* app, const std::string& command, const char* 
 RunArguments run_arguments(const CLI::App* app, const RunText& t) {
   static const std::pair<const char*, SolverKind> kSolvers[] = {
       {"production", SolverKind::production}, {"reference", SolverKind::reference}};
-  static const std::pair<const char*, Backend> kBackends[] = {
-      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
   static const std::pair<const char*, Precision> kPrecisions[] = {{"double", Precision::float64},
                                                                   {"float", Precision::float32}};
   refuse_extras(app, "run",
@@ -202,8 +204,6 @@ RenderArguments render_arguments(const CLI::App* app, const RenderText& t) {
 }
 
 ValidateArguments validate_arguments(const CLI::App* app, const ValidateText& t) {
-  static const std::pair<const char*, Backend> kBackends[] = {
-      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
   refuse_extras(app, "validate", "--full, --output, --backend, --cases, --quiet");
   const auto given = [&](const char* name) { return app->count(name) > 0; };
   ValidateArguments parsed;
@@ -242,8 +242,6 @@ std::vector<std::string> comma_list(const char* option, const std::string& text)
 }
 
 AccuracyArguments accuracy_arguments(const CLI::App* app, const AccuracyText& t) {
-  static const std::pair<const char*, Backend> kBackends[] = {
-      {"auto", Backend::automatic}, {"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
   refuse_extras(app, "accuracy", "--scenes, --knobs, --quick, --output, --backend, --quiet");
   const auto given = [&](const char* name) { return app->count(name) > 0; };
   AccuracyArguments parsed;
