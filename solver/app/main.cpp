@@ -12,6 +12,10 @@
 #include "solver/app/commands.hpp"
 #include "solver/app/message_text.hpp"
 #include "solver/io/output_files.hpp"
+#include "solver/parallel/decomposed_step.hpp"
+#if TALUS_HAVE_MPI
+#include "solver/parallel/mpi_communicator.hpp"
+#endif
 #include "solver/scene/scene_loader.hpp"
 #include "validation/framework/validation.hpp"
 
@@ -27,6 +31,10 @@ int run(const std::vector<std::string>& args) {
                  "talus: no command given: 'talus run' ('talus --help' lists the "
                  "commands)\n");
   }
+  if (talus::world()->size() > 1 && command.kind != talus::ParsedCommand::run)
+    throw talus::RunError("only 'talus run' runs on several ranks (mpirun -np " +
+                          std::to_string(talus::world()->size()) +
+                          "); run this command in one process");
   std::string json;
   switch (command.kind) {
     case talus::ParsedCommand::help:
@@ -62,8 +70,23 @@ int run(const std::vector<std::string>& args) {
 
 }  // namespace
 
+int run_and_report(const std::vector<std::string>& args);
+
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
+#if TALUS_HAVE_MPI
+  // Started by mpirun: MPI for the run's ranks (docs/parallel.md); rank 0 alone speaks, and every
+  // rank ends the decomposed run before it leaves, whatever went wrong, so that none waits.
+  const talus::MpiSession mpi;
+  talus::set_world(mpi.world());
+  if (mpi.rank() != 0 && !std::freopen("/dev/null", "w", stderr)) return kExitFailure;
+#endif
+  const int status = run_and_report(args);
+  talus::end_decomposed_run(*talus::world());
+  return status;
+}
+
+int run_and_report(const std::vector<std::string>& args) {
   try {
     const int status = run(args);
     if (std::fflush(stdout) != 0) {

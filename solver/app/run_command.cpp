@@ -28,6 +28,7 @@
 #include "solver/io/json.hpp"
 #include "solver/io/output_files.hpp"
 #include "solver/io/run_directory.hpp"
+#include "solver/parallel/decomposed_step.hpp"
 #include "solver/run/production_run.hpp"
 #include "solver/scene/builtin_scene.hpp"
 #include "solver/scene/initial_particles.hpp"
@@ -147,12 +148,23 @@ void time_step_members(const Scene& scene, const TimeStepAdvice& advice, Json& j
   json["time_step_ratio"] = scene.time_step / advice.critical_step;
 }
 
+// A rank's host threads in a decomposed run: --threads, else the cores shared among the ranks.
+int decomposed_threads(const RunArguments& args) {
+  if (args.threads > 0) return args.threads;
+  return std::max(1, host_thread_count(0) / world()->size());
+}
+
 // The production solver on the chosen backend (make_step: empty for the host), from the scene's
 // start or from `resume`; the summary adds wall time per stage, contacts per step and peak
 // memory (and what `extra` adds). A stop signal ends it with RunInterrupted.
 std::string run_production_json(const RunArguments& args, const Scene& scene,
                                 const TimeStepAdvice& advice, StepFactory make_step,
                                 const ResumePoint* resume, const ExtraMembers& extra = {}) {
+  if (world()->rank() != 0) {
+    // Rank 0 runs the runner; this rank serves its step's commands (parallel/decomposed_step.hpp).
+    serve_decomposed_step(scene, decomposed_threads(args), world());
+    return "";
+  }
   ProductionSettings settings;
   settings.make_step = std::move(make_step);
   settings.host_threads = args.threads;
@@ -199,6 +211,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   Json json;
   json["solver"] = "talus";
   json["backend"] = report.backend;
+  json["ranks"] = world()->size();  // MPI ranks the run was decomposed over (docs/parallel.md)
   if (report.host_threads > 0) json["host_threads"] = report.host_threads;
   json["precision"] = to_string(scene.precision);
   json["scene"] = resume ? resume->scene_file : args.scene_path;
@@ -214,6 +227,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   Json& stages = json["stage_seconds"] = Json::object();
   for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;
   stages["output"] = report.output_seconds;
+  if (world()->size() > 1) json["exchange_seconds"] = report.exchange_seconds;
   json["particle_array_bytes"] = report.particle_bytes;
   json["peak_memory_bytes"] = report.peak_memory_bytes;
   json["outputs"] = report.outputs;
@@ -258,6 +272,17 @@ constexpr double kAutoGpuParticles = 50;
 // for it, or for auto where a device is usable and the scene is large enough to gain from it;
 // else the host (empty). `auto` says which it took and why in one line.
 StepFactory production_backend(const RunArguments& args, const Scene& scene) {
+  if (world()->size() > 1) {
+    // Several ranks (mpirun): the host step decomposed over them (docs/parallel.md).
+    if (scene.backend == Backend::cuda)
+      throw RunError(fmt::format(
+          "--backend cuda: a run on several ranks ({} here) runs on the host backend so far; "
+          "run it with --backend cpu (or auto), or on one rank",
+          world()->size()));
+    return [&args](const Scene& s) {
+      return make_decomposed_step(s, decomposed_threads(args), world());
+    };
+  }
   StepFactory make_step;  // empty: the host
   const int host_threads = host_thread_count(args.threads);
 #if TALUS_HAVE_CUDA
@@ -357,9 +382,12 @@ std::string run_json(const RunArguments& given) {
       args.output_root = kBuiltinSceneOutput;
       args.overwrite = true;
     }
-    create_output_directory(args.output_root);
     args.scene_path = args.output_root + "/" + kBuiltinSceneFileName;
-    write_file_atomically(args.scene_path, builtin_scene_text());
+    if (world()->rank() == 0) {
+      create_output_directory(args.output_root);
+      write_file_atomically(args.scene_path, builtin_scene_text());
+    }
+    world()->broadcast(0, 0);  // the other ranks read it once it is written
     if (!args.quiet)
       std::fprintf(stderr,
                    "talus run: no scene given; running the built-in scene (63 dodecahedra poured "
@@ -393,6 +421,8 @@ std::string run_json(const RunArguments& given) {
     return run_production_json(args, scene, advice, production_backend(args, scene), nullptr,
                                extra);
   }
+  if (world()->size() > 1)
+    throw RunError("the reference solver runs in one process; drop mpirun or --solver reference");
   if (args.threads > 0) {
     throw RunError(
         "--threads sets the production solver's host threads; the reference solver "

@@ -13,6 +13,7 @@
 
 #include <limits>
 #include <memory>
+#include <vector>
 
 #include "solver/core/vec3.hpp"
 
@@ -96,6 +97,48 @@ class SlabDomain final : public Domain {
   int axis_, ranks_, rank_;
   double halo_;
 };
+
+// A region cut by recursive coordinate bisection (docs/parallel.md) into `ranks` boxes holding
+// about equal numbers of `points`: the ranks split in two halves (the lower half the smaller),
+// the points at the coordinate along the axis of their widest extent that gives each half its
+// share, and so on down to one rank a box. Every rank builds it from the same points and gets
+// the same cuts, to the bit. sum and max go through `comm` (null: this rank's number alone).
+class Communicator;
+class RcbDomain final : public Domain {
+ public:
+  // Throws std::invalid_argument for a bad rank or rank count.
+  RcbDomain(const std::vector<Vec3d>& points, const Box& region, int ranks, int rank,
+            double halo_width, const Communicator* comm = nullptr);
+  int rank() const override { return rank_; }
+  int ranks() const override { return static_cast<int>(boxes_.size()); }
+  int owner(const Vec3d& x) const override;
+  Box local_box() const override { return boxes_[rank_]; }
+  double halo_width() const override { return halo_; }
+  double sum(double local) const override;
+  double max(double local) const override;
+  // Rank r's box.
+  const Box& box_of(int r) const { return boxes_.at(r); }
+  const Box& region() const { return region_; }
+
+ private:
+  struct Node {
+    int axis = 0;
+    double cut = 0;
+    int below = -1, above = -1;  // children (node indices); -1 -1 for a leaf
+    int rank = -1;               // a leaf's rank
+  };
+  int build(std::vector<Vec3d> points, const Box& box, int first_rank, int ranks);
+
+  Box region_;
+  int rank_;
+  double halo_;
+  const Communicator* comm_;
+  std::vector<Node> nodes_;
+  std::vector<Box> boxes_;
+};
+
+// The squared distance from x to box b (0 inside; infinite faces are never reached).
+double squared_distance(const Box& b, const Vec3d& x);
 
 // The scene's reach: 2 r_max + skin, with the skin as the CUDA step's pair list takes it (the
 // scene's, else a tenth of the largest bounding diameter). m.

@@ -93,6 +93,9 @@ struct ProductionReport {
   // is kept until a particle has moved 0.45 skin or the particles changed).
   long long pair_list_builds = 0;
   std::vector<std::pair<std::string, double>> stage_seconds;  // the plan's stages, in order
+  // A run on several ranks: the most wall-clock seconds a rank spent exchanging particles and
+  // ghosts (and waiting for the others there); 0 in one process.
+  double exchange_seconds = 0;
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end
   long long peak_memory_bytes = 0;  // the process's peak resident set (getrusage)

@@ -21,6 +21,15 @@ bool Feeding::due(double time) const {
 std::vector<ParticleState> Feeding::insert(double time, std::vector<Vec3d> positions,
                                            const std::vector<int>& template_ids,
                                            const Domain& domain) {
+  // This rank's share: every rank runs the same feeders, and each appends what it owns.
+  std::vector<ParticleState> owned;
+  for (const ParticleState& p : insert_all(time, std::move(positions), template_ids))
+    if (domain.owns(p.position)) owned.push_back(p);
+  return owned;
+}
+
+std::vector<ParticleState> Feeding::insert_all(double time, std::vector<Vec3d> positions,
+                                               const std::vector<int>& template_ids) {
   std::vector<ParticleState> added;
   std::vector<double> radii;
   radii.reserve(positions.size());
@@ -34,11 +43,7 @@ std::vector<ParticleState> Feeding::insert(double time, std::vector<Vec3d> posit
     }
     added.insert(added.end(), more.begin(), more.end());
   }
-  // This rank's share: every rank runs the same feeders, and each appends what it owns.
-  std::vector<ParticleState> owned;
-  for (const ParticleState& p : added)
-    if (domain.owns(p.position)) owned.push_back(p);
-  return owned;
+  return added;
 }
 
 std::vector<std::string> Feeding::save() const {

@@ -28,10 +28,13 @@ class Feeding {
 
   // The particles the feeds insert at `time` (feed by feed, in order) among the particles now at
   // `positions` (world, m) with templates `template_ids`, those the local `domain` owns. Both
-  // steps ask due() first, so that a step with nothing due gathers no positions. (Over several
-  // ranks each would need the others' particles near its feed region as well: the halo.)
+  // steps ask due() first, so that a step with nothing due gathers no positions.
   std::vector<ParticleState> insert(double time, std::vector<Vec3d> positions,
                                     const std::vector<int>& template_ids, const Domain& domain);
+  // Every particle the feeds insert at `time` among the particles at `positions` (every rank's:
+  // the decomposed step gathers them), whoever owns it.
+  std::vector<ParticleState> insert_all(double time, std::vector<Vec3d> positions,
+                                        const std::vector<int>& template_ids);
 
   std::vector<std::string> save() const;
   // Throws CheckpointError naming `source` (the checkpoint file) and its section feeds.states

@@ -70,7 +70,10 @@ TALUS_HD inline Vec3<Real> point_velocity(const ParticleView<Real>& p, int i,
 template <class Real>
 TALUS_HD inline void order_pair(const ParticleView<Real>& p, const PairLawTables<Real>& t, int i,
                                 int j, int& ia, int& ib) {
-  const bool swap = t.bodies[p.template_id[i]].sphere && !t.bodies[p.template_id[j]].sphere;
+  // A sphere second; otherwise the lower global id first, so that the pair's arithmetic does not
+  // depend on the particles' order in memory or the ranks they are spread over.
+  const bool si = t.bodies[p.template_id[i]].sphere, sj = t.bodies[p.template_id[j]].sphere;
+  const bool swap = si != sj ? si : p.global_id[j] < p.global_id[i];
   ia = swap ? j : i;
   ib = swap ? i : j;
 }

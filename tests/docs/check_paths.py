@@ -41,6 +41,7 @@ ALLOWED = {
     r"|detections\.csv":
         "what talus validate writes into its output directory (validation/README.md)",
     r"(drum|fill|errors)\.yaml": "the scene file named in examples of error messages",
+    r"mpi\.h": "MPI's header (a system header of Open MPI, docs/parallel.md)",
     r"scenes/grains/missing\.stl": "docs/scenes.md: the missing mesh of an error example",
     r"path\.(obj|stl)|SCENE\.yaml|NAME\.cu": "placeholders for a file the user names",
     r"README\.md: free_fall_drag/(frames|probes\.csv)": "the example run's outputs, as printed",

@@ -145,3 +145,71 @@ domain: {min: [-0.01, -0.01, -0.01], max: [0.11, 0.11, 0.11]}
 
 }  // namespace
 }  // namespace talus
+
+namespace talus {
+namespace {
+
+// Points clustered in a corner of a tall box (a bed at the bottom of a silo): the bisection must
+// follow the particles, not the box.
+std::vector<Vec3d> bed_points(int n, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3d> points;
+  for (int i = 0; i < n; ++i) points.push_back({0.3 * u(random), 0.5 * u(random), 0.1 * u(random)});
+  return points;
+}
+
+TEST(Domain, BisectionSplitsThePointsEvenlyAndOwnsEachOnce) {
+  const std::vector<Vec3d> points = bed_points(1000, 7);
+  for (const int ranks : {1, 2, 3, 4, 7}) {
+    std::vector<int> count(ranks, 0);
+    const RcbDomain d(points, Box(), ranks, 0, 0.01);
+    ASSERT_EQ(d.ranks(), ranks);
+    for (const Vec3d& x : points) {
+      const int r = d.owner(x);
+      ASSERT_GE(r, 0);
+      ASSERT_LT(r, ranks);
+      ++count[r];
+      // The owner's box holds the point, and no other box does.
+      for (int s = 0; s < ranks; ++s) EXPECT_EQ(d.box_of(s).contains(x), s == r);
+    }
+    // Each cut gives each half its share rounded down, so a rank holds 1000 / ranks give or take
+    // one per level of cuts (3 levels for 7 ranks).
+    for (int r = 0; r < ranks; ++r) EXPECT_NEAR(count[r], 1000.0 / ranks, 3.0) << ranks << " ranks";
+  }
+}
+
+TEST(Domain, BisectionIsTheSameOnEveryRankAndCutsTheWidestExtent) {
+  const std::vector<Vec3d> points = bed_points(500, 3);
+  const RcbDomain a(points, Box(), 2, 0, 0.01), b(points, Box(), 2, 1, 0.01);
+  EXPECT_EQ(a.local_box().max.y, b.local_box().min.y);  // y: the widest extent (0.5 m)
+  EXPECT_EQ(a.box_of(1).min.y, b.local_box().min.y);
+  EXPECT_TRUE(std::isinf(a.local_box().min.y));  // all space is owned: the outer faces open
+  EXPECT_TRUE(std::isinf(b.local_box().max.x));
+  for (const Vec3d& x : points) EXPECT_EQ(a.owner(x), b.owner(x));
+}
+
+TEST(Domain, BisectionKeepsTheRegionAndItsOutsideToNone) {
+  const Box region = box({0, 0, 0}, {1, 1, 2});
+  const RcbDomain d({{0.5, 0.5, 0.1}, {0.5, 0.5, 1.9}}, region, 2, 0, 0.01);
+  EXPECT_EQ(d.owner({0.5, 0.5, 2.5}), -1);
+  EXPECT_EQ(d.owner({0.5, 0.5, 0.1}), 0);
+  EXPECT_EQ(d.owner({0.5, 0.5, 1.9}), 1);
+  EXPECT_EQ(d.local_box().min.z, 0);  // the region's faces bound the boxes
+  EXPECT_EQ(d.box_of(1).max.z, 2);
+  // Without points the cut halves the region.
+  const RcbDomain empty({}, region, 2, 1, 0.01);
+  EXPECT_EQ(empty.local_box().min.z, 1);
+  EXPECT_THROW(RcbDomain({}, region, 2, 2, 0.01), std::invalid_argument);
+}
+
+TEST(Domain, SquaredDistanceToABox) {
+  const Box b = box({0, 0, 0}, {1, 1, 1});
+  EXPECT_EQ(squared_distance(b, {0.5, 0.5, 0.5}), 0);
+  EXPECT_DOUBLE_EQ(squared_distance(b, {2, 0.5, 0.5}), 1);
+  EXPECT_DOUBLE_EQ(squared_distance(b, {-1, -1, 0.5}), 2);
+  EXPECT_EQ(squared_distance(Box(), {1e300, 0, 0}), 0);  // all space
+}
+
+}  // namespace
+}  // namespace talus

@@ -126,7 +126,12 @@ class PairContactStage {
   // imported a reference and is not expired, built at the reference positions, which gives the
   // uninterrupted run's list (so that the particles are renumbered, with `reorder`, at the same
   // steps as in that run); else kept.
-  void update_list(const ParticleView<Real>& p, const Domain& domain = SingleDomain()) {
+  // Decomposed (docs/parallel.md): particles from `owned` on are another rank's ghosts, and a pair
+  // of two ghosts is left out of the list (its owner computes it); -1: every particle is this
+  // rank's.
+  void update_list(const ParticleView<Real>& p, const Domain& domain = SingleDomain(),
+                   int owned = -1) {
+    owned_ = owned;
     const bool rebuild = list_expired(p);
     expired_ = -1;
     if (rebuild) {
@@ -230,8 +235,28 @@ class PairContactStage {
     if constexpr (Law::kTangentialHistory) sort_histories_by_key(contacts_, keys_, histories_);
   }
 
-  // Per-particle sums in pair order (deterministic): each particle's contacts listed in pair
-  // order (serial), then one particle per index (threads) adding them as add_pair_force would.
+  // Whether some particle of [0, owned) has moved 0.45 skin since the list's build (or the
+  // particles changed, or there is no list): the decomposed step's share of the ranks' decision
+  // to rebuild, made before the ghosts are brought up to date.
+  bool moved_beyond_skin(const ParticleView<Real>& p, int owned) const {
+    const std::size_t n = reference_.size() / 3;
+    if (!(skin_ > 0) || !have_reference_ || stale_ || static_cast<std::size_t>(owned) > n)
+      return true;
+    const double limit = 0.45 * double(skin_), limit2 = limit * limit;
+    const Real *x0 = reference_.data(), *y0 = x0 + n, *z0 = y0 + n;
+    const long long moved = parallel_first_failure(threads_, owned, [&](long long i) {
+      const double dx = double(p.position.x[i]) - double(x0[i]);
+      const double dy = double(p.position.y[i]) - double(y0[i]);
+      const double dz = double(p.position.z[i]) - double(z0[i]);
+      return dx * dx + dy * dy + dz * dz > limit2;
+    });
+    return moved < owned;
+  }
+
+  // Per-particle sums (deterministic): each particle's contacts listed (serial), then one
+  // particle per index (threads) adding them as add_pair_force would, in the order of the
+  // partners' global ids, which neither the particles' order in memory nor the ranks they are
+  // spread over change (docs/parallel.md).
   void accumulate(const ParticleView<Real>& p) {
     entry_begin_.assign(p.count + 1, 0);
     for (const PairContactRecord<Real>& c : contacts_) {
@@ -248,6 +273,13 @@ class PairContactStage {
     parallel_for(threads_, p.count, [&](long long index) {
       const int i = static_cast<int>(index);
       if (entry_begin_[i] == entry_begin_[i + 1]) return;
+      const auto partner = [&](int k) {
+        const PairContactRecord<Real>& c = contacts_[k];
+        return p.global_id[c.a == i ? c.b : c.a];
+      };
+      std::sort(entry_contact_.begin() + entry_begin_[i],
+                entry_contact_.begin() + entry_begin_[i + 1],
+                [&](int k, int l) { return partner(k) < partner(l); });
       // add_pair_force's additions for particle i, in its order: f + F_a or f - F_a, and
       // t + ((x_c - x) x (+-F_a) +- couple).
       Vec3<Real> f = p.force.get(i), t;
@@ -354,6 +386,13 @@ class PairContactStage {
     input.count = p.count;
     input.skin = skin_;
     candidates_ = build_candidate_pairs(input, nullptr, Real(0), threads_);
+    if (owned_ >= 0 && owned_ < p.count) {
+      const int owned = owned_;
+      candidates_.erase(
+          std::remove_if(candidates_.begin(), candidates_.end(),
+                         [owned](const ContactPair& c) { return c.a >= owned && c.b >= owned; }),
+          candidates_.end());
+    }
     have_list_ = true;
     ++builds_;
   }
@@ -401,6 +440,7 @@ class PairContactStage {
   bool have_list_ = false;
   bool stale_ = false;  // the particles changed since the last build
   int expired_ = -1;    // list_expired's answer until the next update (-1: not measured)
+  int owned_ = -1;      // update_list's: from it on ghosts (-1: none)
   long long builds_ = 0;
   std::vector<PairContactRecord<Real>> records_, contacts_;
   std::vector<PairKey> keys_;  // sorted

@@ -15,6 +15,20 @@ namespace talus {
 
 namespace {
 
+// 0, 1, ..., n - 1: keep_particles' order that keeps the first n.
+std::vector<int> iota_indices(int n) {
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  return order;
+}
+
+// A history with its key, as the decomposed step sends it (plain bytes).
+template <class Real>
+struct KeyedHistory {
+  PairKey key;
+  ContactHistoryData<Real> history;
+};
+
 double clock_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -81,11 +95,38 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
   global_ids_.resize(count_);
   bind_view();
   for (int i = 0; i < count_; ++i) set_particle(i, initial[i]);
+  owned_ = count_;
   if (plan_.contacts) {
     contacts_ = std::make_unique<PairContactStage<Real>>(scene, bodies_, threads_);
   }
   if (plan_.walls)
     walls_ = std::make_unique<WallContactStage<Real>>(scene, bodies_, threads_, wall_search);
+}
+
+template <class Real>
+HostStep<Real>::HostStep(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm)
+    : HostStep(scene, threads) {
+  if (!comm || comm->size() == 1) return;
+  comm_ = std::move(comm);
+  // Every rank made every initial particle (the same ids); each keeps those its box owns. The
+  // boxes: a bisection of the initial particles (of the region's centre where there are none).
+  std::vector<Vec3d> points;
+  points.reserve(count_);
+  for (int i = 0; i < count_; ++i) points.push_back(Vec3d(view_.position.get(i)));
+  auto rcb =
+      std::make_unique<RcbDomain>(points, scene.domain ? *scene.domain : Box(), comm_->size(),
+                                  comm_->rank(), scene_halo_width(scene), comm_.get());
+  rcb_ = rcb.get();
+  domain_ = std::move(rcb);
+  send_.assign(comm_->size(), {});
+  std::vector<int> mine;
+  for (int i = 0; i < count_; ++i) {
+    const int owner = rcb_->owner(points[i]);
+    // One outside the region stays with rank 0 until the step's end removes it.
+    if (owner == comm_->rank() || (owner < 0 && comm_->rank() == 0)) mine.push_back(i);
+  }
+  keep_particles(mine);
+  changed_ = true;
 }
 
 template <class Real>
@@ -130,11 +171,11 @@ void HostStep<Real>::grow(int count) {
 }
 
 template <class Real>
-void HostStep<Real>::set_particle(int i, const ParticleState& p) {
+void HostStep<Real>::set_particle(int i, const ParticleState& p, long long id) {
   const BodyProperties<Real>& body = bodies_.at(p.template_index);
   template_ids_[i] = p.template_index;
   material_ids_[i] = body.material;
-  global_ids_[i] = next_id_++;
+  global_ids_[i] = id >= 0 ? id : next_id_++;
   view_.position.set(i, Vec3<Real>(p.position));
   view_.velocity.set(i, Vec3<Real>(p.velocity));
   const Quatd q = p.orientation.normalized();
@@ -150,18 +191,40 @@ template <class Real>
 void HostStep<Real>::feed() {
   if (!feeding_.due(time_)) return;
   std::vector<Vec3d> positions;
-  positions.reserve(count_);
-  for (int i = 0; i < count_; ++i) positions.push_back(Vec3d(view_.position.get(i)));
-  const std::vector<ParticleState> added =
-      feeding_.insert(time_, std::move(positions), template_ids_, *domain_);
+  std::vector<ParticleState> added;
+  std::vector<long long> ids;
+  if (comm_) {
+    // Every rank runs the feeds on every rank's particles (the same insertions, the same feed
+    // states), numbers every insertion some rank owns as one process would, and keeps its own.
+    std::vector<int> templates;
+    const double start = clock_seconds();
+    gather_all(positions, templates);
+    exchange_seconds_ += clock_seconds() - start;
+    const std::vector<ParticleState> all =
+        feeding_.insert_all(time_, std::move(positions), templates);
+    for (const ParticleState& p : all) {
+      const int owner = domain_->owner(p.position);
+      if (owner < 0) continue;
+      const long long id = next_id_++;
+      if (owner == comm_->rank()) added.push_back(p), ids.push_back(id);
+    }
+    if (all.empty()) return;
+    changed_ = true;
+    if (count_ > owned_) keep_particles(std::vector<int>(iota_indices(owned_)));  // no ghosts
+  } else {
+    positions.reserve(count_);
+    for (int i = 0; i < count_; ++i) positions.push_back(Vec3d(view_.position.get(i)));
+    added = feeding_.insert(time_, std::move(positions), template_ids_, *domain_);
+  }
   if (added.empty()) return;
   const int first = count_;
   grow(count_ + static_cast<int>(added.size()));
+  owned_ = count_;
   if (contacts_) contacts_->particles_changed();  // the new particles have no candidates yet
   const ParticleView<Real> p = view_;
   for (std::size_t k = 0; k < added.size(); ++k) {
     const int i = first + static_cast<int>(k);
-    set_particle(i, added[k]);
+    set_particle(i, added[k], ids.empty() ? -1 : ids[k]);
     ledger_.fed += particle_energy(view_, bodies_,
                                    scene_.effects.gravity ? &*scene_.effects.gravity : nullptr, i);
     // The first half-step uses the stored forces: the new particle's body forces now (it
@@ -192,9 +255,10 @@ void HostStep<Real>::keep_particles(const std::vector<int>& order) {
   gather(template_ids_);
   gather(material_ids_);
   gather(global_ids_);
-  count_ = static_cast<int>(order.size());
+  count_ = owned_ = static_cast<int>(order.size());  // decomposed: `order` names its own only
   bind_view();
   if (contacts_) contacts_->particles_changed();  // the list names the old indices
+  changed_ = true;
 }
 
 template <class Real>
@@ -212,7 +276,7 @@ void HostStep<Real>::remove_outside() {
   std::vector<int> kept;
   kept.reserve(count_);
   const Vec3d* gravity = scene_.effects.gravity ? &*scene_.effects.gravity : nullptr;
-  for (int i = 0; i < count_; ++i) {
+  for (int i = 0; i < owned_; ++i) {
     const Vec3d x(view_.position.get(i));
     // A non-finite position is no departure: the run's watchdog reports it.
     if (d.owner(x) >= 0 || !is_finite(x.x + x.y + x.z)) {
@@ -221,9 +285,9 @@ void HostStep<Real>::remove_outside() {
       ledger_.removed += particle_energy(view_, bodies_, gravity, i);
     }
   }
-  if (static_cast<int>(kept.size()) == count_) return;
-  removed_ += count_ - static_cast<long long>(kept.size());
-  keep_particles(kept);
+  if (static_cast<int>(kept.size()) == owned_) return;
+  removed_ += owned_ - static_cast<long long>(kept.size());
+  keep_particles(kept);  // the ghosts go too; the next exchange sends them again
 }
 
 template <class Real>
@@ -245,7 +309,11 @@ std::size_t HostStep<Real>::allocated_bytes() const {
 
 template <class Real>
 std::size_t HostStep<Real>::pair_contact_count() const {
-  return contacts_ ? contacts_->contact_count() : 0;
+  if (!contacts_) return 0;
+  if (!comm_) return contacts_->contact_count();
+  std::size_t n = 0;
+  for (const PairContactRecord<Real>& c : contacts_->contacts()) n += attributed(c.a, c.b) ? 1 : 0;
+  return n;
 }
 
 template <class Real>
@@ -310,11 +378,12 @@ void HostStep<Real>::run_force_stages(Real spring_dt) {
         timed(stage, [&] {
           // With `reorder`, the particles are renumbered where the list expires (and only there:
           // a resumed run renumbers at the same steps as the uninterrupted one).
-          if (scene_.reorder.value_or(false) && contacts_->list_expired(p)) {
+          // Decomposed, the ghosts follow the rank's own particles: none are renumbered.
+          if (!comm_ && scene_.reorder.value_or(false) && contacts_->list_expired(p)) {
             reorder_by_cell();
             p = view_;
           }
-          contacts_->update_list(p, *domain_);
+          contacts_->update_list(p, *domain_, comm_ ? owned_ : -1);
         });
         break;
       case Stage::pair_contacts:
@@ -323,13 +392,13 @@ void HostStep<Real>::run_force_stages(Real spring_dt) {
       case Stage::wall_contacts:
         timed(stage, [&] {
           walls_->place(time_);
-          walls_->compute(p, contacts_->tables(), spring_dt);
+          walls_->compute(owned_view(), contacts_->tables(), spring_dt);  // a ghost's: its owner's
         });
         break;
       case Stage::accumulate:
         timed(stage, [&] {
           contacts_->accumulate(p);  // pairs first, then walls, each in order
-          if (walls_) walls_->accumulate(p);
+          if (walls_) walls_->accumulate(owned_view());
         });
         break;
       case Stage::integrate_begin:
@@ -344,6 +413,7 @@ ContactRates HostStep<Real>::contact_rates() const {
   ContactRates r;
   if (contacts_) {
     for (const PairContactRecord<Real>& c : contacts_->contacts()) {
+      if (!attributed(c.a, c.b)) continue;
       r.dissipation += c.dissipation;
       r.spring += c.tangential_energy;
     }
@@ -360,7 +430,18 @@ ContactRates HostStep<Real>::contact_rates() const {
 
 template <class Real>
 void HostStep<Real>::evaluate_forces() {
-  run_force_stages(Real(0));
+  if (comm_) {
+    exchange(true);
+    std::exception_ptr failure;
+    try {
+      run_force_stages(Real(0));
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    agree_on_failure(*comm_, failure);
+  } else {
+    run_force_stages(Real(0));
+  }
   forces_ready_ = true;
   ledger_.start(contact_rates());
 }
@@ -372,31 +453,379 @@ void HostStep<Real>::step() {
   if (!feeding_.empty()) feed();
   const ParticleView<Real> p = view_;
   const BodyProperties<Real>* bodies = bodies_.data();
-  timed(Stage::integrate_begin, [&] {
-    // Every particle is integrated; the lowest failing index is reported (the serial loop's).
-    const long long failed = parallel_first_failure(threads_, count_, [&](long long i) {
-      return !integrate_begin(p, bodies, static_cast<int>(i), dt_);
-    });
-    if (failed < count_) {
-      throw std::runtime_error(
-          scene_.file + ": particle " + std::to_string(global_ids_[failed]) +
-          " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
+  // Decomposed, a stage that fails on some rank fails on every rank, with its message
+  // (agree_on_failure), before the next exchange; one process throws at once.
+  const auto stage = [&](auto&& body) {
+    if (!comm_) return body();
+    std::exception_ptr failure;
+    try {
+      body();
+    } catch (...) {
+      failure = std::current_exception();
     }
+    agree_on_failure(*comm_, failure);
+  };
+  stage([&] {
+    timed(Stage::integrate_begin, [&] {
+      // Every particle of this rank is integrated (its ghosts are their owners' to move); the
+      // lowest failing index is reported (the serial loop's).
+      const long long failed = parallel_first_failure(threads_, owned_, [&](long long i) {
+        return !integrate_begin(p, bodies, static_cast<int>(i), dt_);
+      });
+      if (failed < owned_) {
+        throw std::runtime_error(
+            scene_.file + ": particle " + std::to_string(global_ids_[failed]) +
+            " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
+      }
+    });
   });
   time_ += scene_.time_step;
   ++steps_;
-  run_force_stages(dt_);
-  ledger_.advance(scene_.time_step, contact_rates());
-  const ParticleView<Real> q = view_;  // renumbered by the force stages with `reorder`
-  timed(Stage::integrate_end, [&] {
-    parallel_for(threads_, count_,
-                 [&](long long i) { integrate_end(q, bodies, static_cast<int>(i), dt_); });
+  if (comm_) exchange(false);
+  stage([&] {
+    run_force_stages(dt_);
+    ledger_.advance(scene_.time_step, contact_rates());
+    const ParticleView<Real> q = view_;  // renumbered by the force stages with `reorder`
+    timed(Stage::integrate_end, [&] {
+      parallel_for(threads_, owned_,
+                   [&](long long i) { integrate_end(q, bodies, static_cast<int>(i), dt_); });
+    });
+    if (scene_.domain) remove_outside();
   });
-  if (scene_.domain) remove_outside();
+}
+
+template <class Real>
+ParticleView<Real> HostStep<Real>::owned_view() const {
+  ParticleView<Real> v = view_;
+  v.count = owned_;
+  return v;
+}
+
+template <class Real>
+bool HostStep<Real>::attributed(int a, int b) const {
+  const bool own_a = a < owned_, own_b = b < owned_;
+  if (own_a && own_b) return true;
+  return own_a ? global_ids_[a] < global_ids_[b] : global_ids_[b] < global_ids_[a];
+}
+
+template <class Real>
+void HostStep<Real>::gather_all(std::vector<Vec3d>& positions, std::vector<int>& templates) const {
+  Bytes mine;
+  ByteWriter w(mine);
+  for (int i = 0; i < owned_; ++i) {
+    w.put(Vec3d(view_.position.get(i)));
+    w.put(template_ids_[i]);
+  }
+  positions.clear();
+  templates.clear();
+  for (const Bytes& b : comm_->all_gather(mine)) {
+    ByteReader r(b);
+    while (!r.done()) {
+      positions.push_back(r.get<Vec3d>());
+      templates.push_back(r.get<int>());
+    }
+  }
+}
+
+template <class Real>
+void HostStep<Real>::put_ghost(ByteWriter& w, int i, bool ids) const {
+  if (ids) {
+    w.put(global_ids_[i]);
+    w.put(template_ids_[i]);
+  }
+  w.put(view_.position.get(i));
+  w.put(view_.velocity.get(i));
+  w.put(view_.orientation.get(i));
+  if (view_.angular_velocity.present()) w.put(view_.angular_velocity.get(i));
+}
+
+template <class Real>
+void HostStep<Real>::get_ghost(ByteReader& r, int i, bool ids) {
+  if (ids) {
+    global_ids_[i] = r.get<long long>();
+    template_ids_[i] = r.get<int>();
+    const BodyProperties<Real>& body = bodies_.at(template_ids_[i]);
+    material_ids_[i] = body.material;
+    if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
+  }
+  view_.position.set(i, r.get<Vec3<Real>>());
+  view_.velocity.set(i, r.get<Vec3<Real>>());
+  view_.orientation.set(i, r.get<Quat<Real>>());
+  if (view_.angular_velocity.present()) view_.angular_velocity.set(i, r.get<Vec3<Real>>());
+}
+
+template <class Real>
+void HostStep<Real>::exchange(bool rebuild) {
+  const double start = clock_seconds();
+  // The ranks agree whether to rebuild: some rank's particles changed (feed, removal, arrival) or
+  // moved 0.45 skin since the list's build. Without contacts there are no ghosts, and particles
+  // move to their owners only when some particle has left its box.
+  bool mine = rebuild || changed_;
+  if (!mine && contacts_) mine = contacts_->moved_beyond_skin(view_, owned_);
+  if (!mine && !contacts_) {
+    for (int i = 0; i < owned_ && !mine; ++i)
+      mine = rcb_->owner(Vec3d(view_.position.get(i))) >= 0 &&
+             !rcb_->local_box().contains(Vec3d(view_.position.get(i)));
+  }
+  if (comm_->max(mine ? 1.0 : 0.0) > 0) {
+    migrate();
+    if (contacts_) send_ghosts();
+    changed_ = false;
+  } else if (contacts_) {
+    update_ghosts();
+  }
+  exchange_seconds_ += clock_seconds() - start;
+}
+
+template <class Real>
+void HostStep<Real>::migrate() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  if (count_ > owned_) keep_particles(iota_indices(owned_));  // the ghosts dropped
+  std::vector<Bytes> to(ranks);
+  std::vector<int> kept;
+  std::vector<std::pair<long long, int>> leaving;  // (global id, destination)
+  for (int i = 0; i < owned_; ++i) {
+    const int owner = rcb_->owner(Vec3d(view_.position.get(i)));
+    if (owner < 0 || owner == me) {
+      kept.push_back(i);
+      continue;
+    }
+    leaving.emplace_back(global_ids_[i], owner);
+    ByteWriter w(to[owner]);
+    w.put(global_ids_[i]);
+    w.put(template_ids_[i]);
+    for (const auto& entry : storage_) w.put(entry.second[i]);
+  }
+  // Each leaving particle's histories go with it (its pairs: keys holding its id; its walls: the
+  // key's low id), after the particles: a count, then (key, history) pairs.
+  std::sort(leaving.begin(), leaving.end());
+  const auto destination = [&](long long id) {
+    const auto it = std::lower_bound(leaving.begin(), leaving.end(), std::make_pair(id, -1));
+    return it != leaving.end() && it->first == id ? it->second : -1;
+  };
+  const auto pack_histories = [&](const std::vector<PairKey>& keys,
+                                  const std::vector<ContactHistoryData<Real>>& histories,
+                                  bool pair) {
+    std::vector<std::vector<KeyedHistory<Real>>> out(ranks);
+    for (std::size_t k = 0; k < keys.size() && !leaving.empty(); ++k) {
+      const int d_low = destination(keys[k].low);
+      const int d_high = pair ? destination(keys[k].high) : -1;
+      if (d_low >= 0) out[d_low].push_back({keys[k], histories[k]});
+      if (d_high >= 0 && d_high != d_low) out[d_high].push_back({keys[k], histories[k]});
+    }
+    return out;
+  };
+  using Entries = std::vector<std::vector<KeyedHistory<Real>>>;
+  const Entries pair_out =
+      contacts_ ? pack_histories(contacts_->history_keys(), contacts_->histories(), true)
+                : Entries(ranks);
+  const Entries wall_out =
+      walls_ ? pack_histories(walls_->history_keys(), walls_->histories(), false) : Entries(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    Bytes marked;
+    ByteWriter w(marked);
+    w.put(static_cast<long long>(to[r].size()));
+    marked.insert(marked.end(), to[r].begin(), to[r].end());
+    ByteWriter tail(marked);
+    tail.put_vector(pair_out[r]);
+    tail.put_vector(wall_out[r]);
+    to[r] = std::move(marked);
+  }
+  if (kept.size() != static_cast<std::size_t>(owned_)) keep_particles(kept);
+  const std::vector<Bytes> from = comm_->exchange(to);
+  std::vector<KeyedHistory<Real>> pair_in, wall_in;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    const long long particle_bytes = in.get<long long>();
+    const std::size_t each = sizeof(long long) + sizeof(int) + storage_.size() * sizeof(Real);
+    const long long arriving = particle_bytes / static_cast<long long>(each);
+    if (arriving > 0) {
+      const int first = count_;
+      grow(count_ + static_cast<int>(arriving));
+      owned_ = count_;
+      for (int i = first; i < count_; ++i) {
+        global_ids_[i] = in.get<long long>();
+        template_ids_[i] = in.get<int>();
+        material_ids_[i] = bodies_.at(template_ids_[i]).material;
+        for (auto& entry : storage_) entry.second[i] = in.get<Real>();
+      }
+      changed_ = true;
+      if (contacts_) contacts_->particles_changed();
+    }
+    const auto p = in.get_vector<KeyedHistory<Real>>();
+    const auto w = in.get_vector<KeyedHistory<Real>>();
+    pair_in.insert(pair_in.end(), p.begin(), p.end());
+    wall_in.insert(wall_in.end(), w.begin(), w.end());
+  }
+  // The arrivals' histories joined to the store (a key the store holds already is the same
+  // history: both ranks computed the pair).
+  const auto merge = [](std::vector<PairKey> keys, std::vector<ContactHistoryData<Real>> histories,
+                        std::vector<KeyedHistory<Real>>& in) {
+    std::vector<KeyedHistory<Real>> all;
+    for (std::size_t k = 0; k < keys.size(); ++k) all.push_back({keys[k], histories[k]});
+    all.insert(all.end(), in.begin(), in.end());
+    std::stable_sort(all.begin(), all.end(),
+                     [](const auto& a, const auto& b) { return key_less(a.key, b.key); });
+    all.erase(std::unique(all.begin(), all.end(),
+                          [](const auto& a, const auto& b) { return key_equal(a.key, b.key); }),
+              all.end());
+    keys.clear();
+    histories.clear();
+    for (const auto& e : all) keys.push_back(e.key), histories.push_back(e.history);
+    return std::make_pair(std::move(keys), std::move(histories));
+  };
+  if (contacts_ && !pair_in.empty()) {
+    auto [k, h] = merge(contacts_->history_keys(), contacts_->histories(), pair_in);
+    contacts_->set_histories(std::move(k), std::move(h));
+  }
+  if (walls_ && !wall_in.empty()) {
+    auto [k, h] = merge(walls_->history_keys(), walls_->histories(), wall_in);
+    walls_->set_histories(std::move(k), std::move(h));
+  }
+}
+
+template <class Real>
+void HostStep<Real>::send_ghosts() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  const double h = domain_->halo_width(), h2 = h * h;
+  std::vector<Bytes> to(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    send_[r].clear();
+    if (r == me) continue;
+    const Box& box = rcb_->box_of(r);
+    for (int i = 0; i < owned_; ++i)
+      if (squared_distance(box, Vec3d(view_.position.get(i))) <= h2) send_[r].push_back(i);
+    ByteWriter w(to[r]);
+    for (const int i : send_[r]) put_ghost(w, i, true);
+  }
+  const std::vector<Bytes> from = comm_->exchange(to);
+  std::size_t each = 2 * 3 * sizeof(Real) + 4 * sizeof(Real) + sizeof(long long) + sizeof(int);
+  if (view_.angular_velocity.present()) each += 3 * sizeof(Real);
+  long long arriving = 0;
+  for (int r = 0; r < ranks; ++r)
+    if (r != me) arriving += static_cast<long long>(from[r].size() / each);
+  grow(count_ + static_cast<int>(arriving));  // owned_ stays: these are ghosts
+  int i = owned_;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    while (!in.done()) get_ghost(in, i++, true);
+  }
+  if (contacts_) contacts_->particles_changed();
+}
+
+template <class Real>
+void HostStep<Real>::update_ghosts() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  std::vector<Bytes> to(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    ByteWriter w(to[r]);
+    if (r != me)
+      for (const int i : send_[r]) put_ghost(w, i, false);
+  }
+  const std::vector<Bytes> from = comm_->exchange(to);
+  int i = owned_;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    while (!in.done()) get_ghost(in, i++, false);
+  }
 }
 
 template <class Real>
 StepState<Real> HostStep<Real>::export_state() const {
+  if (comm_) {
+    // Every rank's particles (in global-id order), histories and ledger, on every rank: the state
+    // of one process, which a run on any number of ranks restarts from.
+    StepState<Real> s;
+    Bytes mine;
+    ByteWriter w(mine);
+    w.put(static_cast<long long>(owned_));
+    for (int i = 0; i < owned_; ++i) {
+      w.put(global_ids_[i]);
+      w.put(template_ids_[i]);
+      w.put(material_ids_[i]);
+      for (const auto& entry : storage_) w.put(entry.second[i]);
+    }
+    const auto put_store = [&](const std::vector<PairKey>& keys,
+                               const std::vector<ContactHistoryData<Real>>& histories) {
+      std::vector<KeyedHistory<Real>> all;
+      for (std::size_t k = 0; k < keys.size(); ++k) all.push_back({keys[k], histories[k]});
+      w.put_vector(all);
+    };
+    put_store(contacts_ ? contacts_->history_keys() : std::vector<PairKey>(),
+              contacts_ ? contacts_->histories() : std::vector<ContactHistoryData<Real>>());
+    put_store(walls_ ? walls_->history_keys() : std::vector<PairKey>(),
+              walls_ ? walls_->histories() : std::vector<ContactHistoryData<Real>>());
+    w.put(ledger_);
+    w.put(removed_);
+    struct Row {
+      long long id;
+      int rank, index;
+    };
+    std::vector<Row> rows;
+    const std::vector<Bytes> all = comm_->all_gather(mine);
+    std::vector<std::vector<long long>> ids(all.size());
+    std::vector<std::vector<int>> templates(all.size()), materials(all.size());
+    std::vector<std::vector<std::vector<Real>>> values(all.size());
+    std::vector<KeyedHistory<Real>> pairs, walls;
+    for (std::size_t r = 0; r < all.size(); ++r) {
+      ByteReader in(all[r]);
+      const long long n = in.get<long long>();
+      for (long long i = 0; i < n; ++i) {
+        ids[r].push_back(in.get<long long>());
+        templates[r].push_back(in.get<int>());
+        materials[r].push_back(in.get<int>());
+        values[r].emplace_back();
+        for (std::size_t a = 0; a < storage_.size(); ++a)
+          values[r].back().push_back(in.get<Real>());
+        rows.push_back({ids[r].back(), static_cast<int>(r), static_cast<int>(i)});
+      }
+      const auto p = in.get_vector<KeyedHistory<Real>>();
+      const auto q = in.get_vector<KeyedHistory<Real>>();
+      pairs.insert(pairs.end(), p.begin(), p.end());
+      walls.insert(walls.end(), q.begin(), q.end());
+      const EnergyLedger l = in.get<EnergyLedger>();
+      s.ledger.dissipated += l.dissipated;
+      s.ledger.wall_work += l.wall_work;
+      s.ledger.fed += l.fed;
+      s.ledger.removed += l.removed;
+      s.ledger.dissipation_rate += l.dissipation_rate;
+      s.ledger.wall_power += l.wall_power;
+      s.ledger.spring_energy += l.spring_energy;
+      s.removed += in.get<long long>();
+    }
+    std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
+    s.time = time_;
+    s.steps = steps_;
+    s.forces_ready = forces_ready_;
+    s.count = static_cast<int>(rows.size());
+    for (std::size_t a = 0; a < storage_.size(); ++a) {
+      s.arrays.emplace_back(storage_[a].first, std::vector<Real>());
+      for (const Row& row : rows) s.arrays.back().second.push_back(values[row.rank][row.index][a]);
+    }
+    for (const Row& row : rows) {
+      s.global_ids.push_back(row.id);
+      s.template_ids.push_back(templates[row.rank][row.index]);
+      s.material_ids.push_back(materials[row.rank][row.index]);
+    }
+    s.next_id = next_id_;
+    s.list_stale = true;  // the list is the ranks'; a resumed run builds its own
+    const auto store = [](std::vector<KeyedHistory<Real>>& in, std::vector<PairKey>& keys,
+                          std::vector<ContactHistoryData<Real>>& histories) {
+      std::stable_sort(in.begin(), in.end(),
+                       [](const auto& a, const auto& b) { return key_less(a.key, b.key); });
+      in.erase(std::unique(in.begin(), in.end(),
+                           [](const auto& a, const auto& b) { return key_equal(a.key, b.key); }),
+               in.end());
+      for (const auto& e : in) keys.push_back(e.key), histories.push_back(e.history);
+    };
+    store(pairs, s.pair_keys, s.pair_histories);
+    store(walls, s.wall_keys, s.wall_histories);
+    s.feed_states = feeding_.save();
+    return s;
+  }
   StepState<Real> s;
   s.time = time_;
   s.steps = steps_;
@@ -423,7 +852,9 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   feeding_.restore(s.feed_states, s.source);  // first: it refuses a checkpoint of other feeds
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
   // run with a domain box: less those removed.
-  if ((!feeding_.empty() && s.count > count_) || (scene_.domain && s.count < count_)) grow(s.count);
+  if ((!feeding_.empty() && s.count > count_) || (scene_.domain && s.count < count_) ||
+      (comm_ && s.count != count_))
+    grow(s.count);
   check_state_fits(s, scene_, count_, names);
   // Copied into the arrays in place: view_ keeps pointing at them.
   for (std::size_t k = 0; k < storage_.size(); ++k)
@@ -441,6 +872,25 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   steps_ = s.steps;
   forces_ready_ = s.forces_ready;
   ledger_ = s.ledger;
+  owned_ = count_;
+  if (comm_) {
+    // Every rank read one process's state: the totals stay with rank 0, and each rank keeps the
+    // particles of its box in a bisection of them (whatever the rank count that wrote it).
+    if (comm_->rank() != 0) ledger_ = EnergyLedger(), removed_ = 0;
+    std::vector<Vec3d> points;
+    for (int i = 0; i < count_; ++i) points.push_back(Vec3d(view_.position.get(i)));
+    auto rcb =
+        std::make_unique<RcbDomain>(points, scene_.domain ? *scene_.domain : Box(), comm_->size(),
+                                    comm_->rank(), domain_->halo_width(), comm_.get());
+    std::vector<int> mine;
+    for (int i = 0; i < count_; ++i) {
+      const int owner = rcb->owner(points[i]);
+      if (owner == comm_->rank() || (owner < 0 && comm_->rank() == 0)) mine.push_back(i);
+    }
+    rcb_ = rcb.get();
+    domain_ = std::move(rcb);
+    keep_particles(mine);
+  }
 }
 
 template <class Real>
@@ -532,26 +982,27 @@ double particle_bed_height(const ParticleView<Real>& view,
 
 template <class Real>
 std::vector<TrajectoryRow> HostStep<Real>::trajectory_rows() const {
-  return particle_rows(view_);
+  return particle_rows(owned_view());
 }
 
 template <class Real>
 double HostStep<Real>::kinetic_energy() const {
-  return particle_kinetic_energy(view_, bodies_);
+  return particle_kinetic_energy(owned_view(), bodies_);
 }
 
 template <class Real>
 double HostStep<Real>::bed_height(const Vec3d& gravity) const {
-  return particle_bed_height(view_, bodies_, gravity);
+  return particle_bed_height(owned_view(), bodies_, gravity);
 }
 
 template <class Real>
 EnergyTerms HostStep<Real>::energy() const {
   EnergyTerms terms;
-  particle_energies(view_, bodies_, scene_.effects.gravity ? &*scene_.effects.gravity : nullptr,
-                    terms);
+  particle_energies(owned_view(), bodies_,
+                    scene_.effects.gravity ? &*scene_.effects.gravity : nullptr, terms);
   if (contacts_) {
     for (const PairContactRecord<Real>& c : contacts_->contacts()) {
+      if (!attributed(c.a, c.b)) continue;
       terms.elastic_normal += c.normal_energy;
       terms.elastic_tangential += c.tangential_energy;
     }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/domain/communicator.hpp"
 #include "solver/domain/domain.hpp"
 #include "solver/io/trajectory.hpp"
 #include "solver/scene/feeder.hpp"
@@ -71,6 +72,15 @@ class HostStep {
   // benchmarks). Throws StepNotSupported naming the scene item for what the production step
   // cannot simulate.
   explicit HostStep(const Scene& scene, int threads = 0, WallSearch wall_search = WallSearch::grid);
+  // Decomposed over the ranks of `comm` (docs/parallel.md) when it has more than one: this rank
+  // keeps the particles its box of a recursive bisection of the initial particles owns (an
+  // RcbDomain, which domain() then is) and sees the others' within the halo as ghosts, appended
+  // after its own; step(), evaluate_forces(), export_state() and import_state() are then
+  // collectives (every rank calls them in turn), and what the accessors report is this rank's
+  // share (its particles, the contacts attributed to it: both particles its own, or its own the
+  // lower global id). The trajectories are those of one process to the bit, whatever the rank
+  // count: each particle's contacts are summed in the order of their partners' global ids.
+  HostStep(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm);
   ~HostStep();
   HostStep(const HostStep&) = delete;
   HostStep& operator=(const HostStep&) = delete;
@@ -110,7 +120,11 @@ class HostStep {
   long long steps() const { return steps_; }
   const StepPlan& plan() const { return plan_; }
   int threads() const { return threads_; }
-  int particle_count() const { return count_; }
+  int particle_count() const { return owned_; }  // this rank's (ghosts are not counted)
+  // Whether the step is decomposed over several ranks.
+  bool decomposed() const { return comm_ != nullptr; }
+  const Communicator* communicator() const { return comm_.get(); }
+  int ghost_count() const { return count_ - owned_; }
   const ParticleView<Real>& particles() const { return view_; }
   const std::vector<BodyProperties<Real>>& bodies() const { return bodies_; }
 
@@ -119,6 +133,9 @@ class HostStep {
   std::size_t allocated_bytes() const;
   // Wall-clock seconds spent in each stage so far, indexed by Stage.
   const StageSeconds& stage_seconds() const { return stage_seconds_; }
+  // Decomposed: wall-clock seconds in the exchanges between ranks so far (migration, ghosts, the
+  // feeds' gathering), waiting for the other ranks included.
+  double exchange_seconds() const { return exchange_seconds_; }
   // Touching particle pairs at the last force evaluation (0 without contacts).
   std::size_t pair_contact_count() const;
   // Builds of the pair list so far (contact_stage.hpp: kept until a particle has moved 0.45 skin
@@ -141,11 +158,29 @@ class HostStep {
 
  private:
   Real* allocate(const std::string& name);
-  void bind_view();                                  // view_'s pointers into the arrays
-  void grow(int count);                              // every particle array to `count`
-  void set_particle(int i, const ParticleState& p);  // index i's state and ids from p
-  void feed();                                       // the feeds' insertions at time_
+  void bind_view();      // view_'s pointers into the arrays
+  void grow(int count);  // every particle array to `count`
+  // Index i's state and ids from p, with global id `id` (-1: the next one).
+  void set_particle(int i, const ParticleState& p, long long id = -1);
+  void feed();  // the feeds' insertions at time_
   void run_force_stages(Real spring_dt);
+  // Decomposed: the rank's ghosts brought up to date after the particles moved. Where any
+  // rank's pair list expired or its particles changed (`rebuild`, or the ranks agree it is due):
+  // the ghosts dropped, the particles that left the box sent to their owners with their
+  // histories, and the ghosts chosen and sent again; otherwise the same ghosts' new states.
+  void exchange(bool rebuild);
+  void migrate();
+  void send_ghosts();
+  void update_ghosts();
+  // Ghost data: the states the pair stage reads of a partner, written and read in one order.
+  void put_ghost(ByteWriter& w, int i, bool ids) const;
+  void get_ghost(ByteReader& r, int i, bool ids);
+  // Whether the contact is this rank's to count (both particles its own, or its own the lower id).
+  bool attributed(int a, int b) const;
+  // The particle view of this rank's own particles (the ghosts follow them).
+  ParticleView<Real> owned_view() const;
+  // Decomposed: every rank's particle positions and templates, for the feeds.
+  void gather_all(std::vector<Vec3d>& positions, std::vector<int>& templates) const;
   // With `reorder`, where the pair list expires: the particles renumbered by cell
   // (neighbor/contact_pairs.hpp, cell_order).
   void reorder_by_cell();
@@ -180,6 +215,14 @@ class HostStep {
   long long steps_ = 0;
   bool forces_ready_ = false;
   EnergyLedger ledger_;
+  // Decomposition (null comm_: one process). Particles [0, owned_) are this rank's, the rest
+  // ghosts; send_[r]: the indices whose states rank r holds as ghosts, in the order it holds them.
+  std::shared_ptr<const Communicator> comm_;
+  const RcbDomain* rcb_ = nullptr;  // domain_ when decomposed
+  int owned_ = 0;
+  bool changed_ = false;  // this rank's particles changed since the last exchange
+  std::vector<std::vector<int>> send_;
+  double exchange_seconds_ = 0;
 };
 
 }  // namespace talus

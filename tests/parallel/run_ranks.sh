@@ -1,0 +1,103 @@
+#!/bin/sh
+# ctest `parallel_ranks` (label parallel): `mpirun -np N talus run` on the host backend
+# (docs/parallel.md) gives the trajectories of one process to the bit, whatever N:
+#  - the drum (tests/parallel/scenes/drum.yaml: particles cross the ranks' boxes back and forth,
+#    a moving wall, friction histories) on 1, 2 and 3 ranks: every trajectory frame identical,
+#    byte for byte; the probes' contact counts identical and their energies and wall forces
+#    within 1e-9 of each column's largest magnitude (the same terms summed over ranks in another
+#    order differ by rounding only: about 1e-14 relative here; a contact missed or counted twice
+#    changes them by more than 1e-4);
+#  - the silo (scenes/silo.yaml: a feed whose region the ranks' boxes cut, removal below the
+#    outlet) on 1 and 3 ranks: the frames identical, and the particles and removals counted alike;
+#  - a restart from 2 ranks into 3: the drum stopped at 0.1 s on 2 ranks and resumed on 3 from
+#    its checkpoint at 0.075 s gives the frames of the uninterrupted one-process run;
+#  - any command but run on several ranks is refused with a message.
+# Skipped (exit 77) where mpirun is missing or talus was built without MPI.
+# usage: run_ranks.sh TALUS SOURCE_DIR WORK_DIR
+set -u
+talus=$1 source=$2 work=$3
+scenes=$source/tests/parallel/scenes
+rm -rf "$work" && mkdir -p "$work" || exit 1
+fail() { echo "parallel_ranks: $*"; exit 1; }
+command -v mpirun > /dev/null || { echo "SKIPPED: no mpirun (scripts/setup installs Open MPI)"; exit 77; }
+# Open MPI refuses root without these; CI's two cores run three ranks oversubscribed.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# A rank waiting for another yields its core rather than spin (more ranks than cores).
+export OMPI_MCA_mpi_yield_when_idle=1
+mpi() { n=$1; shift; mpirun -np "$n" "$@"; }
+
+# A decomposed run needs a talus built with MPI: one without it runs each rank alone, and its
+# ranks would all write the outputs; the summary says how many ranks ran.
+mpi 2 "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --end 0.0001 \
+  --output "$work/probe" > "$work/probe.json" 2> "$work/probe.err"
+if ! grep -q '"ranks": 2' "$work/probe.json"; then
+  echo "SKIPPED: talus was built without MPI (no \"ranks\": 2 in its summary)"; exit 77
+fi
+
+same_frames() {  # DIR_A DIR_B: every trajectory frame of A in B, byte for byte
+  count=0
+  for f in "$1"/frames/trajectory_*.csv; do
+    cmp -s "$f" "$2/frames/$(basename "$f")" || fail "$2: $(basename "$f") differs from $1's"
+    count=$((count + 1))
+  done
+  test "$count" -ge 5 || fail "$1: only $count frames"
+  echo "parallel_ranks: $2: $count frames identical to $1's"
+}
+close_probes() {  # A B: contact counts equal, the rest within 1e-9 of each column's scale
+  /usr/bin/awk -F, -v a="$1" -v b="$2" '
+    FNR == 1 { if (NR == 1) header = $0; else if ($0 != header) bad = "headers differ"; next }
+    NR == FNR { for (c = 1; c <= NF; ++c) v[FNR, c] = $c; rows = FNR; next }
+    {
+      if (FNR > rows) { bad = "more rows"; exit }
+      for (c = 1; c <= NF; ++c) {
+        d = $c - v[FNR, c]; if (d < 0) d = -d
+        m = $c < 0 ? -$c : $c; if (m > scale[c]) scale[c] = m
+        if (d > diff[c]) diff[c] = d
+      }
+      n = NF
+    }
+    END {
+      if (bad != "") { print bad; exit 1 }
+      split(header, name, ",")
+      for (c = 1; c <= n; ++c) {
+        limit = name[c] ~ /contact_count/ ? 0 : 1e-9 * scale[c]
+        if (diff[c] > limit) { printf "%s: off by %g (limit %g)\n", name[c], diff[c], limit; exit 1 }
+      }
+    }' "$1" "$2" || fail "$2 against $1"
+}
+
+"$talus" run "$scenes/drum.yaml" --threads 1 --quiet --output "$work/drum-1" \
+  > "$work/drum-1.json" || fail "the one-process drum exited with $?"
+for n in 2 3; do
+  mpi "$n" "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --output "$work/drum-$n" \
+    > "$work/drum-$n.json" 2> "$work/drum-$n.err" || fail "the drum on $n ranks exited with $?: $(cat "$work/drum-$n.err")"
+  grep -q "\"ranks\": $n" "$work/drum-$n.json" || fail "the drum's summary does not say $n ranks"
+  same_frames "$work/drum-1" "$work/drum-$n"
+  close_probes "$work/drum-1/probes.csv" "$work/drum-$n/probes.csv"
+done
+
+"$talus" run "$scenes/silo.yaml" --threads 1 --quiet --output "$work/silo-1" \
+  > "$work/silo-1.json" || fail "the one-process silo exited with $?"
+mpi 3 "$talus" run "$scenes/silo.yaml" --threads 1 --quiet --output "$work/silo-3" \
+  > "$work/silo-3.json" 2> "$work/silo-3.err" || fail "the silo on 3 ranks exited with $?: $(cat "$work/silo-3.err")"
+same_frames "$work/silo-1" "$work/silo-3"
+for key in particles removed_particles; do
+  one=$(grep "\"$key\"" "$work/silo-1.json") three=$(grep "\"$key\"" "$work/silo-3.json")
+  test "$one" = "$three" || fail "silo: $one on one process, $three on 3 ranks"
+done
+grep -q '"removed_particles": [1-9]' "$work/silo-1.json" || fail "silo: no particle removed"
+
+mpi 2 "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --end 0.1 \
+  --output "$work/restart" > "$work/restart-2.json" 2> "$work/restart-2.err" ||
+  fail "the drum to 0.1 s on 2 ranks exited with $?: $(cat "$work/restart-2.err")"
+mpi 3 "$talus" run --resume "$work/restart/checkpoints" --threads 1 --quiet \
+  > "$work/restart-3.json" 2> "$work/restart-3.err" ||
+  fail "the resumed drum on 3 ranks exited with $?: $(cat "$work/restart-3.err")"
+grep -q '"ranks": 3' "$work/restart-3.json" || fail "the resumed run does not say 3 ranks"
+same_frames "$work/drum-1" "$work/restart"
+
+mpi 2 "$talus" shape cube:0.01 > "$work/shape.out" 2> "$work/shape.err" &&
+  fail "talus shape on 2 ranks was not refused"
+grep -q "only 'talus run' runs on several ranks" "$work/shape.err" ||
+  fail "talus shape on 2 ranks: $(cat "$work/shape.err")"
+echo "parallel_ranks: passed"
