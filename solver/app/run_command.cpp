@@ -227,7 +227,10 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   Json& stages = json["stage_seconds"] = Json::object();
   for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;
   stages["output"] = report.output_seconds;
-  if (world()->size() > 1) json["exchange_seconds"] = report.exchange_seconds;
+  if (world()->size() > 1) {
+    json["exchange_seconds"] = report.exchange_seconds;
+    json["rebalances"] = report.rebalances;
+  }
   json["particle_array_bytes"] = report.particle_bytes;
   json["peak_memory_bytes"] = report.peak_memory_bytes;
   json["outputs"] = report.outputs;

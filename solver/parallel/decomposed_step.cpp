@@ -34,6 +34,7 @@ enum Command : int {
   kSave,
   kRestore,
   kExchangeSeconds,
+  kRebalances,
 };
 
 bool ended = false;  // this process has sent (rank 0) or received the end of the run
@@ -160,6 +161,9 @@ class Decomposed {
       case kExchangeSeconds:
         a.numbers = {c.max(step_.exchange_seconds())};
         break;
+      case kRebalances:
+        a.numbers = {double(step_.rebalances())};  // the same on every rank
+        break;
       case kRestore:
         step_.import_state(get_step_state<Real>(read_checkpoint(text)));
         break;
@@ -213,6 +217,7 @@ class DecomposedStep final : public AnyStep {
   const StageSeconds& stage_seconds() const override { return d_.step().stage_seconds(); }
   std::size_t bytes() const override { return number(kBytes); }
   double exchange_seconds() const override { return call(kExchangeSeconds).numbers.at(0); }
+  long long rebalances() const override { return number(kRebalances); }
   void save_state(Checkpoint& checkpoint) const override { call(kSave, 0, "", &checkpoint); }
   void restore_state(const Checkpoint& checkpoint) override {
     call(kRestore, 0, checkpoint.path());

@@ -302,11 +302,16 @@ struct Scene {
   SourceRef domain_source;
   // Particles renumbered in the order of their grid cells (a Z-order curve) at every build of the
   // pair list (`reorder`): neighbours then sit near each other in memory. The physics is
-  // the same; the sums' order, and so the last bits, are not. Not given: on the CUDA backend
-  // (6 % off the 1e6 bed's step, 23 % when its particles are numbered at random), off on the
-  // host, which gained nothing at 27,000 particles when it renumbered at every step
-  // (benchmarks/README.md).
+  // the same; on the CUDA backend the sums' order, and so the last bits, are not (the host sums
+  // each particle's contacts in its partners' id order, whatever the order in memory). Not given:
+  // on the CUDA backend (6 % off the 1e6 bed's step, 23 % when its particles are numbered at
+  // random), off on the host, which gained nothing at 27,000 particles when it renumbered at every
+  // step (benchmarks/README.md).
   std::optional<bool> reorder;
+  // A run on several ranks (docs/parallel.md): where the most particles a rank holds exceed the
+  // mean over the ranks by this ratio at a rebuild of the pair list, the boxes are cut again from
+  // every particle (`decomposition: {rebalance: R}`). One process ignores it.
+  double rebalance = 1.25;
   std::vector<Material> materials;
   std::vector<MaterialPair> material_pairs;
   std::vector<ParticleTemplate> templates;

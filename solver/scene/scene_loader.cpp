@@ -21,9 +21,9 @@ namespace talus {
 namespace {
 
 const std::vector<std::string> kTopLevelKeys = {
-    "time",          "seed",      "backend", "precision", "skin",
-    "deterministic", "reorder",   "domain",  "materials", "material_pairs",
-    "templates",     "particles", "walls",   "effects",   "outputs"};
+    "time",    "seed",    "backend",   "precision",      "skin",      "deterministic",
+    "reorder", "domain",  "materials", "material_pairs", "templates", "particles",
+    "walls",   "effects", "outputs",   "decomposition"};
 
 const std::string kTimeStep = "a positive number in s, or auto";
 
@@ -401,6 +401,14 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name,
   scene.effects.feed = !scene.feeds.empty();
   if (auto domain = root.find("domain")) parse_domain(*domain, scene);
   if (auto reorder = root.find("reorder")) scene.reorder = reorder->boolean();
+  if (auto decomposition = root.find("decomposition")) {
+    decomposition->keys({"rebalance"}, "decomposition: {rebalance: R}, R >= 1");
+    if (auto rebalance = decomposition->find("rebalance"))
+      scene.rebalance = rebalance->number(
+          "a ratio >= 1 (the most particles on a rank over the "
+          "mean at which the ranks' boxes are cut again)",
+          [](double r) { return r >= 1; });
+  }
   if (auto outputs = root.find("outputs")) parse_outputs(*outputs, scene);
   if (scene.time_step_auto) resolve_auto_step(scene);
   return scene;

@@ -9,6 +9,7 @@
 #    changes them by more than 1e-4);
 #  - the silo (scenes/silo.yaml: a feed whose region the ranks' boxes cut, removal below the
 #    outlet) on 1 and 3 ranks: the frames identical, and the particles and removals counted alike;
+#    the boxes were cut again (rebalanced) as the particles gathered at the bottom;
 #  - a restart from 2 ranks into 3: the drum stopped at 0.1 s on 2 ranks and resumed on 3 from
 #    its checkpoint at 0.075 s gives the frames of the uninterrupted one-process run;
 #  - any command but run on several ranks is refused with a message.
@@ -86,6 +87,8 @@ for key in particles removed_particles; do
   test "$one" = "$three" || fail "silo: $one on one process, $three on 3 ranks"
 done
 grep -q '"removed_particles": [1-9]' "$work/silo-1.json" || fail "silo: no particle removed"
+# The pour collapses to the bottom: the boxes must have been cut again (Scene::rebalance, 1.25).
+grep -q '"rebalances": [1-9]' "$work/silo-3.json" || fail "silo: the boxes were never cut again"
 
 mpi 2 "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --end 0.1 \
   --output "$work/restart" > "$work/restart-2.json" 2> "$work/restart-2.err" ||

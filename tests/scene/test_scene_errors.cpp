@@ -70,7 +70,7 @@ TEST(SceneErrors, UnknownKeyListsTheAllowedKeysAndTheLikelyOne) {
                "errors.yaml:2:1: sed: unknown key; expected one of time, seed, backend, precision, "
                "skin, deterministic, reorder, domain, materials, material_pairs, templates, "
                "particles, walls, "
-               "effects, outputs (did you mean 'seed'?)");
+               "effects, outputs, decomposition (did you mean 'seed'?)");
   EXPECT_STREQ(error_with("seed: 3", "seed: 3\nseed: 4").what(),
                "errors.yaml:3:1: seed: duplicate key; first given on line 2");
 }
@@ -273,12 +273,12 @@ TEST(SceneErrors, EmptyOrNonMapDocument) {
             "expected a scene: a map with keys time, seed, backend, precision, skin, "
             "deterministic, reorder, domain, materials, material_pairs, templates, particles, "
             "walls, effects, "
-            "outputs, got an empty file");
+            "outputs, decomposition, got an empty file");
   EXPECT_STREQ(scene_error("- 1\n- 2\n").what(),
                "errors.yaml:1:1: expected a scene: a map with keys time, seed, backend, precision, "
                "skin, deterministic, reorder, domain, materials, material_pairs, templates, "
                "particles, walls, "
-               "effects, outputs, got [1, 2]");
+               "effects, outputs, decomposition, got [1, 2]");
 }
 
 }  // namespace

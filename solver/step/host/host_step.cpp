@@ -568,6 +568,19 @@ void HostStep<Real>::exchange(bool rebuild) {
              !rcb_->local_box().contains(Vec3d(view_.position.get(i)));
   }
   if (comm_->max(mine ? 1.0 : 0.0) > 0) {
+    // The boxes cut again from every particle where one rank holds too many (a pour collapsing
+    // to the bottom of a silo): `decomposition: {rebalance: R}`.
+    const double most = comm_->max(double(owned_)), total = comm_->sum(double(owned_));
+    if (total > 0 && most > scene_.rebalance * total / comm_->size()) {
+      std::vector<Vec3d> points;
+      std::vector<int> templates;
+      gather_all(points, templates);
+      auto rcb = std::make_unique<RcbDomain>(points, rcb_->region(), comm_->size(), comm_->rank(),
+                                             domain_->halo_width(), comm_.get());
+      rcb_ = rcb.get();
+      domain_ = std::move(rcb);
+      ++rebalances_;
+    }
     migrate();
     if (contacts_) send_ghosts();
     changed_ = false;

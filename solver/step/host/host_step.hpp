@@ -136,6 +136,8 @@ class HostStep {
   // Decomposed: wall-clock seconds in the exchanges between ranks so far (migration, ghosts, the
   // feeds' gathering), waiting for the other ranks included.
   double exchange_seconds() const { return exchange_seconds_; }
+  // Decomposed: how many times the boxes were cut again (Scene::rebalance).
+  long long rebalances() const { return rebalances_; }
   // Touching particle pairs at the last force evaluation (0 without contacts).
   std::size_t pair_contact_count() const;
   // Builds of the pair list so far (contact_stage.hpp: kept until a particle has moved 0.45 skin
@@ -223,6 +225,7 @@ class HostStep {
   bool changed_ = false;  // this rank's particles changed since the last exchange
   std::vector<std::vector<int>> send_;
   double exchange_seconds_ = 0;
+  long long rebalances_ = 0;
 };
 
 }  // namespace talus
