@@ -2,9 +2,12 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace talus {
 
@@ -25,6 +28,25 @@ int count_of(std::size_t bytes) {
   return static_cast<int>(bytes);
 }
 
+// Waits for a nonblocking collective: tests it in a loop for about 20 microseconds (a rank of its
+// own core gets an answer that fast when the others are ready), then sleeps between tests, 10 to
+// 200 microseconds, so that a rank waiting for a slower one gives its core away. Open MPI's
+// blocking collectives spin instead: with more ranks than cores (CI's two cores running three
+// ranks, or a busy machine) a spinning rank takes the core the others need, and a step of
+// milliseconds took seconds.
+void wait(MPI_Request& request, const char* call) {
+  int done = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto pause = std::chrono::microseconds(10);
+  for (;;) {
+    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), call);
+    if (done) return;
+    if (std::chrono::steady_clock::now() - start < std::chrono::microseconds(20)) continue;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(200));
+  }
+}
+
 class MpiCommunicator final : public Communicator {
  public:
   MpiCommunicator() {
@@ -33,27 +55,17 @@ class MpiCommunicator final : public Communicator {
   }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
-  double sum(double local) const override {
-    double out = 0;
-    check(MPI_Allreduce(&local, &out, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
-    return out;
-  }
-  double max(double local) const override {
-    double out = 0;
-    check(MPI_Allreduce(&local, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
-    return out;
-  }
-  long long sum(long long local) const override {
-    long long out = 0;
-    check(MPI_Allreduce(&local, &out, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
-    return out;
-  }
+  double sum(double local) const override { return reduce(local, MPI_DOUBLE, MPI_SUM); }
+  double max(double local) const override { return reduce(local, MPI_DOUBLE, MPI_MAX); }
+  long long sum(long long local) const override { return reduce(local, MPI_LONG_LONG, MPI_SUM); }
   std::vector<Bytes> exchange(const std::vector<Bytes>& to) const override {
     std::vector<int> send_counts(size_), recv_counts(size_), send_at(size_), recv_at(size_);
     for (int r = 0; r < size_; ++r) send_counts[r] = count_of(to.at(r).size());
-    check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT,
-                       MPI_COMM_WORLD),
-          "MPI_Alltoall");
+    MPI_Request request;
+    check(MPI_Ialltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT,
+                        MPI_COMM_WORLD, &request),
+          "MPI_Ialltoall");
+    wait(request, "MPI_Ialltoall");
     std::size_t send_total = 0, recv_total = 0;
     for (int r = 0; r < size_; ++r) {
       send_at[r] = count_of(send_total);
@@ -64,9 +76,10 @@ class MpiCommunicator final : public Communicator {
     Bytes send(send_total + 1), recv(recv_total + 1);  // + 1: never a null buffer
     for (int r = 0; r < size_; ++r)
       std::copy(to[r].begin(), to[r].end(), send.begin() + send_at[r]);
-    check(MPI_Alltoallv(send.data(), send_counts.data(), send_at.data(), MPI_BYTE, recv.data(),
-                        recv_counts.data(), recv_at.data(), MPI_BYTE, MPI_COMM_WORLD),
-          "MPI_Alltoallv");
+    check(MPI_Ialltoallv(send.data(), send_counts.data(), send_at.data(), MPI_BYTE, recv.data(),
+                         recv_counts.data(), recv_at.data(), MPI_BYTE, MPI_COMM_WORLD, &request),
+          "MPI_Ialltoallv");
+    wait(request, "MPI_Ialltoallv");
     std::vector<Bytes> from(size_);
     for (int r = 0; r < size_; ++r)
       from[r].assign(recv.begin() + recv_at[r], recv.begin() + recv_at[r] + recv_counts[r]);
@@ -75,16 +88,19 @@ class MpiCommunicator final : public Communicator {
   std::vector<Bytes> all_gather(const Bytes& mine) const override {
     const int count = count_of(mine.size());
     std::vector<int> counts(size_), at(size_);
-    check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD),
-          "MPI_Allgather");
+    MPI_Request request;
+    check(MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request),
+          "MPI_Iallgather");
+    wait(request, "MPI_Iallgather");
     std::size_t total = 0;
     for (int r = 0; r < size_; ++r) at[r] = count_of(total), total += counts[r];
     Bytes all(total + 1);
     Bytes send(mine);
     send.push_back(0);
-    check(MPI_Allgatherv(send.data(), count, MPI_BYTE, all.data(), counts.data(), at.data(),
-                         MPI_BYTE, MPI_COMM_WORLD),
-          "MPI_Allgatherv");
+    check(MPI_Iallgatherv(send.data(), count, MPI_BYTE, all.data(), counts.data(), at.data(),
+                          MPI_BYTE, MPI_COMM_WORLD, &request),
+          "MPI_Iallgatherv");
+    wait(request, "MPI_Iallgatherv");
     std::vector<Bytes> out(size_);
     for (int r = 0; r < size_; ++r)
       out[r].assign(all.begin() + at[r], all.begin() + at[r] + counts[r]);
@@ -92,19 +108,33 @@ class MpiCommunicator final : public Communicator {
   }
   void broadcast(Bytes& bytes, int root) const override {
     long long n = static_cast<long long>(bytes.size());
-    check(MPI_Bcast(&n, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD), "MPI_Bcast");
+    MPI_Request request;
+    check(MPI_Ibcast(&n, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+    wait(request, "MPI_Ibcast");
     bytes.resize(static_cast<std::size_t>(n) + 1);
-    check(MPI_Bcast(bytes.data(), count_of(static_cast<std::size_t>(n)), MPI_BYTE, root,
-                    MPI_COMM_WORLD),
-          "MPI_Bcast");
+    check(MPI_Ibcast(bytes.data(), count_of(static_cast<std::size_t>(n)), MPI_BYTE, root,
+                     MPI_COMM_WORLD, &request),
+          "MPI_Ibcast");
+    wait(request, "MPI_Ibcast");
     bytes.resize(static_cast<std::size_t>(n));
   }
   int broadcast(int value, int root) const override {
-    check(MPI_Bcast(&value, 1, MPI_INT, root, MPI_COMM_WORLD), "MPI_Bcast");
+    MPI_Request request;
+    check(MPI_Ibcast(&value, 1, MPI_INT, root, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+    wait(request, "MPI_Ibcast");
     return value;
   }
 
  private:
+  template <class T>
+  static T reduce(T local, MPI_Datatype type, MPI_Op op) {
+    T out{};
+    MPI_Request request;
+    check(MPI_Iallreduce(&local, &out, 1, type, op, MPI_COMM_WORLD, &request), "MPI_Iallreduce");
+    wait(request, "MPI_Iallreduce");
+    return out;
+  }
+
   int rank_ = 0, size_ = 1;
 };
 
