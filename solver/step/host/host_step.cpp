@@ -713,6 +713,9 @@ void HostStep<Real>::send_ghosts() {
     for (const int i : send_[r]) put_ghost(w, i, true);
   }
   const std::vector<Bytes> from = comm_->exchange(to);
+  // put_ghost's bytes: ids, then position and velocity (3 numbers each), orientation (4), and the
+  // angular velocity (3) where the plan has it.
+  static_assert(sizeof(Vec3<Real>) == 3 * sizeof(Real) && sizeof(Quat<Real>) == 4 * sizeof(Real));
   std::size_t each = 2 * 3 * sizeof(Real) + 4 * sizeof(Real) + sizeof(long long) + sizeof(int);
   if (view_.angular_velocity.present()) each += 3 * sizeof(Real);
   long long arriving = 0;

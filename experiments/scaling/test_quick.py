@@ -1,0 +1,95 @@
+#!/usr/bin/python3
+"""ctest `scaling_quick` (label parallel): the scaling driver's quick size on 1 and 2 ranks.
+
+Runs run_scaling.py --quick --ranks 1 2 with the given talus and checks its scaling.json: every
+(mode, ranks) run present with the particles its mode asks for, measured steps > 0, seconds per
+step > 0, the exchange's share of the step in (0, 1) on 2 ranks and 0 on 1, efficiency =
+speedup / ranks, and the figure and the table written. Skipped (exit 77) where mpirun or
+/usr/bin/python3's matplotlib is missing, or talus was built without MPI (the driver's exit
+status 3).
+
+    test_quick.py TALUS WORK_DIR
+"""
+
+import importlib.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def main(argv):
+    if len(argv) != 2:
+        print("usage: test_quick.py TALUS WORK_DIR", file=sys.stderr)
+        return 2
+    talus, work = argv
+    if shutil.which("mpirun") is None:
+        print("SKIPPED: no mpirun (scripts/setup installs Open MPI)")
+        return 77
+    if importlib.util.find_spec("matplotlib") is None:  # the driver draws the figure with it
+        print(f"SKIPPED: {sys.executable} has no matplotlib (Debian's python3-matplotlib)")
+        return 77
+    shutil.rmtree(work, ignore_errors=True)
+    out = os.path.join(work, "out")
+    proc = subprocess.run([sys.executable, os.path.join(HERE, "run_scaling.py"), "--talus", talus,
+                           "--quick", "--ranks", "1", "2", "--output", out,
+                           "--work", os.path.join(work, "runs")],
+                          capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode == 3:
+        print("SKIPPED: the driver cannot run here (above)")
+        return 77
+    if proc.returncode != 0:
+        print(f"scaling_quick: run_scaling.py exited with status {proc.returncode}")
+        return 1
+    with open(os.path.join(out, "scaling.json")) as f:
+        result = json.load(f)
+    failures = []
+
+    def check(ok, what):
+        if not ok:
+            failures.append(what)
+
+    runs = {(r["mode"], r["ranks"]): r for r in result["runs"]}
+    check(len(runs) == len(result["runs"]), "a (mode, ranks) run listed twice")
+    for mode in ("weak", "strong"):
+        for ranks in (1, 2):
+            r = runs.get((mode, ranks))
+            if r is None:
+                failures.append(f"{mode} on {ranks} ranks: missing")
+                continue
+            name = f"{mode} on {ranks} ranks"
+            want = result["per_rank"] * ranks if mode == "weak" else result["total"]
+            check(r["particles"] == want, f"{name}: {r['particles']} particles, not {want}")
+            check(r["measured_steps"] > 0, f"{name}: {r['measured_steps']} steps measured")
+            check(r["seconds_per_step"] > 0, f"{name}: {r['seconds_per_step']} s a step")
+            check(r["threads_per_rank"] == 1, f"{name}: {r['threads_per_rank']} threads a rank")
+            share = r["exchange_share"]
+            if ranks == 1:
+                check(share == 0, f"{name}: exchange share {share}, not 0")
+            else:
+                check(0 < share < 1, f"{name}: exchange share {share}, not in (0, 1)")
+            expected = r["speedup"] / ranks
+            check(abs(r["efficiency"] - expected) <= 1e-12 * max(1.0, abs(expected)),
+                  f"{name}: efficiency {r['efficiency']} is not speedup / ranks = {expected}")
+            if ranks == 1:
+                check(r["speedup"] == 1, f"{name}: speedup {r['speedup']} on one rank, not 1")
+            check(r["command"] and "-np" in r["command"], f"{name}: no command recorded")
+    check(bool(result["machine"].get("cpu_model")), "no CPU model")
+    check(bool(result.get("commit")), "no commit")
+    for name in ("scaling.png", "results.md"):
+        path = os.path.join(out, name)
+        check(os.path.isfile(path) and os.path.getsize(path) > 0, f"{name}: not written")
+    for f in failures:
+        print(f"scaling_quick: {f}")
+    if failures:
+        return 1
+    print(f"scaling_quick: {len(runs)} runs checked ({out}/scaling.json)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
