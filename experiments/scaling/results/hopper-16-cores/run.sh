@@ -7,16 +7,16 @@ t=build-cuda/talus
 scene=benchmarks/scenes/hopper.yaml
 end=0.16
 rm -rf /tmp/hs-*; mkdir -p "$OUT/hs"
-lscpu | grep -E "Model name|^CPU\(s\)|Thread|Core" > $OUT/hs/cpu.txt
-cat build-cuda/commit > $OUT/hs/commit.txt
+lscpu | grep -E "Model name|^CPU\(s\)|Thread|Core" > "$OUT"/hs/cpu.txt
+cat build-cuda/commit > "$OUT"/hs/commit.txt
 run() {  # name ranks threads
   local name=$1 n=$2 th=$3
   if [ "$n" = 0 ]; then
-    $t run $scene --backend cpu --threads $th --quiet --end $end --output /tmp/hs-$name > $OUT/hs/$name.json 2> $OUT/hs/$name.err
+    $t run $scene --backend cpu --threads "$th" --quiet --end $end --output /tmp/hs-"$name" > "$OUT"/hs/"$name".json 2> "$OUT"/hs/"$name".err
   else
-    mpirun --bind-to none -np $n $t run $scene --backend cpu --threads $th --quiet --end $end --output /tmp/hs-$name > $OUT/hs/$name.json 2> $OUT/hs/$name.err
+    mpirun --bind-to none -np "$n" $t run $scene --backend cpu --threads "$th" --quiet --end $end --output /tmp/hs-"$name" > "$OUT"/hs/"$name".json 2> "$OUT"/hs/"$name".err
   fi
-  echo "$name rc=$? $(grep -E '"(wall_seconds|exchange_seconds|rebalances|ranks)"' $OUT/hs/$name.json | tr -d '\n ')"
+  echo "$name rc=$? $(grep -E '"(wall_seconds|exchange_seconds|rebalances|ranks)"' "$OUT"/hs/"$name".json | tr -d '\n ')"
 }
 run p16 0 16
 run r2t8 2 8
@@ -36,5 +36,4 @@ for name in ["r2t8", "r4t4", "r8t2", "r16t1"]:
         differ += 0 if same else 1
     print(f"{name}: {differ} of {len(ref)} frames differ from p16's (byte for byte)")
 PY
-ls /tmp/hs-p16 /tmp/hs-p16/frames | head
-tar czf $OUT/hs.tar.gz -C $OUT hs && rm -rf $OUT/hs
+tar czf "$OUT"/hs.tar.gz -C "$OUT" hs && rm -rf "$OUT"/hs
