@@ -240,17 +240,7 @@ class PairContactStage {
   // to rebuild, made before the ghosts are brought up to date.
   bool moved_beyond_skin(const ParticleView<Real>& p, int owned) const {
     const std::size_t n = reference_.size() / 3;
-    if (!(skin_ > 0) || !have_reference_ || stale_ || static_cast<std::size_t>(owned) > n)
-      return true;
-    const double limit = 0.45 * double(skin_), limit2 = limit * limit;
-    const Real *x0 = reference_.data(), *y0 = x0 + n, *z0 = y0 + n;
-    const long long moved = parallel_first_failure(threads_, owned, [&](long long i) {
-      const double dx = double(p.position.x[i]) - double(x0[i]);
-      const double dy = double(p.position.y[i]) - double(y0[i]);
-      const double dz = double(p.position.z[i]) - double(z0[i]);
-      return dx * dx + dy * dy + dz * dz > limit2;
-    });
-    return moved < owned;
+    return static_cast<std::size_t>(owned) > n || moved_since_build(p, owned, n);
   }
 
   // Per-particle sums (deterministic): each particle's contacts listed (serial), then one
@@ -399,17 +389,23 @@ class PairContactStage {
 
   bool measure_expired(const ParticleView<Real>& p) const {
     const std::size_t n = static_cast<std::size_t>(p.count);
-    if (!(skin_ > 0) || !have_reference_ || stale_ || reference_.size() != 3 * n) return true;
-    // In double, as the CUDA step's max_displacement_kernel: any particle beyond the limit.
+    return reference_.size() != 3 * n || moved_since_build(p, p.count, n);
+  }
+
+  // Whether some particle of [0, count) has moved 0.45 skin from the reference positions of a
+  // build of n particles (or there is no usable reference): in double, as the CUDA step's
+  // max_displacement_kernel.
+  bool moved_since_build(const ParticleView<Real>& p, int count, std::size_t n) const {
+    if (!(skin_ > 0) || !have_reference_ || stale_) return true;
     const double limit = 0.45 * double(skin_), limit2 = limit * limit;
     const Real *x0 = reference_.data(), *y0 = x0 + n, *z0 = y0 + n;
-    const long long moved = parallel_first_failure(threads_, p.count, [&](long long i) {
+    const long long moved = parallel_first_failure(threads_, count, [&](long long i) {
       const double dx = double(p.position.x[i]) - double(x0[i]);
       const double dy = double(p.position.y[i]) - double(y0[i]);
       const double dz = double(p.position.z[i]) - double(z0[i]);
       return dx * dx + dy * dy + dz * dz > limit2;
     });
-    return moved < p.count;
+    return moved < count;
   }
 
   template <class Workspace>

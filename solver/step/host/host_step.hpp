@@ -171,6 +171,13 @@ class HostStep {
   // the ghosts dropped, the particles that left the box sent to their owners with their
   // histories, and the ghosts chosen and sent again; otherwise the same ghosts' new states.
   void exchange(bool rebuild);
+  // The boxes cut from the particles held now (every rank holds the same ones: the start, a
+  // restart), each rank keeping its own.
+  void decompose();
+  void drop_ghosts();  // the particles from owned_ on
+  // Decomposed export_state: every rank's particles (in global-id order), histories and ledger, on
+  // every rank: the state of one process, which a run on any number of ranks restarts from.
+  StepState<Real> gathered_state() const;
   void migrate();
   void send_ghosts();
   void update_ghosts();

@@ -1,0 +1,414 @@
+// HostStep decomposed over MPI ranks (host_step.hpp, docs/parallel.md): the boxes, the ghosts
+// and their exchange, the migration of particles with their histories, and the state of one
+// process gathered from every rank. The rest of the step is host_step.cpp's.
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "solver/step/host/contact_stage.hpp"
+#include "solver/step/host/host_step.hpp"
+#include "solver/step/host/wall_stage.hpp"
+
+namespace talus {
+
+namespace {
+
+// A history with its key, as the decomposed step sends it (plain bytes).
+template <class Real>
+struct KeyedHistory {
+  PairKey key;
+  ContactHistoryData<Real> history;
+};
+
+// `in` sorted by key, one entry a key (the first of equal keys: two ranks that computed a pair
+// hold the same history), into a store's keys and histories.
+template <class Real>
+void sorted_store(std::vector<KeyedHistory<Real>>& in, std::vector<PairKey>& keys,
+                  std::vector<ContactHistoryData<Real>>& histories) {
+  std::stable_sort(in.begin(), in.end(),
+                   [](const auto& a, const auto& b) { return key_less(a.key, b.key); });
+  in.erase(std::unique(in.begin(), in.end(),
+                       [](const auto& a, const auto& b) { return key_equal(a.key, b.key); }),
+           in.end());
+  keys.clear();
+  histories.clear();
+  for (const auto& e : in) keys.push_back(e.key), histories.push_back(e.history);
+}
+
+}  // namespace
+
+template <class Real>
+HostStep<Real>::HostStep(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm)
+    : HostStep(scene, threads) {
+  if (!comm || comm->size() == 1) return;
+  comm_ = std::move(comm);
+  send_.assign(comm_->size(), {});
+  // Every rank made every initial particle (the same ids); each keeps those its box owns.
+  decompose();
+}
+
+template <class Real>
+void HostStep<Real>::decompose() {
+  // The boxes: a bisection of the particles (of the region's centre where there are none).
+  std::vector<Vec3d> points;
+  points.reserve(count_);
+  for (int i = 0; i < count_; ++i) points.push_back(Vec3d(view_.position.get(i)));
+  auto rcb =
+      std::make_unique<RcbDomain>(points, scene_.domain ? *scene_.domain : Box(), comm_->size(),
+                                  comm_->rank(), scene_halo_width(scene_), comm_.get());
+  std::vector<int> mine;
+  for (int i = 0; i < count_; ++i) {
+    const int owner = rcb->owner(points[i]);
+    // One outside the region stays with rank 0 until the step's end removes it.
+    if (owner == comm_->rank() || (owner < 0 && comm_->rank() == 0)) mine.push_back(i);
+  }
+  rcb_ = rcb.get();
+  domain_ = std::move(rcb);
+  keep_particles(mine);  // the particles changed: the next exchange chooses the ghosts
+}
+
+template <class Real>
+void HostStep<Real>::drop_ghosts() {
+  if (count_ == owned_) return;
+  std::vector<int> first(owned_);
+  for (int i = 0; i < owned_; ++i) first[i] = i;
+  keep_particles(first);
+}
+
+template <class Real>
+void HostStep<Real>::gather_all(std::vector<Vec3d>& positions, std::vector<int>& templates) const {
+  Bytes mine;
+  ByteWriter w(mine);
+  for (int i = 0; i < owned_; ++i) {
+    w.put(Vec3d(view_.position.get(i)));
+    w.put(template_ids_[i]);
+  }
+  positions.clear();
+  templates.clear();
+  for (const Bytes& b : comm_->all_gather(mine)) {
+    ByteReader r(b);
+    while (!r.done()) {
+      positions.push_back(r.get<Vec3d>());
+      templates.push_back(r.get<int>());
+    }
+  }
+}
+
+template <class Real>
+void HostStep<Real>::put_ghost(ByteWriter& w, int i, bool ids) const {
+  if (ids) {
+    w.put(global_ids_[i]);
+    w.put(template_ids_[i]);
+  }
+  w.put(view_.position.get(i));
+  w.put(view_.velocity.get(i));
+  w.put(view_.orientation.get(i));
+  if (view_.angular_velocity.present()) w.put(view_.angular_velocity.get(i));
+}
+
+template <class Real>
+void HostStep<Real>::get_ghost(ByteReader& r, int i, bool ids) {
+  if (ids) {
+    global_ids_[i] = r.get<long long>();
+    template_ids_[i] = r.get<int>();
+    const BodyProperties<Real>& body = bodies_.at(template_ids_[i]);
+    material_ids_[i] = body.material;
+    if (view_.bounding_radius) view_.bounding_radius[i] = body.bounding_radius;
+  }
+  view_.position.set(i, r.get<Vec3<Real>>());
+  view_.velocity.set(i, r.get<Vec3<Real>>());
+  view_.orientation.set(i, r.get<Quat<Real>>());
+  if (view_.angular_velocity.present()) view_.angular_velocity.set(i, r.get<Vec3<Real>>());
+}
+
+template <class Real>
+void HostStep<Real>::exchange(bool rebuild) {
+  const auto start = std::chrono::steady_clock::now();
+  // The ranks agree whether to rebuild: some rank's particles changed (feed, removal, arrival) or
+  // moved 0.45 skin since the list's build. Without contacts there are no ghosts, and particles
+  // move to their owners only when some particle has left its box.
+  bool mine = rebuild || changed_;
+  if (!mine && contacts_) mine = contacts_->moved_beyond_skin(view_, owned_);
+  if (!mine && !contacts_) {
+    for (int i = 0; i < owned_ && !mine; ++i)
+      mine = rcb_->owner(Vec3d(view_.position.get(i))) >= 0 &&
+             !rcb_->local_box().contains(Vec3d(view_.position.get(i)));
+  }
+  if (comm_->max(mine ? 1.0 : 0.0) > 0) {
+    // The boxes cut again from every particle where one rank holds too many (a pour collapsing
+    // to the bottom of a silo): `decomposition: {rebalance: R}`.
+    const double most = comm_->max(double(owned_)), total = comm_->sum(double(owned_));
+    if (total > 0 && most > scene_.rebalance * total / comm_->size()) {
+      std::vector<Vec3d> points;
+      std::vector<int> templates;
+      gather_all(points, templates);
+      auto rcb = std::make_unique<RcbDomain>(points, rcb_->region(), comm_->size(), comm_->rank(),
+                                             domain_->halo_width(), comm_.get());
+      rcb_ = rcb.get();
+      domain_ = std::move(rcb);
+      ++rebalances_;
+    }
+    migrate();
+    if (contacts_) send_ghosts();
+    changed_ = false;
+  } else if (contacts_) {
+    update_ghosts();
+  }
+  exchange_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+template <class Real>
+void HostStep<Real>::migrate() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  drop_ghosts();
+  std::vector<Bytes> to(ranks);
+  std::vector<int> kept;
+  std::vector<std::pair<long long, int>> leaving;  // (global id, destination)
+  for (int i = 0; i < owned_; ++i) {
+    const int owner = rcb_->owner(Vec3d(view_.position.get(i)));
+    if (owner < 0 || owner == me) {
+      kept.push_back(i);
+      continue;
+    }
+    leaving.emplace_back(global_ids_[i], owner);
+    ByteWriter w(to[owner]);
+    w.put(global_ids_[i]);
+    w.put(template_ids_[i]);
+    for (const auto& entry : storage_) w.put(entry.second[i]);
+  }
+  // Each leaving particle's histories go with it (its pairs: keys holding its id; its walls: the
+  // key's low id), after the particles: a count, then (key, history) pairs.
+  std::sort(leaving.begin(), leaving.end());
+  const auto destination = [&](long long id) {
+    const auto it = std::lower_bound(leaving.begin(), leaving.end(), std::make_pair(id, -1));
+    return it != leaving.end() && it->first == id ? it->second : -1;
+  };
+  const auto pack_histories = [&](const std::vector<PairKey>& keys,
+                                  const std::vector<ContactHistoryData<Real>>& histories,
+                                  bool pair) {
+    std::vector<std::vector<KeyedHistory<Real>>> out(ranks);
+    for (std::size_t k = 0; k < keys.size() && !leaving.empty(); ++k) {
+      const int d_low = destination(keys[k].low);
+      const int d_high = pair ? destination(keys[k].high) : -1;
+      if (d_low >= 0) out[d_low].push_back({keys[k], histories[k]});
+      if (d_high >= 0 && d_high != d_low) out[d_high].push_back({keys[k], histories[k]});
+    }
+    return out;
+  };
+  using Entries = std::vector<std::vector<KeyedHistory<Real>>>;
+  const Entries pair_out =
+      contacts_ ? pack_histories(contacts_->history_keys(), contacts_->histories(), true)
+                : Entries(ranks);
+  const Entries wall_out =
+      walls_ ? pack_histories(walls_->history_keys(), walls_->histories(), false) : Entries(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    Bytes marked;
+    ByteWriter w(marked);
+    w.put(static_cast<long long>(to[r].size()));
+    marked.insert(marked.end(), to[r].begin(), to[r].end());
+    ByteWriter tail(marked);
+    tail.put_vector(pair_out[r]);
+    tail.put_vector(wall_out[r]);
+    to[r] = std::move(marked);
+  }
+  if (kept.size() != static_cast<std::size_t>(owned_)) keep_particles(kept);
+  const std::vector<Bytes> from = comm_->exchange(to);
+  std::vector<KeyedHistory<Real>> pair_in, wall_in;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    const long long particle_bytes = in.get<long long>();
+    const std::size_t each = sizeof(long long) + sizeof(int) + storage_.size() * sizeof(Real);
+    const long long arriving = particle_bytes / static_cast<long long>(each);
+    if (arriving > 0) {
+      const int first = count_;
+      grow(count_ + static_cast<int>(arriving));
+      owned_ = count_;
+      for (int i = first; i < count_; ++i) {
+        global_ids_[i] = in.get<long long>();
+        template_ids_[i] = in.get<int>();
+        material_ids_[i] = bodies_.at(template_ids_[i]).material;
+        for (auto& entry : storage_) entry.second[i] = in.get<Real>();
+      }
+      changed_ = true;
+      if (contacts_) contacts_->particles_changed();
+    }
+    const auto p = in.get_vector<KeyedHistory<Real>>();
+    const auto w = in.get_vector<KeyedHistory<Real>>();
+    pair_in.insert(pair_in.end(), p.begin(), p.end());
+    wall_in.insert(wall_in.end(), w.begin(), w.end());
+  }
+  // The arrivals' histories joined to the store (a key the store holds already is the same
+  // history: both ranks computed the pair).
+  const auto merge = [](const std::vector<PairKey>& keys,
+                        const std::vector<ContactHistoryData<Real>>& histories,
+                        std::vector<KeyedHistory<Real>>& in) {
+    std::vector<KeyedHistory<Real>> all;
+    for (std::size_t k = 0; k < keys.size(); ++k) all.push_back({keys[k], histories[k]});
+    all.insert(all.end(), in.begin(), in.end());
+    std::pair<std::vector<PairKey>, std::vector<ContactHistoryData<Real>>> store;
+    sorted_store(all, store.first, store.second);
+    return store;
+  };
+  if (contacts_ && !pair_in.empty()) {
+    auto [k, h] = merge(contacts_->history_keys(), contacts_->histories(), pair_in);
+    contacts_->set_histories(std::move(k), std::move(h));
+  }
+  if (walls_ && !wall_in.empty()) {
+    auto [k, h] = merge(walls_->history_keys(), walls_->histories(), wall_in);
+    walls_->set_histories(std::move(k), std::move(h));
+  }
+}
+
+template <class Real>
+void HostStep<Real>::send_ghosts() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  const double h = domain_->halo_width(), h2 = h * h;
+  std::vector<Bytes> to(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    send_[r].clear();
+    if (r == me) continue;
+    const Box& box = rcb_->box_of(r);
+    for (int i = 0; i < owned_; ++i)
+      if (squared_distance(box, Vec3d(view_.position.get(i))) <= h2) send_[r].push_back(i);
+    ByteWriter w(to[r]);
+    for (const int i : send_[r]) put_ghost(w, i, true);
+  }
+  const std::vector<Bytes> from = comm_->exchange(to);
+  // put_ghost's bytes: ids, then position and velocity (3 numbers each), orientation (4), and the
+  // angular velocity (3) where the plan has it.
+  static_assert(sizeof(Vec3<Real>) == 3 * sizeof(Real) && sizeof(Quat<Real>) == 4 * sizeof(Real));
+  std::size_t each = 2 * 3 * sizeof(Real) + 4 * sizeof(Real) + sizeof(long long) + sizeof(int);
+  if (view_.angular_velocity.present()) each += 3 * sizeof(Real);
+  long long arriving = 0;
+  for (int r = 0; r < ranks; ++r)
+    if (r != me) arriving += static_cast<long long>(from[r].size() / each);
+  grow(count_ + static_cast<int>(arriving));  // owned_ stays: these are ghosts
+  int i = owned_;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    while (!in.done()) get_ghost(in, i++, true);
+  }
+  if (contacts_) contacts_->particles_changed();
+}
+
+template <class Real>
+void HostStep<Real>::update_ghosts() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  std::vector<Bytes> to(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    ByteWriter w(to[r]);
+    if (r != me)
+      for (const int i : send_[r]) put_ghost(w, i, false);
+  }
+  const std::vector<Bytes> from = comm_->exchange(to);
+  int i = owned_;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    while (!in.done()) get_ghost(in, i++, false);
+  }
+}
+
+template <class Real>
+StepState<Real> HostStep<Real>::gathered_state() const {
+  StepState<Real> s;
+  Bytes mine;
+  ByteWriter w(mine);
+  w.put(static_cast<long long>(owned_));
+  for (int i = 0; i < owned_; ++i) {
+    w.put(global_ids_[i]);
+    w.put(template_ids_[i]);
+    w.put(material_ids_[i]);
+    for (const auto& entry : storage_) w.put(entry.second[i]);
+  }
+  const auto put_store = [&](const std::vector<PairKey>& keys,
+                             const std::vector<ContactHistoryData<Real>>& histories) {
+    std::vector<KeyedHistory<Real>> all;
+    for (std::size_t k = 0; k < keys.size(); ++k) all.push_back({keys[k], histories[k]});
+    w.put_vector(all);
+  };
+  put_store(contacts_ ? contacts_->history_keys() : std::vector<PairKey>(),
+            contacts_ ? contacts_->histories() : std::vector<ContactHistoryData<Real>>());
+  put_store(walls_ ? walls_->history_keys() : std::vector<PairKey>(),
+            walls_ ? walls_->histories() : std::vector<ContactHistoryData<Real>>());
+  w.put(ledger_);
+  w.put(removed_);
+  struct Row {
+    long long id;
+    int rank, index;
+  };
+  std::vector<Row> rows;
+  const std::vector<Bytes> all = comm_->all_gather(mine);
+  std::vector<std::vector<long long>> ids(all.size());
+  std::vector<std::vector<int>> templates(all.size()), materials(all.size());
+  std::vector<std::vector<std::vector<Real>>> values(all.size());
+  std::vector<KeyedHistory<Real>> pairs, walls;
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    ByteReader in(all[r]);
+    const long long n = in.get<long long>();
+    for (long long i = 0; i < n; ++i) {
+      ids[r].push_back(in.get<long long>());
+      templates[r].push_back(in.get<int>());
+      materials[r].push_back(in.get<int>());
+      values[r].emplace_back();
+      for (std::size_t a = 0; a < storage_.size(); ++a) values[r].back().push_back(in.get<Real>());
+      rows.push_back({ids[r].back(), static_cast<int>(r), static_cast<int>(i)});
+    }
+    const auto p = in.get_vector<KeyedHistory<Real>>();
+    const auto q = in.get_vector<KeyedHistory<Real>>();
+    pairs.insert(pairs.end(), p.begin(), p.end());
+    walls.insert(walls.end(), q.begin(), q.end());
+    const EnergyLedger l = in.get<EnergyLedger>();
+    s.ledger.dissipated += l.dissipated;
+    s.ledger.wall_work += l.wall_work;
+    s.ledger.fed += l.fed;
+    s.ledger.removed += l.removed;
+    s.ledger.dissipation_rate += l.dissipation_rate;
+    s.ledger.wall_power += l.wall_power;
+    s.ledger.spring_energy += l.spring_energy;
+    s.removed += in.get<long long>();
+  }
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
+  s.time = time_;
+  s.steps = steps_;
+  s.forces_ready = forces_ready_;
+  s.count = static_cast<int>(rows.size());
+  for (std::size_t a = 0; a < storage_.size(); ++a) {
+    s.arrays.emplace_back(storage_[a].first, std::vector<Real>());
+    for (const Row& row : rows) s.arrays.back().second.push_back(values[row.rank][row.index][a]);
+  }
+  for (const Row& row : rows) {
+    s.global_ids.push_back(row.id);
+    s.template_ids.push_back(templates[row.rank][row.index]);
+    s.material_ids.push_back(materials[row.rank][row.index]);
+  }
+  s.next_id = next_id_;
+  s.list_stale = true;  // the list is the ranks'; a resumed run builds its own
+  sorted_store(pairs, s.pair_keys, s.pair_histories);
+  sorted_store(walls, s.wall_keys, s.wall_histories);
+  s.feed_states = feeding_.save();
+  return s;
+}
+
+#define TALUS_INSTANTIATE_DECOMPOSITION(Real)                                                \
+  template HostStep<Real>::HostStep(const Scene&, int, std::shared_ptr<const Communicator>); \
+  template void HostStep<Real>::decompose();                                                 \
+  template void HostStep<Real>::drop_ghosts();                                               \
+  template void HostStep<Real>::gather_all(std::vector<Vec3d>&, std::vector<int>&) const;    \
+  template void HostStep<Real>::put_ghost(ByteWriter&, int, bool) const;                     \
+  template void HostStep<Real>::get_ghost(ByteReader&, int, bool);                           \
+  template void HostStep<Real>::exchange(bool);                                              \
+  template void HostStep<Real>::migrate();                                                   \
+  template void HostStep<Real>::send_ghosts();                                               \
+  template void HostStep<Real>::update_ghosts();                                             \
+  template StepState<Real> HostStep<Real>::gathered_state() const;
+TALUS_INSTANTIATE_DECOMPOSITION(double)
+TALUS_INSTANTIATE_DECOMPOSITION(float)
+#undef TALUS_INSTANTIATE_DECOMPOSITION
+
+}  // namespace talus
