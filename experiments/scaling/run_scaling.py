@@ -11,15 +11,17 @@ README.md here gives every choice and its reason.
         [--ranks 1 2 4] [--per-rank 1000] [--total 4000] [--modes weak strong] \\
         [--settle-steps 7500] [--measure-steps 200] [--repeats 3] [--threads 1] \\
         [--settle-threads N] [--output scratch/scaling] [--work DIR] [--keep-work] [--quick] \\
-        [--mpirun mpirun] [--commit SHA] [--diameter 0.05]
+        [--mpirun mpirun] [--mpirun-args '--bind-to none'] [--backend cpu|cuda] \\
+        [--commit SHA] [--diameter 0.05]
 
 Writes into OUTPUT, each through a temporary file and a rename:
   scaling.json  the machine, the commit, the scene, the settles and one row per (mode, ranks):
                 seconds per step, each stage's seconds per step (rank 0's), the exchange's
                 seconds per step and its share of the step, speedup and efficiency (Eqs. 31-33),
-                the exact commands
+                the exact commands, the backend (with --backend cuda, the machine's GPUs)
   scaling.png   Figs. 17-18 redrawn: speedup and efficiency against the rank count
-  results.md    the table, with the machine, the commit and the command
+  results.md    the table, with the machine, the commit, the backend, the launcher and the
+                command
 
 Exit status: 0 done; 1 a run failed; 2 a bad option (the message names it); 3 this machine cannot
 run the study (no mpirun, or a talus built without MPI). Needs numpy and matplotlib (Debian's,
@@ -286,6 +288,25 @@ def machine():
     }
 
 
+def gpus():
+    """The GPUs as nvidia-smi lists them ("name, memory.total", one string a GPU) and how many
+    lines it printed; ("unknown", 0) where nvidia-smi is missing or fails."""
+    try:
+        proc = subprocess.run(["nvidia-smi", "--query-gpu=name,memory.total",
+                               "--format=csv,noheader"], capture_output=True, text=True,
+                              timeout=60)
+    except (OSError, subprocess.SubprocessError):
+        return "unknown", 0
+    lines = [line.strip() for line in proc.stdout.splitlines() if line.strip()]
+    if proc.returncode != 0 or not lines:
+        return "unknown", 0
+    return lines, len(lines)
+
+
+def backend_words(backend):
+    return "CUDA backend" if backend == "cuda" else "host backend"
+
+
 def git_commit(repo):
     try:
         out = subprocess.run(["git", "-C", repo, "rev-parse", "--short", "HEAD"],
@@ -348,6 +369,8 @@ class Study:
     def __init__(self, args):
         self.args = args
         self.machine = machine()
+        if args.backend == "cuda":  # each rank takes GPU (local rank mod GPUs); ranks may share
+            self.machine["gpu_names"], self.machine["gpus"] = gpus()
         self.cores = self.machine["usable_cpus"]
         self.settles = {}       # count -> record
         self.measured = {}      # (ranks, count) -> record
@@ -364,9 +387,10 @@ class Study:
         write_atomically(os.path.join(folder, "walls.obj"), obj)
         write_atomically(os.path.join(folder, "scene.yaml"),
                          scene_text(200, a.diameter, 2, 2, "walls.obj"))
-        argv = a.mpirun + ["-np", "2", a.talus, "run", os.path.join(folder, "scene.yaml"),
-                           "--threads", "1", "--quiet", "--overwrite", "--output",
-                           os.path.join(folder, "out"), "--end", repr(2 * time_step(a.diameter))]
+        argv = a.mpirun + ["-np", "2"] + a.mpirun_args + [
+            a.talus, "run", os.path.join(folder, "scene.yaml"), "--backend", a.backend,
+            "--threads", "1", "--quiet", "--overwrite", "--output", os.path.join(folder, "out"),
+            "--end", repr(2 * time_step(a.diameter))]
         env = dict(os.environ)
         env.update(mpi_environment(2, self.cores))
         try:
@@ -377,7 +401,9 @@ class Study:
             tail = error_lines(proc.stderr or proc.stdout, 5)
             raise CannotRun(f"`{command_text(mpi_environment(2, self.cores), argv)}` did not run "
                             "on 2 ranks (no \"ranks\": 2 in its summary): talus was built "
-                            f"without MPI, or mpirun failed (docs/parallel.md)\n{tail}")
+                            "without MPI" + (" (with --backend cuda: or without CUDA, or no "
+                                             "GPU is usable)" if a.backend == "cuda" else "") +
+                            f", or mpirun failed (docs/parallel.md)\n{tail}")
 
     def settle(self, count):
         """Settles the packing of `count` particles on one rank for settle_steps steps (run to one
@@ -401,7 +427,8 @@ class Study:
                 record = json.load(f)
             with open(scene) as f, open(walls) as g:
                 same = f.read() == yaml and g.read() == obj
-            if same and record.get("talus_binary") == binary and os.path.isfile(checkpoint):
+            if (same and record.get("talus_binary") == binary and os.path.isfile(checkpoint)
+                    and record.get("backend", "cpu") == a.backend):
                 record.update(reused=True, run_dir=run_dir)
                 say(f"{count} particles: settled by an earlier call ({done}), not again")
                 self.settles[count] = record
@@ -413,10 +440,12 @@ class Study:
         write_atomically(walls, obj)
         write_atomically(scene, yaml)
         end = (a.settle_steps + 1) * time_step(a.diameter)
-        argv = [a.talus, "run", scene, "--threads", str(a.settle_threads), "--quiet",
-                "--output", run_dir, "--overwrite", "--end", repr(end)]
+        argv = [a.talus, "run", scene, "--backend", a.backend, "--threads",
+                str(a.settle_threads), "--quiet", "--output", run_dir, "--overwrite", "--end",
+                repr(end)]
         say(f"settling {count} particles: {a.settle_steps} steps on one rank, "
-            f"{a.settle_threads} thread{'s' if a.settle_threads > 1 else ''}")
+            f"{a.settle_threads} thread{'s' if a.settle_threads > 1 else ''}"
+            + (", CUDA" if a.backend == "cuda" else ""))
         summary, seconds = run_talus(argv, {}, f"the settle of {count} particles")
         if summary.get("steps") != a.settle_steps + 1 or summary.get("particles") != count:
             raise RunFailed(f"the settle of {count} particles ran {summary.get('steps')} steps "
@@ -434,6 +463,7 @@ class Study:
             "lambda_z": lambda_z,
             "steps": a.settle_steps,
             "threads": a.settle_threads,
+            "backend": a.backend,
             "wall_seconds": summary["wall_seconds"],
             "mean_contacts_per_step": summary.get("mean_contacts_per_step"),
             "at_settle_step": probe_row(os.path.join(run_dir, "probes.csv"), a.settle_steps),
@@ -458,9 +488,9 @@ class Study:
         # resumed run writes into the copy and every rank count starts from the same bytes.
         shutil.copytree(settled["run_dir"], run_dir)
         env = mpi_environment(ranks, self.cores)
-        argv = a.mpirun + ["-np", str(ranks), a.talus, "run", "--resume",
-                           os.path.join(run_dir, "checkpoints"), "--threads", str(a.threads),
-                           "--quiet"]
+        argv = a.mpirun + ["-np", str(ranks)] + a.mpirun_args + [
+            a.talus, "run", "--resume", os.path.join(run_dir, "checkpoints"), "--backend",
+            a.backend, "--threads", str(a.threads), "--quiet"]
         say(f"measuring {count} particles on {ranks} rank{'s' if ranks > 1 else ''}: "
             f"{a.measure_steps} steps" + (f" (repeat {repeat + 1} of {a.repeats})"
                                           if a.repeats > 1 else ""))
@@ -468,7 +498,8 @@ class Study:
         summary, seconds = run_talus(argv, env, f"the run of {count} particles on {ranks} ranks")
         if summary.get("ranks", 1) != ranks:
             raise CannotRun(f"talus ran {summary.get('ranks', 1)} rank(s) under "
-                            f"`{' '.join(a.mpirun)} -np {ranks}`: it was built without MPI "
+                            f"`{' '.join(a.mpirun + ['-np', str(ranks)] + a.mpirun_args)}`: "
+                            "it was built without MPI "
                             "(docs/parallel.md)")
         steps = summary["steps"] - summary.get("resumed_from_step", 0)
         if summary.get("resumed_from_step") != a.settle_steps or steps != a.measure_steps:
@@ -511,6 +542,13 @@ class Study:
             "load_average_before": load,
             "command": command_text(env, argv),
         }
+        if "exchange_bytes" in summary:
+            # Bytes sent to the other ranks, counted by the resumed run's step from its start as
+            # exchange_seconds is (neither is carried by the checkpoint, and the settle ran on one
+            # rank), so the run's own figure over its steps; 0 on one rank, as the exchange's
+            # seconds. Left out where talus prints none.
+            sent = summary["exchange_bytes"] if ranks > 1 else 0.0
+            record["exchange_bytes_per_step"] = sent / steps
         say(f"  {wall / steps * 1e3:.2f} ms a step, exchange {100 * exchange / wall:.1f} % "
             f"({seconds:.1f} s with start-up)")
         shutil.rmtree(run_dir)  # its numbers are in the record; the settled run stays
@@ -634,9 +672,12 @@ def figure(result, path):
         ax_s.set_yticklabels([f"{t:g}" for t in yticks])
         ax_s.set_ylim(min(yticks) * 0.8, top * 1.25)
     m = result["machine"]
-    fig.suptitle(f"talus on MPI ranks (host backend, {result['threads_per_rank']} thread a "
-                 f"rank): {m['cpu_model']}, {m['usable_cpus']} cores; commit {result['commit']}",
-                 fontsize=10)
+    if result["backend"] == "cuda":
+        on = f"CUDA backend, {m['gpus']} GPU{'s' if m['gpus'] != 1 else ''}"
+    else:
+        on = f"host backend, {result['threads_per_rank']} thread a rank"
+    fig.suptitle(f"talus on MPI ranks ({on}): {m['cpu_model']}, {m['usable_cpus']} cores; "
+                 f"commit {result['commit']}", fontsize=10)
     fig.tight_layout()
     fd, tmp = temporary_beside(path)
     os.close(fd)
@@ -651,13 +692,21 @@ def figure(result, path):
 
 def markdown(result):
     m = result["machine"]
+    gpu_words = ""
+    if result["backend"] == "cuda":
+        names = m["gpu_names"]
+        gpu_words = (f", {m['gpus']} GPU{'s' if m['gpus'] != 1 else ''} ({'; '.join(names)})"
+                     if names != "unknown" else ", GPUs unknown (nvidia-smi failed)")
+    launcher = " ".join([result["mpirun"][0] if result["mpirun"] else "mpirun", "-np", "N"]
+                        + result["mpirun_args"])
     lines = [
         "# Scaling study: results",
         "",
         f"Machine: {m['cpu_model']}, {m['physical_cores']} cores ({m['logical_cpus']} logical, "
-        f"{m['usable_cpus']} usable); talus commit `{result['commit']}`, host backend, "
-        f"{result['threads_per_rank']} thread a rank. Command (from the repository root, "
-        f"{result['driver_wall_seconds']:.0f} s in all):",
+        f"{m['usable_cpus']} usable)" + gpu_words + f"; talus commit `{result['commit']}`, "
+        f"{backend_words(result['backend'])} (`--backend {result['backend']}`), "
+        f"{result['threads_per_rank']} thread a rank; launcher `{launcher}`. Command (from the "
+        f"repository root, {result['driver_wall_seconds']:.0f} s in all):",
         "",
         "    " + result["driver_command"],
         "",
@@ -703,6 +752,11 @@ def markdown(result):
         lines += ["", f"This machine has {m['usable_cpus']} cores: the runs marked oversubscribed "
                   "share them among more ranks than cores, so their times show the exchange's "
                   "correctness and cost, not scaling."]
+    if (result["backend"] == "cuda" and m["gpus"] > 0
+            and any(r["ranks"] > m["gpus"] for r in result["runs"])):
+        lines += ["", f"{m['gpus']} GPU{'s' if m['gpus'] != 1 else ''} here: where there are more "
+                  "ranks than GPUs, several ranks share one (each takes GPU local rank mod the "
+                  "GPU count), so those rows measure the decomposition's cost, not scaling."]
     lines += ["", "The paper (§3.5) states, without a table: " + result["paper"]["strong"]
               ["statement"] + "; " + result["paper"]["weak"]["statement"] + ".",
               "", "What the committed runs say: experiments/scaling/README.md, \"Results\".", ""]
@@ -778,6 +832,12 @@ def parse_arguments(argv):
     p.add_argument("--mpirun", default="mpirun", metavar="CMD",
                    help="the launcher and its options, split as a shell would (default mpirun); "
                         "-np N is added")
+    p.add_argument("--mpirun-args", default="", metavar="ARGS",
+                   help="options after `mpirun -np N`, split as a shell would (default none), "
+                        "e.g. '--bind-to none'")
+    p.add_argument("--backend", choices=("cpu", "cuda"), default="cpu",
+                   help="talus run's --backend for the settle and every measured run (default "
+                        "cpu); cuda: each rank takes the GPU of its local rank mod the GPU count")
     p.add_argument("--commit", default=None, metavar="SHA",
                    help="the talus commit to record (default: git rev-parse --short HEAD of "
                         "this repository)")
@@ -827,6 +887,10 @@ def parse_arguments(argv):
         p.error(f"--mpirun: cannot split {a.mpirun!r}: {e}")
     if not a.mpirun:
         p.error("--mpirun: empty")
+    try:
+        a.mpirun_args = shlex.split(a.mpirun_args)
+    except ValueError as e:
+        p.error(f"--mpirun-args: cannot split {a.mpirun_args!r}: {e}")
     if a.work is not None and os.path.exists(a.work) and not os.path.isdir(a.work):
         p.error(f"--work: not a folder: {a.work}")
     if os.path.exists(a.output) and not os.path.isdir(a.output):
@@ -869,11 +933,14 @@ def main(argv):
         mpi_version = "unknown"
     result = {
         "study": "method paper section 3.5, Figs. 17-18: strong and weak scaling over talus's "
-                 "MPI ranks (host backend); experiments/scaling/README.md",
+                 f"MPI ranks ({backend_words(a.backend)}); experiments/scaling/README.md",
         "machine": study.machine,
         "commit": a.commit or git_commit(REPO),
         "talus": a.talus,
         "mpi": mpi_version,
+        "backend": a.backend,
+        "mpirun": a.mpirun,
+        "mpirun_args": a.mpirun_args,
         "threads_per_rank": a.threads,
         "driver_command": "/usr/bin/python3 " + " ".join(
             shlex.quote(x) for x in [os.path.relpath(os.path.abspath(__file__), REPO)] + argv),

@@ -154,6 +154,36 @@ int decomposed_threads(const RunArguments& args) {
   return std::max(1, host_thread_count(0) / world()->size());
 }
 
+// `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
+// creates, feeds included: scene_particle_count) and the host below. Measured (benchmarks/
+// README.md, session 19): the built-in scene with 8, 16, 32 and 63 of its dodecahedra, 12,500
+// steps by `talus run` on an H200 and its 16-core host: GPU 3,997 / 3,536 / 3,132 / 2,892 steps
+// a second, host 23,219 / 12,008 / 3,729 / 1,615. The GPU step has a floor of about 0.25 ms
+// (some thirty dependent kernels, each a thread's serial geometry at the least) whatever the
+// count, the host's grows with it; they cross between 32 and 63 particles.
+constexpr double kAutoGpuParticles = 50;
+
+// A decomposed run's backend (the same answer on every rank): the CUDA step for --backend cuda
+// (refused where this talus has no CUDA or no GPU is usable), and for auto where a GPU is usable
+// and the scene is large enough; else the host step.
+bool decomposed_on_cuda(const Scene& scene) {
+#if TALUS_HAVE_CUDA
+  if (scene.backend == Backend::cpu) return false;
+  std::string why;
+  if (cuda_device_available(&why))
+    return scene.backend == Backend::cuda || scene_particle_count(scene) >= kAutoGpuParticles;
+  if (scene.backend == Backend::cuda)
+    throw RunError("--backend cuda: " + why + "; run this scene with --backend cpu (or auto)");
+  return false;
+#else
+  if (scene.backend == Backend::cuda)
+    throw RunError(
+        "this talus was built without CUDA (no nvcc at configure time); run this scene with "
+        "--backend cpu (or --backend auto)");
+  return false;
+#endif
+}
+
 // The production solver on the chosen backend (make_step: empty for the host), from the scene's
 // start or from `resume`; the summary adds wall time per stage, contacts per step and peak
 // memory (and what `extra` adds). A stop signal ends it with RunInterrupted.
@@ -162,6 +192,12 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
                                 const ResumePoint* resume, const ExtraMembers& extra = {}) {
   if (world()->rank() != 0) {
     // Rank 0 runs the runner; this rank serves its step's commands (parallel/decomposed_step.hpp).
+#if TALUS_HAVE_CUDA
+    if (decomposed_on_cuda(scene)) {
+      serve_decomposed_cuda_step(scene, world());
+      return "";
+    }
+#endif
     serve_decomposed_step(scene, decomposed_threads(args), world());
     return "";
   }
@@ -229,6 +265,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   stages["output"] = report.output_seconds;
   if (world()->size() > 1) {
     json["exchange_seconds"] = report.exchange_seconds;
+    json["exchange_bytes"] = report.exchange_bytes;
     json["rebalances"] = report.rebalances;
   }
   json["particle_array_bytes"] = report.particle_bytes;
@@ -262,26 +299,18 @@ void finish_builtin_run(const RunArguments& args, const ProductionReport& report
                picture.empty() ? "" : "; picture: ", picture.c_str());
 }
 
-// `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
-// creates, feeds included: scene_particle_count) and the host below. Measured (benchmarks/
-// README.md, session 19): the built-in scene with 8, 16, 32 and 63 of its dodecahedra, 12,500
-// steps by `talus run` on an H200 and its 16-core host: GPU 3,997 / 3,536 / 3,132 / 2,892 steps
-// a second, host 23,219 / 12,008 / 3,729 / 1,615. The GPU step has a floor of about 0.25 ms
-// (some thirty dependent kernels, each a thread's serial geometry at the least) whatever the
-// count, the host's grows with it; they cross between 32 and 63 particles.
-constexpr double kAutoGpuParticles = 50;
-
 // The production step's backend for the scene: the CUDA step where the scene (or --backend) asks
 // for it, or for auto where a device is usable and the scene is large enough to gain from it;
 // else the host (empty). `auto` says which it took and why in one line.
 StepFactory production_backend(const RunArguments& args, const Scene& scene) {
   if (world()->size() > 1) {
-    // Several ranks (mpirun): the host step decomposed over them (docs/parallel.md).
-    if (scene.backend == Backend::cuda)
-      throw RunError(fmt::format(
-          "--backend cuda: a run on several ranks ({} here) runs on the host backend so far; "
-          "run it with --backend cpu (or auto), or on one rank",
-          world()->size()));
+    // Several ranks (mpirun): the step decomposed over them (docs/parallel.md).
+#if TALUS_HAVE_CUDA
+    if (decomposed_on_cuda(scene))
+      return [](const Scene& s) { return make_decomposed_cuda_step(s, world()); };
+#else
+    decomposed_on_cuda(scene);  // refuses --backend cuda
+#endif
     return [&args](const Scene& s) {
       return make_decomposed_step(s, decomposed_threads(args), world());
     };

@@ -1,283 +1,48 @@
 #include "solver/parallel/decomposed_step.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <exception>
-#include <string>
-#include <vector>
+#include <memory>
 
-#include "solver/io/checkpoint.hpp"
+#include "solver/parallel/decomposed_step_impl.hpp"
 #include "solver/step/host/host_step.hpp"
-#include "solver/step/step_state.hpp"
 
 namespace talus {
 
 namespace {
-
-// Rank 0's calls, as the other ranks receive them.
-enum Command : int {
-  kEnd = 0,
-  kStep,
-  kEvaluate,
-  kParticles,
-  kRemoved,
-  kPairContacts,
-  kListBuilds,
-  kWallContacts,
-  kWallForce,
-  kWallTorque,
-  kRows,
-  kKinetic,
-  kEnergy,
-  kBedHeight,
-  kBytes,
-  kSave,
-  kRestore,
-  kExchangeSeconds,
-  kRebalances,
-};
-
-bool ended = false;  // this process has sent (rank 0) or received the end of the run
 
 std::shared_ptr<const Communicator>& world_slot() {
   static std::shared_ptr<const Communicator> comm = std::make_shared<SerialCommunicator>();
   return comm;
 }
 
-// Sums of several numbers over the ranks, added in rank order (the same bits on every rank and
-// in every run of the same rank count).
-std::vector<double> sums(const Communicator& comm, const std::vector<double>& mine) {
-  Bytes bytes;
-  ByteWriter(bytes).put_vector(mine);
-  std::vector<double> total(mine.size(), 0.0);
-  for (const Bytes& b : comm.all_gather(bytes)) {
-    ByteReader in(b);
-    const std::vector<double> v = in.get_vector<double>();
-    for (std::size_t k = 0; k < total.size(); ++k) total[k] += v.at(k);
-  }
-  return total;
-}
-
-// What a command returns on rank 0.
-struct Answer {
-  std::vector<double> numbers;
-  std::vector<TrajectoryRow> rows;
-};
-
-// One step decomposed over the ranks, and the commands on it, run alike on every rank.
 template <class Real>
-class Decomposed {
- public:
-  Decomposed(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm)
-      : scene_(scene), comm_(comm), step_(scene, threads, comm) {}
-
-  // Runs `command` (with `argument`, `text`) on this rank; every rank must call it in turn.
-  Answer run(int command, int argument, const std::string& text, Checkpoint* save) {
-    std::exception_ptr failure;
-    Answer a;
-    try {
-      a = work(command, argument, text, save);
-    } catch (...) {
-      failure = std::current_exception();
-    }
-    agree_on_failure(*comm_, failure);
-    return a;
-  }
-
-  HostStep<Real>& step() { return step_; }
-
- private:
-  Answer work(int command, int argument, const std::string& text, Checkpoint* save) {
-    const Communicator& c = *comm_;
-    Answer a;
-    switch (command) {
-      case kStep:
-        step_.step();
-        break;
-      case kEvaluate:
-        step_.evaluate_forces();
-        break;
-      case kParticles:
-        a.numbers = sums(c, {double(step_.particle_count())});
-        break;
-      case kRemoved:
-        a.numbers = sums(c, {double(step_.removed_count())});
-        break;
-      case kPairContacts:
-        a.numbers = sums(c, {double(step_.pair_contact_count())});
-        break;
-      case kListBuilds:
-        a.numbers = {c.max(double(step_.pair_list_builds()))};
-        break;
-      case kWallContacts:
-        a.numbers = sums(c, {double(step_.wall_contact_count())});
-        break;
-      case kWallForce:
-      case kWallTorque: {
-        const Vec3d v =
-            command == kWallForce ? step_.wall_force(argument) : step_.wall_torque(argument);
-        a.numbers = sums(c, {v.x, v.y, v.z});
-        break;
-      }
-      case kRows: {
-        Bytes bytes;
-        ByteWriter(bytes).put_vector(step_.trajectory_rows());
-        for (const Bytes& b : c.all_gather(bytes)) {
-          ByteReader in(b);
-          const std::vector<TrajectoryRow> rows = in.get_vector<TrajectoryRow>();
-          a.rows.insert(a.rows.end(), rows.begin(), rows.end());
-        }
-        std::sort(a.rows.begin(), a.rows.end(),
-                  [](const TrajectoryRow& x, const TrajectoryRow& y) { return x.id < y.id; });
-        break;
-      }
-      case kKinetic:
-        a.numbers = sums(c, {step_.kinetic_energy()});
-        break;
-      case kEnergy: {
-        const EnergyTerms e = step_.energy();
-        const EnergyLedger& l = e.ledger;
-        a.numbers = sums(c, {e.kinetic_translational, e.kinetic_rotational, e.gravitational,
-                             e.elastic_normal, e.elastic_tangential, l.dissipated, l.wall_work,
-                             l.fed, l.removed, l.dissipation_rate, l.wall_power, l.spring_energy});
-        break;
-      }
-      case kBedHeight: {
-        // The highest point over the ranks that hold particles.
-        const double mine =
-            step_.particle_count() > 0 ? step_.bed_height(*scene_.effects.gravity) : -HUGE_VAL;
-        const double top = c.max(mine);
-        a.numbers = {std::isfinite(top) ? top : 0.0};
-        break;
-      }
-      case kBytes:
-        a.numbers = sums(c, {double(step_.allocated_bytes())});
-        break;
-      case kSave: {
-        const StepState<Real> s = step_.export_state();  // every rank's, on every rank
-        if (save) put_step_state(*save, s);
-        break;
-      }
-      case kExchangeSeconds:
-        a.numbers = {c.max(step_.exchange_seconds())};
-        break;
-      case kRebalances:
-        a.numbers = {double(step_.rebalances())};  // the same on every rank
-        break;
-      case kRestore:
-        step_.import_state(get_step_state<Real>(read_checkpoint(text)));
-        break;
-      default:
-        throw std::runtime_error("decomposed step: unknown command " + std::to_string(command));
-    }
-    return a;
-  }
-
-  const Scene& scene_;
-  std::shared_ptr<const Communicator> comm_;
-  HostStep<Real> step_;
-};
-
-template <class Real>
-class DecomposedStep final : public AnyStep {
- public:
-  DecomposedStep(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm)
-      : comm_(comm), d_(scene, threads, comm), whole_(Box(), 0) {}
-  ~DecomposedStep() override { end_decomposed_run(*comm_); }
-
-  const char* backend() const override { return "cpu"; }
-  void step() override { call(kStep); }
-  void evaluate_forces() override { call(kEvaluate); }
-  double time() const override { return d_.step().time(); }
-  const StepPlan& plan() const override { return d_.step().plan(); }
-  std::size_t particles() const override { return number(kParticles); }
-  // The numbers this step reports are the whole run's already: the probes' sums over ranks are
-  // the numbers themselves.
-  const Domain& domain() const override { return whole_; }
-  long long removed_particles() const override { return number(kRemoved); }
-  std::size_t pair_contacts() const override { return number(kPairContacts); }
-  long long pair_list_builds() const override { return number(kListBuilds); }
-  std::size_t wall_contacts() const override { return number(kWallContacts); }
-  Vec3d wall_force(int w) const override { return vector(kWallForce, w); }
-  Vec3d wall_torque(int w) const override { return vector(kWallTorque, w); }
-  std::vector<TrajectoryRow> rows() const override { return call(kRows).rows; }
-  double kinetic_energy() const override { return call(kKinetic).numbers.at(0); }
-  EnergyTerms energy() const override {
-    const std::vector<double> n = call(kEnergy).numbers;
-    EnergyTerms e;
-    e.kinetic_translational = n.at(0), e.kinetic_rotational = n.at(1), e.gravitational = n.at(2);
-    e.elastic_normal = n.at(3), e.elastic_tangential = n.at(4);
-    EnergyLedger& l = e.ledger;
-    l.dissipated = n.at(5), l.wall_work = n.at(6), l.fed = n.at(7), l.removed = n.at(8);
-    l.dissipation_rate = n.at(9), l.wall_power = n.at(10), l.spring_energy = n.at(11);
-    return e;
-  }
-  double bed_height(const Vec3d&) const override { return call(kBedHeight).numbers.at(0); }
-  // Rank 0's stage times (each rank times its own).
-  const StageSeconds& stage_seconds() const override { return d_.step().stage_seconds(); }
-  std::size_t bytes() const override { return number(kBytes); }
-  double exchange_seconds() const override { return call(kExchangeSeconds).numbers.at(0); }
-  long long rebalances() const override { return number(kRebalances); }
-  void save_state(Checkpoint& checkpoint) const override { call(kSave, 0, "", &checkpoint); }
-  void restore_state(const Checkpoint& checkpoint) override {
-    call(kRestore, 0, checkpoint.path());
-  }
-
- private:
-  Answer call(int command, int argument = 0, const std::string& text = "",
-              Checkpoint* save = nullptr) const {
-    comm_->broadcast(command, 0);
-    comm_->broadcast(argument, 0);
-    Bytes bytes(text.begin(), text.end());
-    comm_->broadcast(bytes, 0);
-    return d_.run(command, argument, text, save);
-  }
-  long long number(int command) const {
-    return static_cast<long long>(std::llround(call(command).numbers.at(0)));
-  }
-  Vec3d vector(int command, int w) const {
-    const std::vector<double> n = call(command, w).numbers;
-    return Vec3d(n.at(0), n.at(1), n.at(2));
-  }
-
-  std::shared_ptr<const Communicator> comm_;
-  mutable Decomposed<Real> d_;
-  SingleDomain whole_;
-};
-
-template <class Real>
-void serve(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm) {
-  Decomposed<Real> d(scene, threads, comm);
-  for (;;) {
-    const int command = comm->broadcast(0, 0);
-    if (command == kEnd) {
-      ended = true;
-      return;
-    }
-    const int argument = comm->broadcast(0, 0);
-    Bytes bytes;
-    comm->broadcast(bytes, 0);
-    try {
-      d.run(command, argument, std::string(bytes.begin(), bytes.end()), nullptr);
-    } catch (const std::exception&) {
-      // Every rank failed with this message (agree_on_failure); rank 0 reports it.
-    }
-  }
+std::function<std::unique_ptr<HostStep<Real>>()> host_maker(
+    const Scene& scene, int threads, const std::shared_ptr<const Communicator>& comm) {
+  return [&scene, threads, comm] { return std::make_unique<HostStep<Real>>(scene, threads, comm); };
 }
 
 }  // namespace
 
+bool& decomposed_run_ended() {
+  static bool ended = false;
+  return ended;
+}
+
 std::unique_ptr<AnyStep> make_decomposed_step(const Scene& scene, int threads,
                                               std::shared_ptr<const Communicator> comm) {
+  using decomposed_detail::DecomposedStep;
   if (scene.precision == Precision::float32)
-    return std::make_unique<DecomposedStep<float>>(scene, threads, comm);
-  return std::make_unique<DecomposedStep<double>>(scene, threads, comm);
+    return std::make_unique<DecomposedStep<HostStep<float>>>(
+        scene, comm, host_maker<float>(scene, threads, comm), "cpu");
+  return std::make_unique<DecomposedStep<HostStep<double>>>(
+      scene, comm, host_maker<double>(scene, threads, comm), "cpu");
 }
 
 void serve_decomposed_step(const Scene& scene, int threads,
                            std::shared_ptr<const Communicator> comm) {
-  if (scene.precision == Precision::float32) return serve<float>(scene, threads, comm);
-  serve<double>(scene, threads, comm);
+  if (scene.precision == Precision::float32)
+    return decomposed_detail::serve<HostStep<float>>(scene, comm,
+                                                     host_maker<float>(scene, threads, comm));
+  decomposed_detail::serve<HostStep<double>>(scene, comm, host_maker<double>(scene, threads, comm));
 }
 
 void set_world(std::shared_ptr<const Communicator> comm) {
@@ -288,14 +53,15 @@ const std::shared_ptr<const Communicator>& world() {
 }
 
 void end_decomposed_run(const Communicator& comm) {
+  bool& ended = decomposed_run_ended();
   if (ended || comm.size() == 1) return;
   if (comm.rank() == 0) {
-    comm.broadcast(static_cast<int>(kEnd), 0);
+    comm.broadcast(static_cast<int>(decomposed_detail::kEnd), 0);
     ended = true;
     return;
   }
   // A rank that is not serving: rank 0 found the same fault and ends the run.
-  while (comm.broadcast(0, 0) != kEnd) {
+  while (comm.broadcast(0, 0) != decomposed_detail::kEnd) {
     comm.broadcast(0, 0);
     Bytes bytes;
     comm.broadcast(bytes, 0);

@@ -39,6 +39,8 @@ class AnyStep {
   virtual std::size_t bytes() const = 0;
   // Seconds spent exchanging particles between ranks (a decomposed step; 0 in one process).
   virtual double exchange_seconds() const { return 0; }
+  // Decomposed: the bytes every rank sent to the others so far, summed (ghosts, migrations).
+  virtual double exchange_bytes() const { return 0; }
   // Times the ranks' boxes were cut again (a decomposed step; 0 in one process).
   virtual long long rebalances() const { return 0; }
   // The step's state as checkpoint sections (step_state.hpp), and the state set back from them

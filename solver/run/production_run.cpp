@@ -373,6 +373,7 @@ ProductionReport ProductionRunner::report() const {
   r.output_seconds = m.output_seconds;
   r.particle_bytes = m.step->bytes();
   r.exchange_seconds = m.step->exchange_seconds();
+  r.exchange_bytes = m.step->exchange_bytes();
   r.rebalances = m.step->rebalances();
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;

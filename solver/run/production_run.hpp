@@ -96,7 +96,8 @@ struct ProductionReport {
   // A run on several ranks: the most wall-clock seconds a rank spent exchanging particles and
   // ghosts (and waiting for the others there); 0 in one process.
   double exchange_seconds = 0;
-  long long rebalances = 0;  // the boxes cut again (docs/parallel.md)
+  double exchange_bytes = 0;  // decomposed: bytes the ranks sent each other (AnyStep)
+  long long rebalances = 0;   // the boxes cut again (docs/parallel.md)
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end
   long long peak_memory_bytes = 0;  // the process's peak resident set (getrusage)

@@ -1,4 +1,5 @@
 #!/bin/sh
+# shellcheck disable=SC2086 # $opts: several words, split on purpose
 # ctest `parallel_ranks` (label parallel): `mpirun -np N talus run` on the host backend
 # (docs/parallel.md) gives the trajectories of one process to the bit, whatever N:
 #  - the drum (tests/parallel/scenes/drum.yaml: particles cross the ranks' boxes back and forth,
@@ -13,13 +14,24 @@
 #  - a restart from 2 ranks into 3: the drum stopped at 0.1 s on 2 ranks and resumed on 3 from
 #    its checkpoint at 0.075 s gives the frames of the uninterrupted one-process run;
 #  - any command but run on several ranks is refused with a message.
+# BACKEND cuda (ctest `parallel_ranks_gpu`, label gpu): the same on the CUDA backend, every rank
+# on the GPU of its local rank (all on one GPU here), against the one-process CUDA run; skipped
+# where talus has no CUDA or no GPU is usable.
 # Skipped (exit 77) where mpirun is missing or talus was built without MPI.
-# usage: run_ranks.sh TALUS SOURCE_DIR WORK_DIR
+# usage: run_ranks.sh TALUS SOURCE_DIR WORK_DIR [BACKEND (cpu)]
 set -u
-talus=$1 source=$2 work=$3
+talus=$1 source=$2 work=$3 backend=${4:-cpu}
 scenes=$source/tests/parallel/scenes
 rm -rf "$work" && mkdir -p "$work" || exit 1
-fail() { echo "parallel_ranks: $*"; exit 1; }
+name=parallel_ranks
+test "$backend" = cpu || name=parallel_ranks_gpu
+fail() { echo "$name: $*"; exit 1; }
+opts="--threads 1 --backend $backend"
+if [ "$backend" = cuda ]; then
+  "$talus" run "$scenes/drum.yaml" $opts --quiet --end 0.0001 --output "$work/gpu-probe" \
+    > /dev/null 2> "$work/gpu-probe.err" || {
+    echo "SKIPPED: no CUDA backend here: $(cat "$work/gpu-probe.err")"; exit 77; }
+fi
 command -v mpirun > /dev/null || { echo "SKIPPED: no mpirun (scripts/setup installs Open MPI)"; exit 77; }
 # Open MPI refuses root without these; CI's two cores run three ranks oversubscribed.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -29,7 +41,7 @@ mpi() { n=$1; shift; mpirun -np "$n" "$@"; }
 
 # A decomposed run needs a talus built with MPI: one without it runs each rank alone, and its
 # ranks would all write the outputs; the summary says how many ranks ran.
-mpi 2 "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --end 0.0001 \
+mpi 2 "$talus" run "$scenes/drum.yaml" $opts --quiet --end 0.0001 \
   --output "$work/probe" > "$work/probe.json" 2> "$work/probe.err"
 if ! grep -q '"ranks": 2' "$work/probe.json"; then
   echo "SKIPPED: talus was built without MPI (no \"ranks\": 2 in its summary)"; exit 77
@@ -42,7 +54,7 @@ same_frames() {  # DIR_A DIR_B: every trajectory frame of A in B, byte for byte
     count=$((count + 1))
   done
   test "$count" -ge 5 || fail "$1: only $count frames"
-  echo "parallel_ranks: $2: $count frames identical to $1's"
+  echo "$name: $2: $count frames identical to $1's"
 }
 close_probes() {  # A B: contact counts equal, the rest within 1e-9 of each column's scale
   /usr/bin/awk -F, -v a="$1" -v b="$2" '
@@ -66,20 +78,18 @@ close_probes() {  # A B: contact counts equal, the rest within 1e-9 of each colu
       }
     }' "$1" "$2" || fail "$2 against $1"
 }
-
-"$talus" run "$scenes/drum.yaml" --threads 1 --quiet --output "$work/drum-1" \
+"$talus" run "$scenes/drum.yaml" $opts --quiet --output "$work/drum-1" \
   > "$work/drum-1.json" || fail "the one-process drum exited with $?"
 for n in 2 3; do
-  mpi "$n" "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --output "$work/drum-$n" \
+  mpi "$n" "$talus" run "$scenes/drum.yaml" $opts --quiet --output "$work/drum-$n" \
     > "$work/drum-$n.json" 2> "$work/drum-$n.err" || fail "the drum on $n ranks exited with $?: $(cat "$work/drum-$n.err")"
   grep -q "\"ranks\": $n" "$work/drum-$n.json" || fail "the drum's summary does not say $n ranks"
   same_frames "$work/drum-1" "$work/drum-$n"
   close_probes "$work/drum-1/probes.csv" "$work/drum-$n/probes.csv"
 done
-
-"$talus" run "$scenes/silo.yaml" --threads 1 --quiet --output "$work/silo-1" \
+"$talus" run "$scenes/silo.yaml" $opts --quiet --output "$work/silo-1" \
   > "$work/silo-1.json" || fail "the one-process silo exited with $?"
-mpi 3 "$talus" run "$scenes/silo.yaml" --threads 1 --quiet --output "$work/silo-3" \
+mpi 3 "$talus" run "$scenes/silo.yaml" $opts --quiet --output "$work/silo-3" \
   > "$work/silo-3.json" 2> "$work/silo-3.err" || fail "the silo on 3 ranks exited with $?: $(cat "$work/silo-3.err")"
 same_frames "$work/silo-1" "$work/silo-3"
 for key in particles removed_particles; do
@@ -89,11 +99,10 @@ done
 grep -q '"removed_particles": [1-9]' "$work/silo-1.json" || fail "silo: no particle removed"
 # The pour collapses to the bottom: the boxes must have been cut again (Scene::rebalance, 1.25).
 grep -q '"rebalances": [1-9]' "$work/silo-3.json" || fail "silo: the boxes were never cut again"
-
-mpi 2 "$talus" run "$scenes/drum.yaml" --threads 1 --quiet --end 0.1 \
+mpi 2 "$talus" run "$scenes/drum.yaml" $opts --quiet --end 0.1 \
   --output "$work/restart" > "$work/restart-2.json" 2> "$work/restart-2.err" ||
   fail "the drum to 0.1 s on 2 ranks exited with $?: $(cat "$work/restart-2.err")"
-mpi 3 "$talus" run --resume "$work/restart/checkpoints" --threads 1 --quiet \
+mpi 3 "$talus" run --resume "$work/restart/checkpoints" $opts --quiet \
   > "$work/restart-3.json" 2> "$work/restart-3.err" ||
   fail "the resumed drum on 3 ranks exited with $?: $(cat "$work/restart-3.err")"
 grep -q '"ranks": 3' "$work/restart-3.json" || fail "the resumed run does not say 3 ranks"
@@ -103,4 +112,4 @@ mpi 2 "$talus" shape cube:0.01 > "$work/shape.out" 2> "$work/shape.err" &&
   fail "talus shape on 2 ranks was not refused"
 grep -q "only 'talus run' runs on several ranks" "$work/shape.err" ||
   fail "talus shape on 2 ranks: $(cat "$work/shape.err")"
-echo "parallel_ranks: passed"
+echo "$name: passed"

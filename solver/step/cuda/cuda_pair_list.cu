@@ -95,14 +95,60 @@ __global__ void carry_histories_kernel(const long long* __restrict__ global_id,
   slot_state[k] = slot_apart;
 }
 
-// Two CSR entries per candidate slot k: (a, k) and (b, k).
+// Two CSR entries per candidate slot k: (a, k) and (b, k), each with its partner's global id and
+// its own index.
 __global__ void emit_entries(const ContactPair* __restrict__ pairs, int count,
-                             int* __restrict__ particle, int* __restrict__ slot) {
+                             const long long* __restrict__ global_id, int* __restrict__ particle,
+                             int* __restrict__ slot, long long* __restrict__ partner,
+                             int* __restrict__ entry) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= count) return;
   particle[2 * k] = pairs[k].a;
   particle[2 * k + 1] = pairs[k].b;
   slot[2 * k] = slot[2 * k + 1] = k;
+  partner[2 * k] = global_id[pairs[k].b];
+  partner[2 * k + 1] = global_id[pairs[k].a];
+  entry[2 * k] = 2 * k;
+  entry[2 * k + 1] = 2 * k + 1;
+}
+
+// The entries in the order `order` gives: particle_out[j] = particle[order[j]], likewise slot.
+__global__ void gather_entries(const int* __restrict__ order, int n,
+                               const int* __restrict__ particle, const int* __restrict__ slot,
+                               int* __restrict__ particle_out, int* __restrict__ slot_out) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= n) return;
+  particle_out[j] = particle[order[j]];
+  slot_out[j] = slot[order[j]];
+}
+
+// A candidate a decomposed step computes: not two ghosts (docs/parallel.md).
+struct NotTwoGhosts {
+  int owned;
+  __host__ __device__ bool operator()(const ContactPair& c) const {
+    return c.a < owned || c.b < owned;
+  }
+};
+
+// flags[k]: whether store entry k names a particle among ids[0 .. n) (sorted).
+__global__ void flag_keys_with(const PairKey* __restrict__ keys, int count,
+                               const long long* __restrict__ ids, int n,
+                               unsigned char* __restrict__ flags) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const auto holds = [&](long long id) {
+    int lo = 0, hi = n;
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      if (ids[mid] < id) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
+      }
+    }
+    return lo < n && ids[lo] == id;
+  };
+  flags[k] = holds(keys[k].low) || holds(keys[k].high);
 }
 
 // begin[i], end[i]: particle i's range of the sorted entries (both 0 when it has none).
@@ -258,7 +304,10 @@ void DevicePairList<Real>::carry_histories(int stored) {
   TALUS_CUDA_LAUNCH_CHECK();
 }
 
-// Each particle's slots, in ascending slot (pair) order: the radix sort is stable.
+// Each particle's slots in the order of their partners' global ids, as the host step sums them
+// (contact_stage.hpp): the same sums whatever the particles' order in memory, the list's order or
+// the ranks the particles are spread over. Two stable radix sorts: by partner id, then by
+// particle.
 template <class Real>
 void DevicePairList<Real>::build_csr() {
   const int count = shared_.count;
@@ -266,16 +315,32 @@ void DevicePairList<Real>::build_csr() {
   slot_forces_.grow_to(candidates_);
   entry_particle_.grow_to(entries), entry_slot_.grow_to(entries);
   sorted_particle_.grow_to(entries), sorted_slot_.grow_to(entries);
-  emit_entries<<<blocks_for(candidates_), kBlock>>>(pairs(), candidates_, entry_particle_.data(),
-                                                    entry_slot_.data());
+  entry_partner_.grow_to(entries), sorted_partner_.grow_to(entries);
+  entry_index_.grow_to(entries), sorted_index_.grow_to(entries);
+  emit_entries<<<blocks_for(candidates_), kBlock>>>(pairs(), candidates_, shared_.global_ids.data(),
+                                                    entry_particle_.data(), entry_slot_.data(),
+                                                    entry_partner_.data(), entry_index_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int id_bits = 1;
+  while (id_bits < 63 && (1LL << id_bits) < shared_.id_bound) ++id_bits;
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceRadixSort::SortPairs(t, b, entry_partner_.data(), sorted_partner_.data(),
+                                           entry_index_.data(), sorted_index_.data(), entries, 0,
+                                           id_bits);
+  });
+  gather_entries<<<blocks_for(entries), kBlock>>>(sorted_index_.data(), entries,
+                                                  entry_particle_.data(), entry_slot_.data(),
+                                                  sorted_particle_.data(), sorted_slot_.data());
   TALUS_CUDA_LAUNCH_CHECK();
   int bits = 1;
   while (bits < 31 && (1 << bits) < count) ++bits;
   cub_call(shared_.temp, [&](void* t, std::size_t& b) {
-    return cub::DeviceRadixSort::SortPairs(t, b, entry_particle_.data(), sorted_particle_.data(),
-                                           entry_slot_.data(), sorted_slot_.data(), entries, 0,
+    return cub::DeviceRadixSort::SortPairs(t, b, sorted_particle_.data(), entry_particle_.data(),
+                                           sorted_slot_.data(), entry_slot_.data(), entries, 0,
                                            bits);
   });
+  entry_particle_.swap(sorted_particle_);
+  entry_slot_.swap(sorted_slot_);
   TALUS_CUDA_CHECK(cudaMemset(entry_begin_.data(), 0, count * sizeof(int)));
   TALUS_CUDA_CHECK(cudaMemset(entry_end_.data(), 0, count * sizeof(int)));
   entry_ranges<<<blocks_for(entries), kBlock>>>(sorted_particle_.data(), entries,
@@ -303,6 +368,57 @@ void DevicePairList<Real>::import_histories(
   TALUS_CUDA_CHECK(cudaMemcpy(store_histories_.data(), histories.data(),
                               imported_ * sizeof(ContactHistoryData<Real>),
                               cudaMemcpyHostToDevice));
+}
+
+template <class Real>
+void DevicePairList<Real>::histories_with(const std::vector<long long>& ids,
+                                          std::vector<PairKey>& keys,
+                                          std::vector<ContactHistoryData<Real>>& histories) {
+  keys.clear();
+  histories.clear();
+  const int stored = imported_ >= 0 ? imported_ : 0;
+  if (stored == 0 || ids.empty()) return;
+  DeviceBuffer<long long> device_ids;
+  device_ids.upload(ids);
+  DeviceBuffer<unsigned char> flags(stored);
+  DeviceBuffer<PairKey> out_keys(stored);
+  DeviceBuffer<ContactHistoryData<Real>> out_histories(stored);
+  flag_keys_with<<<blocks_for(stored), kBlock>>>(store_keys_.data(), stored, device_ids.data(),
+                                                 static_cast<int>(ids.size()), flags.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  int* selected_count = shared_.flags.at(selected);
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::Flagged(t, b, store_keys_.data(), flags.data(), out_keys.data(),
+                                      selected_count, stored);
+  });
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::Flagged(t, b, store_histories_.data(), flags.data(),
+                                      out_histories.data(), selected_count, stored);
+  });
+  const int n = shared_.flags.read(selected);
+  keys = download(out_keys.data(), n);
+  histories = download(out_histories.data(), n);
+}
+
+template <class Real>
+void DevicePairList<Real>::add_histories(const std::vector<PairKey>& keys,
+                                         const std::vector<ContactHistoryData<Real>>& histories) {
+  if (!tangential_history_ || keys.empty()) return;
+  const int stored = imported_ >= 0 ? imported_ : 0;
+  const int n = stored + static_cast<int>(keys.size());
+  store_keys_.grow_keeping(n, stored);
+  store_histories_.grow_keeping(n, stored);
+  TALUS_CUDA_CHECK(cudaMemcpy(store_keys_.data() + stored, keys.data(),
+                              keys.size() * sizeof(PairKey), cudaMemcpyHostToDevice));
+  TALUS_CUDA_CHECK(cudaMemcpy(store_histories_.data() + stored, histories.data(),
+                              keys.size() * sizeof(ContactHistoryData<Real>),
+                              cudaMemcpyHostToDevice));
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceMergeSort::SortPairs(t, b, store_keys_.data(), store_histories_.data(), n,
+                                           KeyLess());
+  });
+  imported_ = n;
+  due_ = -1;
 }
 
 template <class Real>
@@ -362,6 +478,19 @@ void DevicePairList<Real>::update() {
   stale_ = false;
   broad_phase_.build();
   candidates_ = static_cast<int>(broad_phase_.pair_count());
+  pairs_ = broad_phase_.device_pairs();
+  const int owned = shared_.owned;
+  if (owned >= 0 && owned < shared_.count && candidates_ > 0) {
+    // Decomposed: pairs of two ghosts are their owners' (and may lack partners here).
+    own_pairs_.grow_to(candidates_);
+    int* selected_count = shared_.flags.at(selected);
+    cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+      return cub::DeviceSelect::If(t, b, pairs_, own_pairs_.data(), selected_count, candidates_,
+                                   NotTwoGhosts{owned});
+    });
+    candidates_ = shared_.flags.read(selected);
+    pairs_ = own_pairs_.data();
+  }
   ++builds_;
   carry_histories(stored);
   if (deterministic() && candidates_ > 0) build_csr();
@@ -388,8 +517,11 @@ std::vector<std::pair<const char*, std::size_t>> DevicePairList<Real>::parts() c
                                       sizeof(Real) +
                                   largest_move_.size() * sizeof(unsigned long long)},
       {"slot CSR", (entry_particle_.size() + entry_slot_.size() + sorted_particle_.size() +
-                    sorted_slot_.size() + entry_begin_.size() + entry_end_.size()) *
-                       sizeof(int)},
+                    sorted_slot_.size() + entry_begin_.size() + entry_end_.size() +
+                    entry_index_.size() + sorted_index_.size()) *
+                           sizeof(int) +
+                       (entry_partner_.size() + sorted_partner_.size()) * sizeof(long long)},
+      {"own pairs", own_pairs_.size() * sizeof(ContactPair)},
       {"broad phase", broad_phase_.allocated_bytes()},
   };
 }

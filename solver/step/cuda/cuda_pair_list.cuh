@@ -3,8 +3,9 @@
 // 0.45 skin since it was built, and each candidate keeps its slot: the pair's tangential history
 // (a law with one: contact/laws/), its state and, in deterministic mode, its force. A rebuild
 // carries the touching slots' histories over to the new slots of the same pairs, by global ids (a
-// sorted store and find_pair_key), and in deterministic mode builds each particle's slots in slot
-// order (a CSR over the list) for the accumulation. Included only from .cu files.
+// sorted store and find_pair_key), and in deterministic mode builds each particle's slots in the
+// order of their partners' global ids (a CSR over the list) for the accumulation. Included only
+// from .cu files.
 #pragma once
 
 #include <memory>
@@ -72,6 +73,23 @@ class DevicePairList {
   void import_histories(const std::vector<PairKey>& keys,
                         const std::vector<ContactHistoryData<Real>>& histories);
 
+  // Decomposed (docs/parallel.md), between keep_histories (or import_histories) and the next
+  // update: the store's entries of pairs with a particle among `ids` (sorted global ids; those
+  // migrating to other ranks), downloaded; and entries added to the store (the arriving
+  // particles'; a key held twice is the same history, computed by two ranks).
+  void histories_with(const std::vector<long long>& ids, std::vector<PairKey>& keys,
+                      std::vector<ContactHistoryData<Real>>& histories);
+  void add_histories(const std::vector<PairKey>& keys,
+                     const std::vector<ContactHistoryData<Real>>& histories);
+  // Decomposed, a rank that holds no particle now: an empty store and list, so that no history of
+  // the particles it held meets those of particles arriving later (which are newer).
+  void forget_histories() {
+    imported_ = 0;
+    candidates_ = 0;
+    stale_ = true;
+    due_ = -1;
+  }
+
   // The reference positions the next renumbering is decided from (3 per particle, x then y then
   // z; empty without a skin or before the first build) and whether the particles changed since
   // the last build; setting them on a resumed step (before its first update).
@@ -81,7 +99,8 @@ class DevicePairList {
   int candidates() const { return candidates_; }
   long long builds() const { return builds_; }
   Real skin() const { return skin_; }
-  const ContactPair* pairs() const { return broad_phase_.device_pairs(); }
+  // The candidates of the last build (decomposed: without the pairs of two ghosts).
+  const ContactPair* pairs() const { return pairs_; }
   unsigned char* slot_state() { return slot_state_.data(); }
   const unsigned char* slot_state() const { return slot_state_.data(); }
   ContactHistoryData<Real>* histories() {  // a law with a tangential history only, else null
@@ -91,7 +110,8 @@ class DevicePairList {
     return deterministic() ? slot_forces_.data() : nullptr;
   }
   const SlotForce<Real>* forces() const { return deterministic() ? slot_forces_.data() : nullptr; }
-  // Deterministic mode: particle i's slots are sorted_slot()[begin[i] .. end[i]), ascending.
+  // Deterministic mode: particle i's slots are sorted_slot()[begin[i] .. end[i]), in the order of
+  // the partners' global ids.
   const int* sorted_slot() const { return sorted_slot_.data(); }
   const int* entry_begin() const { return entry_begin_.data(); }
   const int* entry_end() const { return entry_end_.data(); }
@@ -136,9 +156,13 @@ class DevicePairList {
   DeviceBuffer<PairKey> old_keys_, store_keys_;
   DeviceBuffer<unsigned char> old_touching_;
   DeviceBuffer<ContactHistoryData<Real>> store_histories_;
-  // Deterministic mode: each particle's slots (CSR over the list, built with it).
+  // Deterministic mode: each particle's slots (CSR over the list, built with it), by partner id.
   DeviceBuffer<int> entry_particle_, entry_slot_, sorted_particle_, sorted_slot_;
-  DeviceBuffer<int> entry_begin_, entry_end_;
+  DeviceBuffer<int> entry_begin_, entry_end_, entry_index_, sorted_index_;
+  DeviceBuffer<long long> entry_partner_, sorted_partner_;
+  // The candidates (the broad phase's list, or decomposed its pairs not of two ghosts).
+  const ContactPair* pairs_ = nullptr;
+  DeviceBuffer<ContactPair> own_pairs_;
 };
 
 }  // namespace talus

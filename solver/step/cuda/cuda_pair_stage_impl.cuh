@@ -35,11 +35,22 @@ __device__ void atomic_add(const Soa3<Real>& s, int i, const Vec3<Real>& v) {
   atomicAdd(s.z + i, v.z);
 }
 
+// Whether this rank counts the contact of particles a and b (its energies and its number): in
+// one process (owned INT_MAX) every one; decomposed (docs/parallel.md), those of two own
+// particles and those whose own particle has the lower global id, so that each contact is
+// counted by one rank.
+template <class Real>
+__device__ bool attributed(const ParticleView<Real>& p, int a, int b, int owned) {
+  const bool own_a = a < owned, own_b = b < owned;
+  if (own_a && own_b) return true;
+  return own_a ? p.global_id[a] < p.global_id[b] : own_b && p.global_id[b] < p.global_id[a];
+}
+
 // The rest of slot k's work once its geometry g is known: the force law with the slot's history
 // (read and replaced in place: the list, and with it every pair's slot, stays until the next
 // rebuild, which carries the histories over), the slot's state, and the force: added to the
 // two particles at once by atomics (Atomic, deterministic: false) or kept in the slot for
-// accumulate_kernel. Returns whether the pair touches.
+// accumulate_kernel. Returns whether the pair touches and is this rank's to count (attributed).
 template <class Law, class Real, bool Atomic>
 __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Real>& t,
                             const ContactPair& pair, int ia, int ib, int k,
@@ -47,7 +58,7 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
                             ContactHistoryData<Real>* __restrict__ histories,
                             SlotForce<Real>* __restrict__ forces,
                             unsigned char* __restrict__ slot_state, int* flag,
-                            double* __restrict__ energy_sums) {
+                            double* __restrict__ energy_sums, int owned) {
   ContactHistoryData<Real> previous;
   if (histories && g.in_contact) previous = histories[k];
   const PairContactRecord<Real> r = pair_contact_force<Law>(p, t, ia, ib, g, spring_dt, previous);
@@ -55,7 +66,8 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
   slot_state[k] = !r.in_contact ? slot_apart : (ia == pair.a ? slot_a_first : slot_b_first);
   if (r.degenerate) atomicMin(flag + degenerate_pair, k);
   if (!r.in_contact) return false;
-  if (energy_sums) {
+  const bool counted = attributed(p, ia, ib, owned);
+  if (energy_sums && counted) {
     atomicAdd(energy_sums + sum_dissipation, double(r.dissipation));
     atomicAdd(energy_sums + sum_normal, double(r.normal_energy));
     atomicAdd(energy_sums + sum_tangential, double(r.tangential_energy));
@@ -70,7 +82,7 @@ __device__ bool finish_slot(const ParticleView<Real>& p, const PairLawTables<Rea
   } else {
     forces[k] = SlotForce<Real>{r.force_on_a, r.point, r.couple};
   }
-  return true;
+  return counted;
 }
 
 // Adds the block's touching slots to *touching (one atomic per block). Every thread calls it.
@@ -91,6 +103,7 @@ struct SlotArgs {
   int* touching = nullptr;
   bool gjk_filter = true;         // DeviceStepShared::gjk_filter
   double* energy_sums = nullptr;  // DeviceStepShared::energy_sums
+  int owned = INT_MAX;            // decomposed: DeviceStepShared::owned (attributed)
 };
 
 // One thread per slot of the pair list (or of the given `slots`), the whole pair in one thread;
@@ -126,7 +139,7 @@ __global__ void __launch_bounds__(kBlock)
       }
       in_contact =
           finish_slot<Law, Real, Atomic>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories,
-                                         s.forces, s.slot_state, s.flag, s.energy_sums);
+                                         s.forces, s.slot_state, s.flag, s.energy_sums, s.owned);
     }
   }
   count_touching(in_contact, s.touching);
@@ -183,7 +196,7 @@ __global__ void __launch_bounds__(kBlock, 4)
       }
       if (kept < 0) {
         finish_slot<Law, Real, false>(p, t, pair, ia, ib, k, g, s.spring_dt, s.histories, s.forces,
-                                      s.slot_state, s.flag, s.energy_sums);
+                                      s.slot_state, s.flag, s.energy_sums, s.owned);
         key = 0;
       } else {
         key = static_cast<unsigned char>(kept + 1);
@@ -253,7 +266,7 @@ __global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
     } else {
       in_contact = finish_slot<Law, Real, Atomic>(
           p, t, pair, ia, ib, k, volume_geometry_from(overlap), s.spring_dt, s.histories, s.forces,
-          s.slot_state, s.flag, s.energy_sums);
+          s.slot_state, s.flag, s.energy_sums, s.owned);
     }
   }
   count_touching(in_contact, s.touching);
@@ -273,6 +286,7 @@ SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& l
   a.touching = shared.flags.at(touching_pairs);
   a.gjk_filter = shared.gjk_filter;
   a.energy_sums = shared.energy_sums.size() > 0 ? shared.energy_sums.data() : nullptr;
+  a.owned = shared.owned >= 0 ? shared.owned : INT_MAX;
   return a;
 }
 

@@ -100,7 +100,7 @@ void DeviceParticles<Real>::keep(const int* device_order, int kept) {
 template <class Real>
 void DeviceParticles<Real>::append(const std::vector<ParticleState>& added,
                                    const std::vector<BodyProperties<Real>>& bodies,
-                                   bool body_forces) {
+                                   bool body_forces, const std::vector<long long>* ids) {
   const int first = shared_.count, k = static_cast<int>(added.size());
   if (k == 0) return;
   reserve(first + k);
@@ -124,7 +124,7 @@ void DeviceParticles<Real>::append(const std::vector<ParticleState>& added,
     const BodyProperties<Real>& body = bodies.at(p.template_index);
     template_id[j] = p.template_index;
     material_id[j] = body.material;
-    global_id[j] = next_id_ + j;
+    global_id[j] = ids ? ids->at(j) : next_id_ + j;
     h.position.set(j, Vec3<Real>(p.position));
     h.velocity.set(j, Vec3<Real>(p.velocity));
     const Quatd q = p.orientation.normalized();
@@ -150,7 +150,58 @@ void DeviceParticles<Real>::append(const std::vector<ParticleState>& added,
   upload_at(material_ids_.data() + first, material_id);
   upload_at(shared_.global_ids.data() + first, global_id);
   shared_.count = first + k;
-  next_id_ += k;
+  if (!ids) set_next_id(next_id_ + k);
+  bind();
+}
+
+template <class Real>
+typename DeviceParticles<Real>::Rows DeviceParticles<Real>::gather_rows(
+    const std::vector<int>& indices) {
+  Rows rows;
+  const int n = rows.count = static_cast<int>(indices.size());
+  if (n == 0) return rows;
+  row_index_.upload(indices);
+  const std::size_t arrays = storage_.size();
+  rows.values.resize(n * arrays);
+  row_values_.grow_to(n);
+  for (std::size_t a = 0; a < arrays; ++a) {
+    gather_kernel<<<blocks_for(n), kBlock>>>(storage_[a].second.data(), row_index_.data(), n,
+                                             row_values_.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+    const std::vector<Real> column = download(row_values_.data(), n);
+    for (int i = 0; i < n; ++i) rows.values[i * arrays + a] = column[i];
+  }
+  const auto gather_ints = [&](const DeviceBuffer<int>& from, DeviceBuffer<int>& scratch) {
+    scratch.grow_to(n);
+    gather_kernel<<<blocks_for(n), kBlock>>>(from.data(), row_index_.data(), n, scratch.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+    return download(scratch.data(), n);
+  };
+  rows.template_ids = gather_ints(template_ids_, int_scratch_);
+  rows.material_ids = gather_ints(material_ids_, int_scratch_);
+  id_scratch_.grow_to(n);
+  gather_kernel<<<blocks_for(n), kBlock>>>(shared_.global_ids.data(), row_index_.data(), n,
+                                           id_scratch_.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  rows.global_ids = download(id_scratch_.data(), n);
+  return rows;
+}
+
+template <class Real>
+void DeviceParticles<Real>::append_rows(const Rows& rows) {
+  const int first = shared_.count, n = rows.count;
+  if (n == 0) return;
+  reserve(first + n);
+  const std::size_t arrays = storage_.size();
+  std::vector<Real> column(n);
+  for (std::size_t a = 0; a < arrays; ++a) {
+    for (int i = 0; i < n; ++i) column[i] = rows.values[i * arrays + a];
+    upload_at(storage_[a].second.data() + first, column);
+  }
+  upload_at(template_ids_.data() + first, rows.template_ids);
+  upload_at(material_ids_.data() + first, rows.material_ids);
+  upload_at(shared_.global_ids.data() + first, rows.global_ids);
+  shared_.count = first + n;
   bind();
 }
 
@@ -171,8 +222,8 @@ std::size_t DeviceParticles<Real>::bytes() const {
 }
 
 template <class Real>
-void DeviceParticles<Real>::export_to(StepState<Real>& s) const {
-  const int n = count();
+void DeviceParticles<Real>::export_to(StepState<Real>& s, int own) const {
+  const int n = own >= 0 ? own : count();
   s.count = n;
   s.arrays.clear();
   for (const auto& [name, values] : storage_)
@@ -209,8 +260,8 @@ std::vector<int> DeviceParticles<Real>::template_ids() const {
 }
 
 template <class Real>
-typename DeviceParticles<Real>::HostCopy DeviceParticles<Real>::host_copy() const {
-  const int n = count();
+typename DeviceParticles<Real>::HostCopy DeviceParticles<Real>::host_copy(int own) const {
+  const int n = own >= 0 ? own : count();
   const ParticleView<Real>& v = shared_.view;
   HostCopy c;
   c.view.count = n;

@@ -7,6 +7,7 @@
 // Included only from .cu files.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,8 +33,22 @@ class DeviceParticles {
   // forces are set at once as HostStep::feed sets them (zero, then gravity and drag; torque
   // zero), for the first half-step of a particle fed between steps; every other array starts at
   // zero.
+  // `ids`: their global ids instead (a decomposed step's feed numbers every rank's insertions).
   void append(const std::vector<ParticleState>& added,
-              const std::vector<BodyProperties<Real>>& bodies, bool body_forces);
+              const std::vector<BodyProperties<Real>>& bodies, bool body_forces,
+              const std::vector<long long>* ids = nullptr);
+  // Whole particles in host memory, as a decomposed step moves them between ranks: every array's
+  // value (row-major, names().size() numbers a particle) and the ids.
+  struct Rows {
+    int count = 0;
+    std::vector<Real> values;
+    std::vector<int> template_ids, material_ids;
+    std::vector<long long> global_ids;
+  };
+  // The particles at `indices` (gathered on the device, then downloaded), and appended after
+  // the present particles.
+  Rows gather_rows(const std::vector<int>& indices);
+  void append_rows(const Rows& rows);
   // `count` particles: the arrays grow (or the count shrinks), the particles' contents are left
   // for the caller to set (import_from).
   void resize(int count);
@@ -45,7 +60,10 @@ class DeviceParticles {
   // The global id the next appended particle gets (ids are never reused), and setting it (a
   // restart).
   long long next_id() const { return next_id_; }
-  void set_next_id(long long id) { next_id_ = id; }
+  void set_next_id(long long id) {
+    next_id_ = id;
+    shared_.id_bound = std::max<long long>(1, id);
+  }
 
   // The real arrays' names (as HostStep::allocated_arrays, without the ids) and the device bytes
   // held (capacity, not count).
@@ -54,7 +72,8 @@ class DeviceParticles {
 
   // Every array and the ids downloaded into `s` (count, arrays, ids), and set from a state that
   // fits (check_state_fits with count()): copied into the arrays in place.
-  void export_to(StepState<Real>& s) const;
+  // `count` >= 0: the first `count` particles only (a decomposed step's own).
+  void export_to(StepState<Real>& s, int count = -1) const;
   void import_from(const StepState<Real>& s);
 
   // A feed's inputs: the positions in double and the template ids, downloaded.
@@ -69,7 +88,7 @@ class DeviceParticles {
     std::vector<long long> global_ids;
     ParticleView<Real> view;
   };
-  HostCopy host_copy() const;
+  HostCopy host_copy(int count = -1) const;  // count >= 0: the first `count` particles only
 
   int count() const { return shared_.count; }
   int capacity() const { return capacity_; }
@@ -90,6 +109,8 @@ class DeviceParticles {
   DeviceBuffer<Real> real_scratch_;
   DeviceBuffer<int> int_scratch_;
   DeviceBuffer<long long> id_scratch_;
+  DeviceBuffer<int> row_index_;    // gather_rows' indices
+  DeviceBuffer<Real> row_values_;  // gather_rows' one array
 };
 
 }  // namespace talus

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -25,6 +26,7 @@
 #include "solver/scene/wall_meshes.hpp"
 #include "solver/shape/shape_arrays.hpp"
 #include "solver/step/cuda/cuda_step_impl.cuh"
+#include "solver/step/gathered_state.hpp"
 #include "solver/step/host/host_step.hpp"
 #include "solver/step/particle_kernels.hpp"
 
@@ -79,6 +81,21 @@ PairLawTables<Real> upload_law_tables(const PairLawTables<Real>& h,
   return d;
 }
 
+// A rank of a decomposed run takes the GPU of its local rank (several ranks on one GPU share it):
+// the launcher's local rank (Open MPI, MPICH, Slurm) modulo the devices.
+void select_local_device() {
+  int local = 0;
+  for (const char* name : {"OMPI_COMM_WORLD_LOCAL_RANK", "MPI_LOCALRANKID", "SLURM_LOCALID"}) {
+    if (const char* v = std::getenv(name)) {
+      local = std::atoi(v);
+      break;
+    }
+  }
+  int devices = 0;
+  TALUS_CUDA_CHECK(cudaGetDeviceCount(&devices));
+  if (devices > 0) TALUS_CUDA_CHECK(cudaSetDevice(local % devices));
+}
+
 bool graphs_allowed_by_environment() {
   const char* v = std::getenv("TALUS_CUDA_GRAPHS");
   return v == nullptr || std::string(v) != "0";
@@ -122,8 +139,32 @@ void CudaStep<Real>::Impl::upload_templates(const CudaStepOptions& options) {
 template <class Real>
 void CudaStep<Real>::Impl::feed() {
   if (!feeding.due(time)) return;
-  const std::vector<ParticleState> added =
-      feeding.insert(time, particles->positions(), particles->template_ids(), *domain);
+  std::vector<ParticleState> added;
+  std::vector<long long> ids;
+  if (decomposition) {
+    // Every rank runs the feeds on every rank's particles (the same insertions, the same feed
+    // states), numbers every insertion some rank owns as one process would, and keeps its own.
+    std::vector<Vec3d> positions;
+    std::vector<int> templates;
+    const double start = clock_seconds();
+    decomposition->gather_all(positions, templates);
+    decomposition->add_exchange_seconds(clock_seconds() - start);
+    const std::vector<ParticleState> all =
+        feeding.insert_all(time, std::move(positions), templates);
+    if (all.empty()) return;
+    long long next = particles->next_id();
+    const RcbDomain& d = decomposition->domain();
+    for (const ParticleState& p : all) {
+      const int owner = d.owner(p.position);
+      if (owner < 0) continue;
+      const long long id = next++;
+      if (owner == d.rank()) added.push_back(p), ids.push_back(id);
+    }
+    particles->set_next_id(next);
+    decomposition->drop_ghosts();
+  } else {
+    added = feeding.insert(time, particles->positions(), particles->template_ids(), *domain);
+  }
   if (added.empty()) return;
   // The energy the new particles bring (the energy probe's `fed`), from their states in double.
   const Vec3d* gravity = scene.effects.gravity ? &*scene.effects.gravity : nullptr;
@@ -137,7 +178,8 @@ void CudaStep<Real>::Impl::feed() {
     }
     if (gravity) ledger.fed -= double(body.mass) * dot(*gravity, p.position);
   }
-  particles->append(added, host_bodies, true);
+  particles->append(added, host_bodies, true, decomposition ? &ids : nullptr);
+  if (decomposition) shared.owned = count();
   if (list) list->particles_changed();
   recapture = true;
 }
@@ -149,9 +191,10 @@ void CudaStep<Real>::Impl::feed() {
 // by global ids and the particles gathered.
 template <class Real>
 void CudaStep<Real>::Impl::flag_outside() {
+  const OwnParticlesOnly<Real> own(shared);  // decomposed: the own particles; the ghosts' owners
   const int n = count();
   if (n == 0 || !scene.domain) return;
-  const Box box = domain->local_box();
+  const Box box = decomposition ? decomposition->domain().region() : domain->local_box();
   keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
   const Vec3d g = scene.effects.gravity ? *scene.effects.gravity : Vec3d();
   outside_kernel<<<blocks_for(n), kBlock, 0, shared.stream>>>(
@@ -162,7 +205,7 @@ void CudaStep<Real>::Impl::flag_outside() {
 
 template <class Real>
 void CudaStep<Real>::Impl::remove_outside(int outside) {
-  const int n = count();
+  const int n = own_count();  // decomposed: the ghosts are dropped with the removed
   if (outside == 0 || n == 0) return;
   removed_sum.grow_to(1);
   cub_call(shared.temp, [&](void* t, std::size_t& b) {
@@ -175,6 +218,7 @@ void CudaStep<Real>::Impl::remove_outside(int outside) {
   });
   if (list) list->keep_histories();
   particles->keep(order.data(), n - outside);
+  if (decomposition) shared.owned = count(), decomposition->particles_changed();
   if (list) list->particles_changed();
   removed += outside;
   recapture = true;
@@ -194,9 +238,12 @@ void CudaStep<Real>::Impl::set_up_pairs(const PairLawTables<Real>& host_tables) 
 }
 
 template <class Real>
-CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
+CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options,
+                         std::shared_ptr<const Communicator> comm)
     : impl_(std::make_unique<Impl>(scene)) {
   Impl& m = *impl_;
+  const bool decomposed = comm && comm->size() > 1;
+  if (decomposed) select_local_device();  // before the step's first allocation
   m.graphs_on = options.graphs && graphs_allowed_by_environment() && !cuda_sync_after_launch();
   for (const ParticleTemplate& t : scene.templates) {
     m.host_shapes.push_back(t.kind == ParticleShapeKind::polyhedron
@@ -233,6 +280,51 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options)
   if (host_walls) {
     m.walls = std::make_unique<DeviceWallStage<Real>>(m.shared, std::move(host_walls), m.time);
   }
+  if (decomposed) {
+    // Every rank made every initial particle (the same ids); each keeps those its box owns. A
+    // decomposed step exchanges ghosts in the middle of each step: no graph steps.
+    m.graphs_on = false;
+    m.decomposition = std::make_unique<DeviceDecomposition<Real>>(
+        m.shared, *m.particles, m.list.get(), m.walls.get(), std::move(comm));
+    m.decomposition->decompose();
+  }
+}
+
+// One step on several ranks: as step(), with the ghosts' exchange after integrate_begin, and a
+// failure on any rank raised on every rank (agree_on_failure) before the next exchange.
+template <class Real>
+void CudaStep<Real>::Impl::decomposed_step() {
+  const Communicator& comm = decomposition->comm();
+  const auto agreed = [&](auto&& body) {
+    std::exception_ptr failure;
+    try {
+      body();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    agree_on_failure(comm, failure);
+  };
+  if (walls) walls->open_outlets(time);
+  if (!feeding.empty()) feed();  // collectives: the feeds' gathering
+  time += scene.time_step;
+  ++steps;
+  agreed([&] {
+    shared.abort = AbortCheck{};
+    shared.flags.reset(shared.stream);
+    enqueue_integrate_begin();
+    report_and_wait();
+    check_rotation(shared.flags.read(failed_rotation));
+  });
+  decomposition->exchange(false);
+  agreed([&] {
+    run_force_stages_with_energy(dt);
+    finish_enqueue();
+    report_and_wait();
+    const std::array<int, flags> all = report_flags();
+    check_flags(all);
+    take_energy(false);
+    remove_outside(all[outside_particles]);
+  });
 }
 
 template <class Real>
@@ -241,6 +333,24 @@ CudaStep<Real>::~CudaStep() = default;
 template <class Real>
 void CudaStep<Real>::evaluate_forces() {
   Impl& m = *impl_;
+  if (m.decomposition) {
+    m.decomposition->exchange(true);
+    std::exception_ptr failure;
+    try {
+      m.shared.abort = AbortCheck{};
+      m.shared.flags.reset(m.shared.stream);
+      m.run_force_stages_with_energy(Real(0));
+      m.copy_report();
+      m.report_and_wait();
+      m.check_flags(m.report_flags());
+      m.take_energy(true);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    agree_on_failure(m.decomposition->comm(), failure);
+    m.forces_ready = true;
+    return;
+  }
   m.shared.abort = AbortCheck{};
   m.shared.flags.reset(m.shared.stream);
   m.run_force_stages_with_energy(Real(0));
@@ -260,6 +370,7 @@ template <class Real>
 void CudaStep<Real>::step() {
   Impl& m = *impl_;
   if (!m.forces_ready) evaluate_forces();  // F_0, T_0 for the first half-step
+  if (m.decomposition) return m.decomposed_step();
   if (m.walls) m.walls->open_outlets(m.time);
   if (!m.feeding.empty()) m.feed();
   m.time += m.scene.time_step;
@@ -293,14 +404,16 @@ StepState<Real> CudaStep<Real>::export_state() const {
   s.time = m.time;
   s.steps = m.steps;
   s.forces_ready = m.forces_ready;
-  m.particles->export_to(s);
+  m.particles->export_to(s, m.own_count());
   s.next_id = m.particles->next_id();
   s.removed = m.removed;
   if (m.list) m.list->export_histories(s.pair_keys, s.pair_histories);
-  if (m.list) m.list->export_reference(s.list_reference, s.list_stale);
+  if (m.list && !m.decomposition) m.list->export_reference(s.list_reference, s.list_stale);
   if (m.walls) m.walls->export_histories(s.wall_keys, s.wall_histories);
   s.feed_states = m.feeding.save();
   s.ledger = m.ledger;
+  // Decomposed: every rank's share gathered into one process's state, on every rank.
+  if (m.decomposition) return gather_step_states(m.decomposition->comm(), s);
   return s;
 }
 
@@ -308,10 +421,13 @@ template <class Real>
 void CudaStep<Real>::import_state(const StepState<Real>& s) {
   Impl& m = *impl_;
   m.feeding.restore(s.feed_states, s.source);  // first: it refuses a checkpoint of other feeds
+  // Decomposed: every rank reads one process's state, then keeps its own (decompose below).
+  if (m.decomposition) m.shared.owned = -1;
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
   // run with a domain box: less those removed.
-  const bool resized =
-      (!m.feeding.empty() && s.count > m.count()) || (m.scene.domain && s.count < m.count());
+  const bool resized = (!m.feeding.empty() && s.count > m.count()) ||
+                       (m.scene.domain && s.count < m.count()) ||
+                       (m.decomposition && s.count != m.count());
   if (resized) m.particles->resize(s.count);
   check_state_fits(s, m.scene, m.count(), m.particles->names());
   m.particles->import_from(s);
@@ -319,7 +435,7 @@ void CudaStep<Real>::import_state(const StepState<Real>& s) {
   m.removed = s.removed;
   if (m.list && resized) m.list->particles_changed();
   if (m.list) m.list->import_histories(s.pair_keys, s.pair_histories);
-  if (m.list) m.list->import_reference(s.list_reference, s.list_stale);
+  if (m.list && !m.decomposition) m.list->import_reference(s.list_reference, s.list_stale);
   if (m.walls) m.walls->import_histories(s.wall_keys, s.wall_histories);
   m.time = s.time;
   m.steps = s.steps;
@@ -327,6 +443,12 @@ void CudaStep<Real>::import_state(const StepState<Real>& s) {
   m.ledger = s.ledger;
   m.report->predicted_move = ~0ULL;  // measured again by the next step
   m.recapture = true;
+  if (m.decomposition) {
+    // The totals stay with rank 0; each rank keeps the particles of its box in a bisection of
+    // them (whatever the rank count that wrote the state).
+    if (m.decomposition->comm().rank() != 0) m.ledger = EnergyLedger(), m.removed = 0;
+    m.decomposition->decompose();
+  }
 }
 
 template <class Real>
@@ -343,11 +465,27 @@ const StepPlan& CudaStep<Real>::plan() const {
 }
 template <class Real>
 int CudaStep<Real>::particle_count() const {
-  return impl_->count();
+  return impl_->own_count();
 }
 template <class Real>
 const Domain& CudaStep<Real>::domain() const {
-  return *impl_->domain;
+  return *impl_->shared.domain;
+}
+template <class Real>
+double CudaStep<Real>::exchange_seconds() const {
+  return impl_->decomposition ? impl_->decomposition->exchange_seconds() : 0.0;
+}
+template <class Real>
+double CudaStep<Real>::exchange_bytes() const {
+  return impl_->decomposition ? impl_->decomposition->bytes_sent() : 0.0;
+}
+template <class Real>
+long long CudaStep<Real>::rebalances() const {
+  return impl_->decomposition ? impl_->decomposition->rebalances() : 0;
+}
+template <class Real>
+bool CudaStep<Real>::decomposed() const {
+  return impl_->decomposition != nullptr;
 }
 template <class Real>
 long long CudaStep<Real>::removed_count() const {
@@ -443,19 +581,20 @@ Vec3d CudaStep<Real>::wall_torque(int w) const {
 
 template <class Real>
 std::vector<TrajectoryRow> CudaStep<Real>::trajectory_rows() const {
-  return particle_rows(impl_->particles->host_copy().view);
+  return particle_rows(impl_->particles->host_copy(impl_->own_count()).view);
 }
 
 template <class Real>
 double CudaStep<Real>::kinetic_energy() const {
-  return particle_kinetic_energy(impl_->particles->host_copy().view, impl_->host_bodies);
+  return particle_kinetic_energy(impl_->particles->host_copy(impl_->own_count()).view,
+                                 impl_->host_bodies);
 }
 
 template <class Real>
 EnergyTerms CudaStep<Real>::energy() const {
   const Impl& m = *impl_;
   EnergyTerms terms;
-  particle_energies(m.particles->host_copy().view, m.host_bodies,
+  particle_energies(m.particles->host_copy(m.own_count()).view, m.host_bodies,
                     m.scene.effects.gravity ? &*m.scene.effects.gravity : nullptr, terms);
   terms.elastic_normal = m.energy_sums[sum_normal];
   terms.elastic_tangential = m.energy_sums[sum_tangential];
@@ -465,7 +604,8 @@ EnergyTerms CudaStep<Real>::energy() const {
 
 template <class Real>
 double CudaStep<Real>::bed_height(const Vec3d& gravity) const {
-  return particle_bed_height(impl_->particles->host_copy().view, impl_->host_bodies, gravity);
+  return particle_bed_height(impl_->particles->host_copy(impl_->own_count()).view,
+                             impl_->host_bodies, gravity);
 }
 
 std::unique_ptr<AnyStep> make_cuda_step(const Scene& scene) {

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "solver/domain/communicator.hpp"
 #include "solver/io/trajectory.hpp"
 #include "solver/run/any_step.hpp"
 #include "solver/scene/scene.hpp"
@@ -74,7 +75,12 @@ class CudaStep {
   // As HostStep: the scene's initial particles (global id = index), copied to the device, and
   // its feeds. Throws StepNotSupported for what the step cannot simulate, std::runtime_error
   // from CUDA.
-  explicit CudaStep(const Scene& scene, CudaStepOptions options = CudaStepOptions());
+  // Decomposed over the ranks of `comm` (docs/parallel.md) when it has more than one, as
+  // HostStep's: each rank on the GPU of its local rank (modulo the GPUs), its own particles and
+  // its ghosts in its device arrays; step(), evaluate_forces(), export_state() and import_state()
+  // are then collectives, and the accessors report this rank's share. No graph steps then.
+  explicit CudaStep(const Scene& scene, CudaStepOptions options = CudaStepOptions(),
+                    std::shared_ptr<const Communicator> comm = nullptr);
   ~CudaStep();
   CudaStep(const CudaStep&) = delete;
   CudaStep& operator=(const CudaStep&) = delete;
@@ -94,7 +100,13 @@ class CudaStep {
   double time() const;
   long long steps() const;
   const StepPlan& plan() const;
-  int particle_count() const;
+  int particle_count() const;  // this rank's (ghosts are not counted)
+  // Decomposed: whether it is, seconds in the exchanges between ranks so far (waits included),
+  // and how many times the boxes were cut again (as HostStep's).
+  bool decomposed() const;
+  double exchange_seconds() const;
+  double exchange_bytes() const;  // this rank's sent to the others
+  long long rebalances() const;
   // As HostStep's: the local domain, the particles removed so far.
   const Domain& domain() const;
   long long removed_count() const;
@@ -139,5 +151,11 @@ class CudaStep {
 
 // The CUDA step in the scene's precision, for ProductionSettings::make_step.
 std::unique_ptr<AnyStep> make_cuda_step(const Scene& scene);
+
+// `mpirun -np N talus run --backend cuda`: make_decomposed_step and serve_decomposed_step
+// (parallel/decomposed_step.hpp) over the CUDA step, each rank on the GPU of its local rank.
+std::unique_ptr<AnyStep> make_decomposed_cuda_step(const Scene& scene,
+                                                   std::shared_ptr<const Communicator> comm);
+void serve_decomposed_cuda_step(const Scene& scene, std::shared_ptr<const Communicator> comm);
 
 }  // namespace talus

@@ -185,6 +185,13 @@ struct DeviceStepShared {
   // The local domain (the step's; domain/domain.hpp): the broad phase's grid origin, removal.
   const Domain* domain = nullptr;
   int count = 0;
+  // Decomposed over ranks (docs/parallel.md): particles [0, owned) are this rank's, the rest its
+  // ghosts (others' particles within the halo), which the pair list sees and nothing else
+  // moves. -1: one process, every particle its own.
+  int owned = -1;
+  int own_count() const { return owned < 0 ? count : owned; }
+  // Above every global id held (the CSR's sort by partner ids reads this many bits).
+  long long id_bound = 1;
   ParticleView<Real> view;
   PairLawTables<Real> tables;
   DeviceFlags flags;
@@ -224,6 +231,24 @@ struct DeviceStepShared {
     for (int c = 0; c < 4; ++c) r.orientation[c] = double(download(orientation[c] + i, 1)[0]);
     return r;
   }
+};
+
+// While alive, `count` and the view's count name this rank's own particles only (a decomposed
+// step's per-particle stages: integration, forces, walls, accumulation, removal, which its
+// ghosts' owners do); the particles must not change meanwhile.
+template <class Real>
+class OwnParticlesOnly {
+ public:
+  explicit OwnParticlesOnly(DeviceStepShared<Real>& s) : s_(s), count_(s.count) {
+    s.count = s.view.count = s.own_count();
+  }
+  ~OwnParticlesOnly() { s_.count = s_.view.count = count_; }
+  OwnParticlesOnly(const OwnParticlesOnly&) = delete;
+  OwnParticlesOnly& operator=(const OwnParticlesOnly&) = delete;
+
+ private:
+  DeviceStepShared<Real>& s_;
+  int count_;
 };
 
 }  // namespace talus

@@ -16,6 +16,7 @@
 
 #include "solver/geometry/device_shape.cuh"
 #include "solver/shape/shape_arrays.hpp"
+#include "solver/step/cuda/cuda_decomposition.cuh"
 #include "solver/step/cuda/cuda_pair_stage.cuh"
 #include "solver/step/cuda/cuda_particle_kernels.cuh"
 #include "solver/step/cuda/cuda_particles.cuh"
@@ -25,8 +26,6 @@
 #include "solver/step/feeding.hpp"
 
 namespace talus {
-
-namespace {
 
 // What the host reads at the end of each step, in one wait (pinned memory, filled by copies at
 // the end of the step's work on its stream): the flags, the contacts' energy sums and the pair
@@ -40,9 +39,7 @@ struct StepReport {
 // Graph steps only for scenes up to this many particles: a graph's kernels are launched for
 // their capacities (every slot, every particle-wall pair), which costs nothing in a small scene,
 // whose step is launch overhead, and a little in a large one, whose step is arithmetic.
-constexpr int kGraphParticles = 1 << 17;
-
-}  // namespace
+inline constexpr int kGraphParticles = 1 << 17;
 
 template <class Real>
 struct CudaStep<Real>::Impl {
@@ -61,6 +58,8 @@ struct CudaStep<Real>::Impl {
   std::unique_ptr<DevicePairList<Real>> list;
   std::unique_ptr<DevicePairStage<Real>> pairs;
   std::unique_ptr<DeviceWallStage<Real>> walls;
+  // Decomposed over MPI ranks (cuda_decomposition.cuh; null: one process).
+  std::unique_ptr<DeviceDecomposition<Real>> decomposition;
 
   std::unique_ptr<Domain> domain;  // the local domain (domain/domain.hpp)
   // Renumbering and removal: the kept particles' order, flags and removed energies.
@@ -124,6 +123,7 @@ struct CudaStep<Real>::Impl {
   Impl& operator=(const Impl&) = delete;
 
   int count() const { return shared.count; }
+  int own_count() const { return shared.own_count(); }  // without the ghosts
   ParticleView<Real>& view() { return shared.view; }
 
   // As HostStep::reorder_by_cell, at a build of the list: the touching histories kept by
@@ -156,7 +156,7 @@ struct CudaStep<Real>::Impl {
 
   // Whether this step may run as a graph (before its work; the step's time is advanced).
   bool graph_due() const {
-    if (!graphs_on || count() == 0 || count() > kGraphParticles) return false;
+    if (!graphs_on || decomposition || count() == 0 || count() > kGraphParticles) return false;
     return !list || list->keeps(report->predicted_move);
   }
 
@@ -214,29 +214,39 @@ struct CudaStep<Real>::Impl {
   void enqueue_step() {
     shared.abort = AbortCheck{};
     shared.flags.reset(shared.stream);
-    if (count() > 0) {
-      timed(Stage::integrate_begin, [&] {
-        integrate_begin_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
-            view(), bodies.data(), dt, shared.flags.data());
-        TALUS_CUDA_LAUNCH_CHECK();
-      });
-    }
+    enqueue_integrate_begin();
     run_force_stages_with_energy(dt);
     finish_enqueue();
+  }
+
+  // Decomposed: the step's integrate_begin, the ghosts' exchange, the rest (cuda_step.cu).
+  void decomposed_step();
+
+  void enqueue_integrate_begin() {
+    const OwnParticlesOnly<Real> own(shared);  // a ghost is its owner's to move
+    if (count() == 0) return;
+    timed(Stage::integrate_begin, [&] {
+      integrate_begin_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+          view(), bodies.data(), dt, shared.flags.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+    });
   }
 
   // The end of a step's work: integrate_end, the list's predicted move, the particles outside
   // (not after an aborted graph step, whose graph flagged them: positions do not change after
   // integrate_begin), the report's copies.
   void finish_enqueue(bool flag_particles_outside = true) {
-    if (count() > 0) {
-      timed(Stage::integrate_end, [&] {
-        integrate_end_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
-            view(), bodies.data(), dt, shared.abort);
-        TALUS_CUDA_LAUNCH_CHECK();
-      });
+    {
+      const OwnParticlesOnly<Real> own(shared);
+      if (count() > 0) {
+        timed(Stage::integrate_end, [&] {
+          integrate_end_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
+              view(), bodies.data(), dt, shared.abort);
+          TALUS_CUDA_LAUNCH_CHECK();
+        });
+      }
     }
-    if (list) {
+    if (list && !decomposition) {
       predicted.grow_to(1);
       list->predict_move(bodies.data(), dt, predicted.data(), shared.abort, shared.stream);
     }
@@ -252,7 +262,7 @@ struct CudaStep<Real>::Impl {
                                        sizeof(double) * kEnergySums, cudaMemcpyDeviceToHost,
                                        shared.stream));
     }
-    if (list) {
+    if (list && predicted.size() > 0) {  // none decomposed (no graph steps)
       TALUS_CUDA_CHECK(cudaMemcpyAsync(&report->predicted_move, predicted.data(),
                                        sizeof(unsigned long long), cudaMemcpyDeviceToHost,
                                        shared.stream));
@@ -296,17 +306,23 @@ struct CudaStep<Real>::Impl {
   // that did not converge, a pair whose geometry failed (the walls' are read by their stage,
   // which waits for its count anyway, or after a graph step); the pairs' touching count kept.
   void check_flags(const std::array<int, flags>& all) {
-    const int failed = all[failed_rotation];
+    check_rotation(all[failed_rotation]);
+    if (pairs) pairs->check_flags(all);
+    collect_stage_times();
+  }
+
+  // The flag failed_rotation's value: INT_MAX, or the lowest index whose rotation failed.
+  void check_rotation(int failed) const {
     if (failed != INT_MAX) {
       throw std::runtime_error(
           scene.file + ": particle " + std::to_string(shared.global_id(failed)) +
           " spins too fast for time.step (the implicit-midpoint rotation did not converge)");
     }
-    if (pairs) pairs->check_flags(all);
-    collect_stage_times();
   }
 
   void accumulate() {
+    const OwnParticlesOnly<Real> own(shared);  // the ghosts' sums are their owners'
+    if (count() == 0) return;
     const bool slots = scene.deterministic && list && list->candidates() > 0;
     accumulate_kernel<<<blocks_for(count()), kBlock, 0, shared.stream>>>(
         view(), slots ? list->pairs() : nullptr, slots ? list->slot_state() : nullptr,
@@ -318,28 +334,39 @@ struct CudaStep<Real>::Impl {
   }
 
   void run_force_stages(Real spring_dt) {
-    if (count() == 0) return;
+    if (count() == 0) {
+      // Decomposed, a rank that holds no particle now keeps no history of those it held.
+      if (decomposition && list) list->forget_histories();
+      if (decomposition && walls) walls->import_histories({}, {});
+      return;
+    }
     const BodyProperties<Real>* b = bodies.data();
-    const int blocks = blocks_for(count());
     const cudaStream_t stream = shared.stream;
     for (const Stage stage : plan.stages) {
       switch (stage) {
         case Stage::clear_forces:
           timed(stage, [&] {
-            clear_forces_kernel<<<blocks, kBlock, 0, stream>>>(view());
+            const OwnParticlesOnly<Real> own(shared);
+            if (count() == 0) return;
+            clear_forces_kernel<<<blocks_for(count()), kBlock, 0, stream>>>(view());
             TALUS_CUDA_LAUNCH_CHECK();
           });
           break;
         case Stage::gravity:
           timed(stage, [&] {
+            const OwnParticlesOnly<Real> own(shared);
+            if (count() == 0) return;
             const Vec3<Real> g(*scene.effects.gravity);
-            gravity_kernel<<<blocks, kBlock, 0, stream>>>(view(), b, g);
+            gravity_kernel<<<blocks_for(count()), kBlock, 0, stream>>>(view(), b, g);
             TALUS_CUDA_LAUNCH_CHECK();
           });
           break;
         case Stage::drag:
           timed(stage, [&] {
-            drag_kernel<<<blocks, kBlock, 0, stream>>>(view(), Real(*scene.effects.drag_alpha));
+            const OwnParticlesOnly<Real> own(shared);
+            if (count() == 0) return;
+            drag_kernel<<<blocks_for(count()), kBlock, 0, stream>>>(
+                view(), Real(*scene.effects.drag_alpha));
             TALUS_CUDA_LAUNCH_CHECK();
           });
           break;
@@ -348,7 +375,9 @@ struct CudaStep<Real>::Impl {
           // the rebuild distance in it (DevicePairList::keeps).
           if (shared.graph_mode) break;
           timed(stage, [&] {
-            if (scene.reorder.value_or(true) && list->due() && list->renumber_due())
+            // Decomposed, the exchange renumbers the own particles (the ghosts follow them).
+            if (!decomposition && scene.reorder.value_or(true) && list->due() &&
+                list->renumber_due())
               reorder_by_cell();
             list->update();
           });
@@ -357,7 +386,14 @@ struct CudaStep<Real>::Impl {
           timed(stage, [&] { pairs->compute(spring_dt); });
           break;
         case Stage::wall_contacts:
-          timed(stage, [&] { walls->compute(spring_dt, time); });
+          timed(stage, [&] {
+            const OwnParticlesOnly<Real> own(shared);  // a ghost's walls are its owner's
+            if (count() > 0) {
+              walls->compute(spring_dt, time);
+            } else {
+              walls->import_histories({}, {});  // ghosts only: no wall history is this rank's
+            }
+          });
           break;
         case Stage::accumulate:
           timed(stage, [&] { accumulate(); });

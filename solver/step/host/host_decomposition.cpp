@@ -7,37 +7,12 @@
 #include <utility>
 #include <vector>
 
+#include "solver/step/gathered_state.hpp"
 #include "solver/step/host/contact_stage.hpp"
 #include "solver/step/host/host_step.hpp"
 #include "solver/step/host/wall_stage.hpp"
 
 namespace talus {
-
-namespace {
-
-// A history with its key, as the decomposed step sends it (plain bytes).
-template <class Real>
-struct KeyedHistory {
-  PairKey key;
-  ContactHistoryData<Real> history;
-};
-
-// `in` sorted by key, one entry a key (the first of equal keys: two ranks that computed a pair
-// hold the same history), into a store's keys and histories.
-template <class Real>
-void sorted_store(std::vector<KeyedHistory<Real>>& in, std::vector<PairKey>& keys,
-                  std::vector<ContactHistoryData<Real>>& histories) {
-  std::stable_sort(in.begin(), in.end(),
-                   [](const auto& a, const auto& b) { return key_less(a.key, b.key); });
-  in.erase(std::unique(in.begin(), in.end(),
-                       [](const auto& a, const auto& b) { return key_equal(a.key, b.key); }),
-           in.end());
-  keys.clear();
-  histories.clear();
-  for (const auto& e : in) keys.push_back(e.key), histories.push_back(e.history);
-}
-
-}  // namespace
 
 template <class Real>
 HostStep<Real>::HostStep(const Scene& scene, int threads, std::shared_ptr<const Communicator> comm)
@@ -215,7 +190,7 @@ void HostStep<Real>::migrate() {
     to[r] = std::move(marked);
   }
   if (kept.size() != static_cast<std::size_t>(owned_)) keep_particles(kept);
-  const std::vector<Bytes> from = comm_->exchange(to);
+  const std::vector<Bytes> from = exchange_bytes(to);
   std::vector<KeyedHistory<Real>> pair_in, wall_in;
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;
@@ -264,6 +239,13 @@ void HostStep<Real>::migrate() {
 }
 
 template <class Real>
+std::vector<Bytes> HostStep<Real>::exchange_bytes(const std::vector<Bytes>& to) {
+  for (int r = 0; r < comm_->size(); ++r)
+    if (r != comm_->rank()) exchange_bytes_ += static_cast<double>(to[r].size());
+  return comm_->exchange(to);
+}
+
+template <class Real>
 void HostStep<Real>::send_ghosts() {
   const int me = comm_->rank(), ranks = comm_->size();
   const double h = domain_->halo_width(), h2 = h * h;
@@ -277,7 +259,7 @@ void HostStep<Real>::send_ghosts() {
     ByteWriter w(to[r]);
     for (const int i : send_[r]) put_ghost(w, i, true);
   }
-  const std::vector<Bytes> from = comm_->exchange(to);
+  const std::vector<Bytes> from = exchange_bytes(to);
   // put_ghost's bytes: ids, then position and velocity (3 numbers each), orientation (4), and the
   // angular velocity (3) where the plan has it.
   static_assert(sizeof(Vec3<Real>) == 3 * sizeof(Real) && sizeof(Quat<Real>) == 4 * sizeof(Real));
@@ -305,7 +287,7 @@ void HostStep<Real>::update_ghosts() {
     if (r != me)
       for (const int i : send_[r]) put_ghost(w, i, false);
   }
-  const std::vector<Bytes> from = comm_->exchange(to);
+  const std::vector<Bytes> from = exchange_bytes(to);
   int i = owned_;
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;
@@ -316,83 +298,25 @@ void HostStep<Real>::update_ghosts() {
 
 template <class Real>
 StepState<Real> HostStep<Real>::gathered_state() const {
-  StepState<Real> s;
-  Bytes mine;
-  ByteWriter w(mine);
-  w.put(static_cast<long long>(owned_));
-  for (int i = 0; i < owned_; ++i) {
-    w.put(global_ids_[i]);
-    w.put(template_ids_[i]);
-    w.put(material_ids_[i]);
-    for (const auto& entry : storage_) w.put(entry.second[i]);
-  }
-  const auto put_store = [&](const std::vector<PairKey>& keys,
-                             const std::vector<ContactHistoryData<Real>>& histories) {
-    std::vector<KeyedHistory<Real>> all;
-    for (std::size_t k = 0; k < keys.size(); ++k) all.push_back({keys[k], histories[k]});
-    w.put_vector(all);
-  };
-  put_store(contacts_ ? contacts_->history_keys() : std::vector<PairKey>(),
-            contacts_ ? contacts_->histories() : std::vector<ContactHistoryData<Real>>());
-  put_store(walls_ ? walls_->history_keys() : std::vector<PairKey>(),
-            walls_ ? walls_->histories() : std::vector<ContactHistoryData<Real>>());
-  w.put(ledger_);
-  w.put(removed_);
-  struct Row {
-    long long id;
-    int rank, index;
-  };
-  std::vector<Row> rows;
-  const std::vector<Bytes> all = comm_->all_gather(mine);
-  std::vector<std::vector<long long>> ids(all.size());
-  std::vector<std::vector<int>> templates(all.size()), materials(all.size());
-  std::vector<std::vector<std::vector<Real>>> values(all.size());
-  std::vector<KeyedHistory<Real>> pairs, walls;
-  for (std::size_t r = 0; r < all.size(); ++r) {
-    ByteReader in(all[r]);
-    const long long n = in.get<long long>();
-    for (long long i = 0; i < n; ++i) {
-      ids[r].push_back(in.get<long long>());
-      templates[r].push_back(in.get<int>());
-      materials[r].push_back(in.get<int>());
-      values[r].emplace_back();
-      for (std::size_t a = 0; a < storage_.size(); ++a) values[r].back().push_back(in.get<Real>());
-      rows.push_back({ids[r].back(), static_cast<int>(r), static_cast<int>(i)});
-    }
-    const auto p = in.get_vector<KeyedHistory<Real>>();
-    const auto q = in.get_vector<KeyedHistory<Real>>();
-    pairs.insert(pairs.end(), p.begin(), p.end());
-    walls.insert(walls.end(), q.begin(), q.end());
-    const EnergyLedger l = in.get<EnergyLedger>();
-    s.ledger.dissipated += l.dissipated;
-    s.ledger.wall_work += l.wall_work;
-    s.ledger.fed += l.fed;
-    s.ledger.removed += l.removed;
-    s.ledger.dissipation_rate += l.dissipation_rate;
-    s.ledger.wall_power += l.wall_power;
-    s.ledger.spring_energy += l.spring_energy;
-    s.removed += in.get<long long>();
-  }
-  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
-  s.time = time_;
-  s.steps = steps_;
-  s.forces_ready = forces_ready_;
-  s.count = static_cast<int>(rows.size());
-  for (std::size_t a = 0; a < storage_.size(); ++a) {
-    s.arrays.emplace_back(storage_[a].first, std::vector<Real>());
-    for (const Row& row : rows) s.arrays.back().second.push_back(values[row.rank][row.index][a]);
-  }
-  for (const Row& row : rows) {
-    s.global_ids.push_back(row.id);
-    s.template_ids.push_back(templates[row.rank][row.index]);
-    s.material_ids.push_back(materials[row.rank][row.index]);
-  }
-  s.next_id = next_id_;
-  s.list_stale = true;  // the list is the ranks'; a resumed run builds its own
-  sorted_store(pairs, s.pair_keys, s.pair_histories);
-  sorted_store(walls, s.wall_keys, s.wall_histories);
-  s.feed_states = feeding_.save();
-  return s;
+  StepState<Real> mine;
+  mine.time = time_;
+  mine.steps = steps_;
+  mine.forces_ready = forces_ready_;
+  mine.count = owned_;
+  for (const auto& entry : storage_)
+    mine.arrays.emplace_back(
+        entry.first, std::vector<Real>(entry.second.begin(), entry.second.begin() + owned_));
+  mine.template_ids.assign(template_ids_.begin(), template_ids_.begin() + owned_);
+  mine.material_ids.assign(material_ids_.begin(), material_ids_.begin() + owned_);
+  mine.global_ids.assign(global_ids_.begin(), global_ids_.begin() + owned_);
+  if (contacts_)
+    mine.pair_keys = contacts_->history_keys(), mine.pair_histories = contacts_->histories();
+  if (walls_) mine.wall_keys = walls_->history_keys(), mine.wall_histories = walls_->histories();
+  mine.ledger = ledger_;
+  mine.removed = removed_;
+  mine.next_id = next_id_;
+  mine.feed_states = feeding_.save();
+  return gather_step_states(*comm_, mine);
 }
 
 #define TALUS_INSTANTIATE_DECOMPOSITION(Real)                                                \
@@ -405,6 +329,7 @@ StepState<Real> HostStep<Real>::gathered_state() const {
   template void HostStep<Real>::exchange(bool);                                              \
   template void HostStep<Real>::migrate();                                                   \
   template void HostStep<Real>::send_ghosts();                                               \
+  template std::vector<Bytes> HostStep<Real>::exchange_bytes(const std::vector<Bytes>&);     \
   template void HostStep<Real>::update_ghosts();                                             \
   template StepState<Real> HostStep<Real>::gathered_state() const;
 TALUS_INSTANTIATE_DECOMPOSITION(double)

@@ -136,6 +136,8 @@ class HostStep {
   // Decomposed: wall-clock seconds in the exchanges between ranks so far (migration, ghosts, the
   // feeds' gathering), waiting for the other ranks included.
   double exchange_seconds() const { return exchange_seconds_; }
+  // Decomposed: the bytes this rank sent to the others so far.
+  double exchange_bytes() const { return exchange_bytes_; }
   // Decomposed: how many times the boxes were cut again (Scene::rebalance).
   long long rebalances() const { return rebalances_; }
   // Touching particle pairs at the last force evaluation (0 without contacts).
@@ -179,6 +181,8 @@ class HostStep {
   // every rank: the state of one process, which a run on any number of ranks restarts from.
   StepState<Real> gathered_state() const;
   void migrate();
+  // comm_->exchange(to), the bytes sent to other ranks counted.
+  std::vector<Bytes> exchange_bytes(const std::vector<Bytes>& to);
   void send_ghosts();
   void update_ghosts();
   // Ghost data: the states the pair stage reads of a partner, written and read in one order.
@@ -232,6 +236,7 @@ class HostStep {
   bool changed_ = false;  // this rank's particles changed since the last exchange
   std::vector<std::vector<int>> send_;
   double exchange_seconds_ = 0;
+  double exchange_bytes_ = 0;
   long long rebalances_ = 0;
 };
 

@@ -1,0 +1,428 @@
+// The CUDA step decomposed over MPI ranks (cuda_decomposition.cuh; docs/parallel.md).
+#include "solver/step/cuda/cuda_decomposition.cuh"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <utility>
+
+#include "solver/scene/scene.hpp"
+#include "solver/step/gathered_state.hpp"
+
+namespace talus {
+
+namespace {
+
+// The state a ghost's partners read (put_ghost's on the host): position, velocity,
+// orientation, and the angular velocity where the plan has it, as columns of the device arrays.
+template <class Real>
+struct GhostColumns {
+  Real* column[13] = {};
+  int n = 0;
+};
+
+template <class Real>
+GhostColumns<Real> ghost_columns(const ParticleView<Real>& v) {
+  GhostColumns<Real> c;
+  const auto add = [&](Real* p) { c.column[c.n++] = p; };
+  add(v.position.x), add(v.position.y), add(v.position.z);
+  add(v.velocity.x), add(v.velocity.y), add(v.velocity.z);
+  add(v.orientation.w), add(v.orientation.x), add(v.orientation.y), add(v.orientation.z);
+  if (v.angular_velocity.present()) {
+    add(v.angular_velocity.x), add(v.angular_velocity.y), add(v.angular_velocity.z);
+  }
+  return c;
+}
+
+// out[e * n + k] = column k of particle index[e]: the states to send, row by row.
+template <class Real>
+__global__ void pack_ghost_states(GhostColumns<Real> c, const int* __restrict__ index, int count,
+                                  Real* __restrict__ out) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (e >= count) return;
+  const int i = index[e];
+  for (int k = 0; k < c.n; ++k) out[e * c.n + k] = c.column[k][i];
+}
+
+// The arriving states into the ghosts first .. first + count.
+template <class Real>
+__global__ void unpack_ghost_states(GhostColumns<Real> c, const Real* __restrict__ in, int count,
+                                    int first) {
+  const int g = blockIdx.x * blockDim.x + threadIdx.x;
+  if (g >= count) return;
+  for (int k = 0; k < c.n; ++k) c.column[k][first + g] = in[g * c.n + k];
+}
+
+template <class Real>
+void put_rows(ByteWriter& w, const typename DeviceParticles<Real>::Rows& rows,
+              const std::vector<int>& which) {
+  const std::size_t arrays = rows.count > 0 ? rows.values.size() / rows.count : 0;
+  w.put(static_cast<long long>(which.size()));
+  for (const int i : which) {
+    w.put(rows.global_ids[i]);
+    w.put(rows.template_ids[i]);
+    w.put(rows.material_ids[i]);
+    for (std::size_t a = 0; a < arrays; ++a) w.put(rows.values[i * arrays + a]);
+  }
+}
+
+template <class Real>
+void get_rows(ByteReader& r, std::size_t arrays, typename DeviceParticles<Real>::Rows& rows) {
+  const long long n = r.get<long long>();
+  for (long long i = 0; i < n; ++i) {
+    rows.global_ids.push_back(r.get<long long>());
+    rows.template_ids.push_back(r.get<int>());
+    rows.material_ids.push_back(r.get<int>());
+    for (std::size_t a = 0; a < arrays; ++a) rows.values.push_back(r.get<Real>());
+    ++rows.count;
+  }
+}
+
+// A pinned host buffer of at least `n` Reals (grown by half again, contents not kept).
+template <class Real>
+void pinned_room(Real*& buffer, std::size_t& size, std::size_t n) {
+  if (n <= size) return;
+  if (buffer) TALUS_CUDA_CHECK(cudaFreeHost(buffer));
+  buffer = nullptr;
+  size = 0;
+  const std::size_t room = n + n / 2 + 64;
+  TALUS_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&buffer), room * sizeof(Real)));
+  size = room;
+}
+
+}  // namespace
+
+template <class Real>
+DeviceDecomposition<Real>::DeviceDecomposition(DeviceStepShared<Real>& shared,
+                                               DeviceParticles<Real>& particles,
+                                               DevicePairList<Real>* list,
+                                               DeviceWallStage<Real>* walls,
+                                               std::shared_ptr<const Communicator> comm)
+    : shared_(shared),
+      particles_(particles),
+      list_(list),
+      walls_(walls),
+      comm_(std::move(comm)),
+      send_(comm_->size()),
+      received_(comm_->size(), 0) {}
+
+template <class Real>
+DeviceDecomposition<Real>::~DeviceDecomposition() {
+  if (pinned_out_) cudaFreeHost(pinned_out_);  // no throw from a destructor
+  if (pinned_in_) cudaFreeHost(pinned_in_);
+}
+
+template <class Real>
+std::vector<Bytes> DeviceDecomposition<Real>::exchange_bytes(const std::vector<Bytes>& to) {
+  for (int r = 0; r < comm_->size(); ++r)
+    if (r != comm_->rank()) bytes_sent_ += static_cast<double>(to[r].size());
+  return comm_->exchange(to);
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::cut(const std::vector<Vec3d>& points) {
+  const Scene& scene = shared_.scene;
+  const Box region = rcb_ ? rcb_->region() : (scene.domain ? *scene.domain : Box());
+  rcb_ = std::make_unique<RcbDomain>(points, region, comm_->size(), comm_->rank(),
+                                     scene_halo_width(scene), comm_.get());
+  shared_.domain = rcb_.get();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::decompose() {
+  shared_.owned = -1;
+  const std::vector<Vec3d> points = particles_.positions();
+  cut(points);
+  std::vector<int> mine;
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    const int owner = rcb_->owner(points[i]);
+    // One outside the region stays with rank 0 until the step's end removes it.
+    if (owner == comm_->rank() || (owner < 0 && comm_->rank() == 0)) mine.push_back(i);
+  }
+  if (list_) list_->keep_histories();
+  order_.upload(mine);
+  particles_.keep(order_.data(), static_cast<int>(mine.size()));
+  shared_.owned = shared_.count;
+  if (list_) list_->particles_changed();
+  changed_ = true;
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::drop_ghosts() {
+  changed_ = true;
+  // The touching histories into the store (read through the ghosts' ids too), with or without
+  // ghosts: the migration takes the leaving particles' from it.
+  if (list_) list_->keep_histories();
+  if (shared_.owned < 0 || shared_.owned == shared_.count) return;
+  particles_.resize(shared_.owned);
+  if (list_) list_->particles_changed();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::gather_all(std::vector<Vec3d>& positions,
+                                           std::vector<int>& templates) {
+  const int own = shared_.own_count();
+  const std::vector<Vec3d> points = particles_.positions();
+  const std::vector<int> ids = particles_.template_ids();
+  Bytes mine;
+  ByteWriter w(mine);
+  for (int i = 0; i < own; ++i) {
+    w.put(points[i]);
+    w.put(ids[i]);
+  }
+  positions.clear();
+  templates.clear();
+  for (const Bytes& b : comm_->all_gather(mine)) {
+    ByteReader r(b);
+    while (!r.done()) {
+      positions.push_back(r.get<Vec3d>());
+      templates.push_back(r.get<int>());
+    }
+  }
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::exchange(bool rebuild) {
+  const auto start = std::chrono::steady_clock::now();
+  // The ranks agree whether to rebuild: some rank's particles changed (feed, removal, arrival) or
+  // its list is due (a particle moved 0.45 skin since the build). Without contacts there are no
+  // ghosts, and particles move to their owners only when one has left its box.
+  bool mine = rebuild || changed_;
+  if (!mine && list_) mine = list_->due();
+  if (!mine && !list_) {
+    const std::vector<Vec3d> points = particles_.positions();
+    for (std::size_t i = 0; i < points.size() && !mine; ++i)
+      mine = rcb_->owner(points[i]) >= 0 && !rcb_->local_box().contains(points[i]);
+  }
+  if (comm_->max(mine ? 1.0 : 0.0) > 0) {
+    drop_ghosts();
+    // The boxes cut again from every particle where one rank holds too many (a pour collapsing
+    // to the bottom of a silo): `decomposition: {rebalance: R}`.
+    const double own = shared_.own_count();
+    const double most = comm_->max(own), total = comm_->sum(own);
+    if (total > 0 && most > shared_.scene.rebalance * total / comm_->size()) {
+      std::vector<Vec3d> points;
+      std::vector<int> templates;
+      gather_all(points, templates);
+      cut(points);
+      ++rebalances_;
+    }
+    migrate();
+    if (list_) {
+      if (shared_.scene.reorder.value_or(true)) reorder_own_by_cell();
+      send_ghosts();
+    }
+    changed_ = false;
+  } else if (list_) {
+    update_ghosts();
+  }
+  exchange_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::migrate() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  // The ghosts are dropped (drop_ghosts): every particle here is this rank's.
+  const std::vector<Vec3d> points = particles_.positions();
+  const int own = static_cast<int>(points.size());
+  std::vector<int> kept, leaving_index;
+  std::vector<std::pair<long long, int>> leaving;  // (global id, destination)
+  std::vector<int> destination_of;                 // per leaving_index entry
+  for (int i = 0; i < own; ++i) {
+    const int owner = rcb_->owner(points[i]);
+    if (owner < 0 || owner == me) {
+      kept.push_back(i);
+    } else {
+      leaving_index.push_back(i);
+      destination_of.push_back(owner);
+    }
+  }
+  const typename DeviceParticles<Real>::Rows rows = particles_.gather_rows(leaving_index);
+  std::vector<std::vector<int>> rows_to(ranks);
+  for (int k = 0; k < rows.count; ++k) {
+    rows_to[destination_of[k]].push_back(k);
+    leaving.emplace_back(rows.global_ids[k], destination_of[k]);
+  }
+  std::sort(leaving.begin(), leaving.end());
+  const auto destination = [&](long long id) {
+    const auto it = std::lower_bound(leaving.begin(), leaving.end(), std::make_pair(id, -1));
+    return it != leaving.end() && it->first == id ? it->second : -1;
+  };
+  // Each leaving particle's histories go with it (its pairs: keys holding its id; its walls: the
+  // key's low id). The pair store holds only those entries on the host.
+  using Entries = std::vector<std::vector<KeyedHistory<Real>>>;
+  const auto pack = [&](const std::vector<PairKey>& keys,
+                        const std::vector<ContactHistoryData<Real>>& histories, bool pair) {
+    Entries out(ranks);
+    for (std::size_t k = 0; k < keys.size() && !leaving.empty(); ++k) {
+      const int d_low = destination(keys[k].low);
+      const int d_high = pair ? destination(keys[k].high) : -1;
+      if (d_low >= 0) out[d_low].push_back({keys[k], histories[k]});
+      if (d_high >= 0 && d_high != d_low) out[d_high].push_back({keys[k], histories[k]});
+    }
+    return out;
+  };
+  std::vector<PairKey> pair_keys, wall_keys;
+  std::vector<ContactHistoryData<Real>> pair_histories, wall_histories;
+  if (list_ && !leaving.empty()) {
+    std::vector<long long> ids;
+    for (const auto& l : leaving) ids.push_back(l.first);
+    list_->histories_with(ids, pair_keys, pair_histories);  // the store: drop_ghosts kept it
+  }
+  if (walls_) walls_->export_histories(wall_keys, wall_histories);
+  const Entries pair_out = pack(pair_keys, pair_histories, true);
+  const Entries wall_out = pack(wall_keys, wall_histories, false);
+  std::vector<Bytes> to(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteWriter w(to[r]);
+    put_rows<Real>(w, rows, rows_to[r]);
+    w.put_vector(pair_out[r]);
+    w.put_vector(wall_out[r]);
+  }
+  if (static_cast<int>(kept.size()) != own) {
+    order_.upload(kept);
+    particles_.keep(order_.data(), static_cast<int>(kept.size()));
+  }
+  const std::vector<Bytes> from = exchange_bytes(to);
+  const std::size_t arrays = particles_.names().size();
+  typename DeviceParticles<Real>::Rows arriving;
+  std::vector<KeyedHistory<Real>> pair_in, wall_in;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    get_rows<Real>(in, arrays, arriving);
+    const auto p = in.get_vector<KeyedHistory<Real>>();
+    const auto w = in.get_vector<KeyedHistory<Real>>();
+    pair_in.insert(pair_in.end(), p.begin(), p.end());
+    wall_in.insert(wall_in.end(), w.begin(), w.end());
+  }
+  particles_.append_rows(arriving);
+  shared_.owned = shared_.count;
+  if (arriving.count > 0) changed_ = true;
+  if (list_ && !pair_in.empty()) {
+    std::vector<PairKey> keys;
+    std::vector<ContactHistoryData<Real>> histories;
+    for (const auto& e : pair_in) keys.push_back(e.key), histories.push_back(e.history);
+    list_->add_histories(keys, histories);
+  }
+  if (walls_ && !wall_in.empty()) {
+    // The wall store is small (a particle's walls): merged on the host, then set again.
+    std::vector<KeyedHistory<Real>> all;
+    for (std::size_t k = 0; k < wall_keys.size(); ++k)
+      all.push_back({wall_keys[k], wall_histories[k]});
+    all.insert(all.end(), wall_in.begin(), wall_in.end());
+    sorted_store(all, wall_keys, wall_histories);
+    walls_->import_histories(wall_keys, wall_histories);
+  }
+  if (list_) list_->particles_changed();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::reorder_own_by_cell() {
+  // As the step's renumbering (CudaStep: reorder_by_cell) over the own particles, before the
+  // ghosts are appended. The histories wait in the store (kept at drop_ghosts).
+  const int own = shared_.count;
+  if (own == 0) return;
+  list_->keep_histories();
+  order_.grow_to(own);
+  list_->cell_order(order_.data());
+  particles_.keep(order_.data(), own);
+  list_->particles_changed();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::send_ghosts() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  const double h = rcb_->halo_width(), h2 = h * h;
+  const std::vector<Vec3d> points = particles_.positions();  // the own particles: no ghosts yet
+  std::vector<int> all;
+  for (int r = 0; r < ranks; ++r) {
+    send_[r].clear();
+    if (r == me) continue;
+    const Box& box = rcb_->box_of(r);
+    for (int i = 0; i < static_cast<int>(points.size()); ++i)
+      if (squared_distance(box, points[i]) <= h2) send_[r].push_back(i);
+    all.insert(all.end(), send_[r].begin(), send_[r].end());
+  }
+  const typename DeviceParticles<Real>::Rows rows = particles_.gather_rows(all);
+  std::vector<Bytes> to(ranks);
+  int at = 0;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    std::vector<int> which(send_[r].size());
+    for (std::size_t k = 0; k < which.size(); ++k) which[k] = at++;
+    ByteWriter w(to[r]);
+    put_rows<Real>(w, rows, which);
+  }
+  const std::vector<Bytes> from = exchange_bytes(to);
+  const std::size_t arrays = particles_.names().size();
+  typename DeviceParticles<Real>::Rows ghosts;
+  for (int r = 0; r < ranks; ++r) {
+    received_[r] = 0;
+    if (r == me) continue;
+    ByteReader in(from[r]);
+    const int before = ghosts.count;
+    get_rows<Real>(in, arrays, ghosts);
+    received_[r] = ghosts.count - before;
+  }
+  particles_.append_rows(ghosts);  // owned stays: these are ghosts
+  send_index_.upload(all);
+  list_->particles_changed();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::update_ghosts() {
+  const int me = comm_->rank(), ranks = comm_->size();
+  const GhostColumns<Real> columns = ghost_columns(shared_.view);
+  const std::size_t n = columns.n;
+  std::size_t sending = 0, arriving = 0;
+  for (int r = 0; r < ranks; ++r) sending += send_[r].size(), arriving += received_[r];
+  const cudaStream_t stream = shared_.stream;
+  pinned_room(pinned_out_, pinned_out_size_, sending * n);
+  pinned_room(pinned_in_, pinned_in_size_, arriving * n);
+  if (sending > 0) {
+    packed_out_.grow_to(sending * n);
+    pack_ghost_states<<<blocks_for(sending), kBlock, 0, stream>>>(
+        columns, send_index_.data(), static_cast<int>(sending), packed_out_.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+    TALUS_CUDA_CHECK(cudaMemcpyAsync(pinned_out_, packed_out_.data(), sending * n * sizeof(Real),
+                                     cudaMemcpyDeviceToHost, stream));
+  }
+  TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
+  std::vector<Bytes> to(ranks);
+  std::size_t at = 0;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    const char* begin = reinterpret_cast<const char*>(pinned_out_ + at * n);
+    to[r].assign(begin, begin + send_[r].size() * n * sizeof(Real));
+    at += send_[r].size();
+  }
+  const std::vector<Bytes> from = exchange_bytes(to);
+  at = 0;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    if (from[r].size() != received_[r] * n * sizeof(Real))
+      throw std::runtime_error("decomposed cuda step: rank " + std::to_string(r) + " sent " +
+                               std::to_string(from[r].size()) + " bytes of ghost states, not " +
+                               std::to_string(received_[r] * n * sizeof(Real)));
+    std::memcpy(pinned_in_ + at * n, from[r].data(), from[r].size());
+    at += received_[r];
+  }
+  if (arriving > 0) {
+    packed_in_.grow_to(arriving * n);
+    TALUS_CUDA_CHECK(cudaMemcpyAsync(packed_in_.data(), pinned_in_, arriving * n * sizeof(Real),
+                                     cudaMemcpyHostToDevice, stream));
+    unpack_ghost_states<<<blocks_for(arriving), kBlock, 0, stream>>>(
+        columns, packed_in_.data(), static_cast<int>(arriving), shared_.owned);
+    TALUS_CUDA_LAUNCH_CHECK();
+    // The pinned buffer is read by the copy before the next exchange writes it.
+    TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
+  }
+}
+
+template class DeviceDecomposition<double>;
+template class DeviceDecomposition<float>;
+
+}  // namespace talus

@@ -1,0 +1,85 @@
+// The CUDA step decomposed over MPI ranks (docs/parallel.md), as the host step is
+// (host_decomposition.cpp): each rank owns the particles of its box of a recursive bisection
+// (RcbDomain) and holds the others' within the halo as ghosts after its own, in the same device
+// arrays. Every step the ghosts' states (position, velocity, orientation, angular velocity) are
+// packed on the device by the send lists, staged through pinned host memory (Open MPI here is
+// not CUDA-aware) and unpacked into the ghost slots. Where some rank's pair list has expired or
+// its particles changed (agreed by one reduction), the ghosts are dropped, the particles that left
+// the box migrate with their pair and wall histories (only the entries naming them leave the
+// device), the boxes are cut again when one rank holds too many, the own particles are renumbered
+// by cell, and the ghosts are chosen and sent again as whole particles. Included only from .cu
+// files.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "solver/domain/communicator.hpp"
+#include "solver/domain/domain.hpp"
+#include "solver/step/cuda/cuda_pair_list.cuh"
+#include "solver/step/cuda/cuda_particles.cuh"
+#include "solver/step/cuda/cuda_wall_stage.cuh"
+
+namespace talus {
+
+template <class Real>
+class DeviceDecomposition {
+ public:
+  // The parts of the step it moves particles between (list and walls null when absent).
+  DeviceDecomposition(DeviceStepShared<Real>& shared, DeviceParticles<Real>& particles,
+                      DevicePairList<Real>* list, DeviceWallStage<Real>* walls,
+                      std::shared_ptr<const Communicator> comm);
+  ~DeviceDecomposition();
+  DeviceDecomposition(const DeviceDecomposition&) = delete;
+  DeviceDecomposition& operator=(const DeviceDecomposition&) = delete;
+
+  // Every rank holds the same particles (the start, a restart): the boxes cut from them, each
+  // rank keeping those of its own (DeviceStepShared::owned and domain set).
+  void decompose();
+  // The ghosts brought up to date after integrate_begin; with `rebuild` (or where any rank's
+  // list is due or its particles changed) the migration and the ghosts chosen again (a
+  // collective).
+  void exchange(bool rebuild);
+  // Before particles are appended or removed: the ghosts dropped, and the next exchange rebuilds.
+  void drop_ghosts();
+  void particles_changed() { changed_ = true; }
+  // Every rank's particle positions and templates (a feed's inputs; a collective).
+  void gather_all(std::vector<Vec3d>& positions, std::vector<int>& templates);
+
+  const RcbDomain& domain() const { return *rcb_; }
+  const Communicator& comm() const { return *comm_; }
+  double exchange_seconds() const { return exchange_seconds_; }
+  void add_exchange_seconds(double s) { exchange_seconds_ += s; }
+  long long rebalances() const { return rebalances_; }
+  // Bytes sent to other ranks so far (ghosts, migrations).
+  double bytes_sent() const { return bytes_sent_; }
+
+ private:
+  void cut(const std::vector<Vec3d>& points);
+  void migrate();
+  void reorder_own_by_cell();
+  void send_ghosts();
+  void update_ghosts();
+  std::vector<Bytes> exchange_bytes(const std::vector<Bytes>& to);
+
+  DeviceStepShared<Real>& shared_;
+  DeviceParticles<Real>& particles_;
+  DevicePairList<Real>* list_;
+  DeviceWallStage<Real>* walls_;
+  std::shared_ptr<const Communicator> comm_;
+  std::unique_ptr<RcbDomain> rcb_;
+  bool changed_ = true;
+  // send_[r]: the own indices whose states rank r holds as ghosts, in its order; on the device
+  // concatenated in rank order (send_index_), with the packed states and the arriving ones.
+  std::vector<std::vector<int>> send_;
+  std::vector<int> received_;  // ghosts from each rank
+  DeviceBuffer<int> send_index_, order_;
+  DeviceBuffer<Real> packed_out_, packed_in_;
+  Real* pinned_out_ = nullptr;
+  Real* pinned_in_ = nullptr;
+  std::size_t pinned_out_size_ = 0, pinned_in_size_ = 0;  // Reals
+  double exchange_seconds_ = 0, bytes_sent_ = 0;
+  long long rebalances_ = 0;
+};
+
+}  // namespace talus
