@@ -33,6 +33,9 @@ class Communicator {
   virtual void broadcast(Bytes& bytes, int root) const = 0;
   // Rank `root`'s int, on every rank.
   virtual int broadcast(int value, int root) const = 0;
+  // Rank `root`'s `size` bytes at `data` into every rank's `data` (one collective: the size is
+  // known to all).
+  virtual void broadcast(char* data, std::size_t size, int root) const = 0;
 };
 
 class SerialCommunicator final : public Communicator {
@@ -46,6 +49,7 @@ class SerialCommunicator final : public Communicator {
   std::vector<Bytes> all_gather(const Bytes& mine) const override { return {mine}; }
   void broadcast(Bytes&, int) const override {}
   int broadcast(int value, int) const override { return value; }
+  void broadcast(char*, std::size_t, int) const override {}
 };
 
 // Plain values in and out of byte buffers (trivially copyable types only).

@@ -56,15 +56,13 @@ void end_decomposed_run(const Communicator& comm) {
   bool& ended = decomposed_run_ended();
   if (ended || comm.size() == 1) return;
   if (comm.rank() == 0) {
-    comm.broadcast(static_cast<int>(decomposed_detail::kEnd), 0);
+    decomposed_detail::send_command(comm, decomposed_detail::kEnd, 0, "");
     ended = true;
     return;
   }
   // A rank that is not serving: rank 0 found the same fault and ends the run.
-  while (comm.broadcast(0, 0) != decomposed_detail::kEnd) {
-    comm.broadcast(0, 0);
-    Bytes bytes;
-    comm.broadcast(bytes, 0);
+  std::string text;
+  while (decomposed_detail::receive_command(comm, text).command != decomposed_detail::kEnd) {
   }
   ended = true;
 }

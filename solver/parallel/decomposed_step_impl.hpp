@@ -59,6 +59,42 @@ inline std::vector<double> sums(const Communicator& comm, const std::vector<doub
   return total;
 }
 
+// A command as rank 0 broadcasts it, in one collective: its number, its argument and its text (a
+// checkpoint's path) when the text fits; a longer text follows in a broadcast of its own.
+struct CommandMessage {
+  int command = 0, argument = 0;
+  long long text_size = 0;
+  char text[240] = {};
+};
+
+inline void send_command(const Communicator& comm, int command, int argument,
+                         const std::string& text) {
+  CommandMessage m;
+  m.command = command;
+  m.argument = argument;
+  m.text_size = static_cast<long long>(text.size());
+  text.copy(m.text, std::min(text.size(), sizeof m.text));
+  comm.broadcast(reinterpret_cast<char*>(&m), sizeof m, 0);
+  if (text.size() > sizeof m.text) {
+    Bytes bytes(text.begin(), text.end());
+    comm.broadcast(bytes, 0);
+  }
+}
+
+// The other ranks' side of send_command: the command, with its text in `text`.
+inline CommandMessage receive_command(const Communicator& comm, std::string& text) {
+  CommandMessage m;
+  comm.broadcast(reinterpret_cast<char*>(&m), sizeof m, 0);
+  if (m.text_size > static_cast<long long>(sizeof m.text)) {
+    Bytes bytes;
+    comm.broadcast(bytes, 0);
+    text.assign(bytes.begin(), bytes.end());
+  } else {
+    text.assign(m.text, static_cast<std::size_t>(m.text_size));
+  }
+  return m;
+}
+
 // What a command returns on rank 0.
 struct Answer {
   std::vector<double> numbers;
@@ -236,10 +272,7 @@ class DecomposedStep final : public AnyStep {
  private:
   Answer call(int command, int argument = 0, const std::string& text = "",
               Checkpoint* save = nullptr) const {
-    comm_->broadcast(command, 0);
-    comm_->broadcast(argument, 0);
-    Bytes bytes(text.begin(), text.end());
-    comm_->broadcast(bytes, 0);
+    send_command(*comm_, command, argument, text);
     return d_.run(command, argument, text, save);
   }
   long long number(int command) const {
@@ -261,16 +294,14 @@ void serve(const Scene& scene, std::shared_ptr<const Communicator> comm,
            const std::function<std::unique_ptr<Step>()>& make) {
   Decomposed<Step> d(scene, comm, make);
   for (;;) {
-    const int command = comm->broadcast(0, 0);
-    if (command == kEnd) {
+    std::string text;
+    const CommandMessage m = receive_command(*comm, text);
+    if (m.command == kEnd) {
       decomposed_run_ended() = true;
       return;
     }
-    const int argument = comm->broadcast(0, 0);
-    Bytes bytes;
-    comm->broadcast(bytes, 0);
     try {
-      d.run(command, argument, std::string(bytes.begin(), bytes.end()), nullptr);
+      d.run(m.command, m.argument, text, nullptr);
     } catch (const std::exception&) {
       // Every rank failed with this message (agree_on_failure); rank 0 reports it.
     }

@@ -118,6 +118,11 @@ class MpiCommunicator final : public Communicator {
     wait(request, "MPI_Ibcast");
     bytes.resize(static_cast<std::size_t>(n));
   }
+  void broadcast(char* data, std::size_t size, int root) const override {
+    MPI_Request request;
+    check(MPI_Ibcast(data, count_of(size), MPI_BYTE, root, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+    wait(request, "MPI_Ibcast");
+  }
   int broadcast(int value, int root) const override {
     MPI_Request request;
     check(MPI_Ibcast(&value, 1, MPI_INT, root, MPI_COMM_WORLD, &request), "MPI_Ibcast");

@@ -3,7 +3,7 @@
 # ctest `parallel_ranks` (label parallel): `mpirun -np N talus run` on the host backend
 # (docs/parallel.md) gives the trajectories of one process to the bit, whatever N:
 #  - the drum (tests/parallel/scenes/drum.yaml: particles cross the ranks' boxes back and forth,
-#    a moving wall, friction histories) on 1, 2 and 3 ranks: every trajectory frame identical,
+#    a moving wall, friction histories) on 1, 2, 3 and 4 ranks: every trajectory frame identical,
 #    byte for byte; the probes' contact counts identical and their energies and wall forces
 #    within 1e-9 of each column's largest magnitude (the same terms summed over ranks in another
 #    order differ by rounding only: about 1e-14 relative here; a contact missed or counted twice
@@ -80,7 +80,7 @@ close_probes() {  # A B: contact counts equal, the rest within 1e-9 of each colu
 }
 "$talus" run "$scenes/drum.yaml" $opts --quiet --output "$work/drum-1" \
   > "$work/drum-1.json" || fail "the one-process drum exited with $?"
-for n in 2 3; do
+for n in 2 3 4; do
   mpi "$n" "$talus" run "$scenes/drum.yaml" $opts --quiet --output "$work/drum-$n" \
     > "$work/drum-$n.json" 2> "$work/drum-$n.err" || fail "the drum on $n ranks exited with $?: $(cat "$work/drum-$n.err")"
   grep -q "\"ranks\": $n" "$work/drum-$n.json" || fail "the drum's summary does not say $n ranks"
