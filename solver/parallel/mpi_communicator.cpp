@@ -28,12 +28,16 @@ int count_of(std::size_t bytes) {
   return static_cast<int>(bytes);
 }
 
-// Waits for a nonblocking collective: tests it in a loop for about 20 microseconds (a rank of its
-// own core gets an answer that fast when the others are ready), then sleeps between tests, 10 to
-// 200 microseconds, so that a rank waiting for a slower one gives its core away. Open MPI's
-// blocking collectives spin instead: with more ranks than cores (CI's two cores running three
-// ranks, or a busy machine) a spinning rank takes the core the others need, and a step of
-// milliseconds took seconds.
+// How long a wait tests its collective in a loop before it sleeps between tests (MpiCommunicator
+// sets it: see there).
+std::chrono::microseconds spin_budget(20);
+
+// Waits for a nonblocking collective: tests it in a loop for spin_budget, then sleeps between
+// tests, 10 to 200 microseconds, so that a rank waiting for a slower one gives its core away.
+// Open MPI's blocking collectives spin instead: with more ranks than cores (CI's two cores
+// running three ranks, or a busy machine) a spinning rank takes the core the others need, and a
+// step of milliseconds took seconds. A sleep overshoots by tens of microseconds, and a GPU's
+// step has some eight collectives: where every rank has a core of its own, the loop tests longer.
 void wait(MPI_Request& request, const char* call) {
   int done = 0;
   const auto start = std::chrono::steady_clock::now();
@@ -41,7 +45,7 @@ void wait(MPI_Request& request, const char* call) {
   for (;;) {
     check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), call);
     if (done) return;
-    if (std::chrono::steady_clock::now() - start < std::chrono::microseconds(20)) continue;
+    if (std::chrono::steady_clock::now() - start < spin_budget) continue;
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(200));
   }
@@ -52,6 +56,22 @@ class MpiCommunicator final : public Communicator {
   MpiCommunicator() {
     check(MPI_Comm_rank(MPI_COMM_WORLD, &rank_), "MPI_Comm_rank");
     check(MPI_Comm_size(MPI_COMM_WORLD, &size_), "MPI_Comm_size");
+    // The ranks on this node (a collective): where each has a core of its own, a wait tests for
+    // up to 2 ms before it sleeps (the other ranks' answers come within a step's stage); with
+    // more ranks than cores, 20 microseconds. TALUS_MPI_SPIN_US sets it.
+    MPI_Comm node;
+    check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node),
+          "MPI_Comm_split_type");
+    int local = 1;
+    check(MPI_Comm_size(node, &local), "MPI_Comm_size");
+    MPI_Comm_free(&node);
+    const unsigned cores = std::thread::hardware_concurrency();
+    spin_budget =
+        std::chrono::microseconds(cores > 0 && static_cast<unsigned>(local) <= cores ? 2000 : 20);
+    if (const char* v = std::getenv("TALUS_MPI_SPIN_US"); v && *v) {
+      const long long us = std::atoll(v);
+      if (us >= 0) spin_budget = std::chrono::microseconds(us);
+    }
   }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
