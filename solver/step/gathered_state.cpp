@@ -17,6 +17,44 @@ void sorted_store(std::vector<KeyedHistory<Real>>& in, std::vector<PairKey>& key
   for (const auto& e : in) keys.push_back(e.key), histories.push_back(e.history);
 }
 
+void gather_positions(const Communicator& comm, const std::vector<Vec3d>& own_positions,
+                      const std::vector<int>& own_templates, std::vector<Vec3d>& positions,
+                      std::vector<int>& templates) {
+  Bytes mine;
+  ByteWriter w(mine);
+  for (std::size_t i = 0; i < own_positions.size(); ++i) {
+    w.put(own_positions[i]);
+    w.put(own_templates.at(i));
+  }
+  positions.clear();
+  templates.clear();
+  for (const Bytes& b : comm.all_gather(mine)) {
+    ByteReader r(b);
+    while (!r.done()) {
+      positions.push_back(r.get<Vec3d>());
+      templates.push_back(r.get<int>());
+    }
+  }
+}
+
+template <class Real>
+std::vector<std::vector<KeyedHistory<Real>>> histories_by_destination(
+    const std::vector<PairKey>& keys, const std::vector<ContactHistoryData<Real>>& histories,
+    const std::vector<std::pair<long long, int>>& leaving, bool pair, int ranks) {
+  const auto destination = [&](long long id) {
+    const auto it = std::lower_bound(leaving.begin(), leaving.end(), std::make_pair(id, -1));
+    return it != leaving.end() && it->first == id ? it->second : -1;
+  };
+  std::vector<std::vector<KeyedHistory<Real>>> out(ranks);
+  for (std::size_t k = 0; k < keys.size() && !leaving.empty(); ++k) {
+    const int d_low = destination(keys[k].low);
+    const int d_high = pair ? destination(keys[k].high) : -1;
+    if (d_low >= 0) out[d_low].push_back({keys[k], histories[k]});
+    if (d_high >= 0 && d_high != d_low) out[d_high].push_back({keys[k], histories[k]});
+  }
+  return out;
+}
+
 template <class Real>
 StepState<Real> gather_step_states(const Communicator& comm, const StepState<Real>& mine) {
   Bytes bytes;
@@ -97,10 +135,13 @@ StepState<Real> gather_step_states(const Communicator& comm, const StepState<Rea
   return s;
 }
 
-#define TALUS_INSTANTIATE_GATHERED_STATE(Real)                                        \
-  template void sorted_store(std::vector<KeyedHistory<Real>>&, std::vector<PairKey>&, \
-                             std::vector<ContactHistoryData<Real>>&);                 \
-  template StepState<Real> gather_step_states(const Communicator&, const StepState<Real>&);
+#define TALUS_INSTANTIATE_GATHERED_STATE(Real)                                              \
+  template void sorted_store(std::vector<KeyedHistory<Real>>&, std::vector<PairKey>&,       \
+                             std::vector<ContactHistoryData<Real>>&);                       \
+  template StepState<Real> gather_step_states(const Communicator&, const StepState<Real>&); \
+  template std::vector<std::vector<KeyedHistory<Real>>> histories_by_destination(           \
+      const std::vector<PairKey>&, const std::vector<ContactHistoryData<Real>>&,            \
+      const std::vector<std::pair<long long, int>>&, bool, int);
 TALUS_INSTANTIATE_GATHERED_STATE(double)
 TALUS_INSTANTIATE_GATHERED_STATE(float)
 #undef TALUS_INSTANTIATE_GATHERED_STATE

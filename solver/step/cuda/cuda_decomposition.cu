@@ -162,23 +162,10 @@ template <class Real>
 void DeviceDecomposition<Real>::gather_all(std::vector<Vec3d>& positions,
                                            std::vector<int>& templates) {
   const int own = shared_.own_count();
-  const std::vector<Vec3d> points = particles_.positions();
-  const std::vector<int> ids = particles_.template_ids();
-  Bytes mine;
-  ByteWriter w(mine);
-  for (int i = 0; i < own; ++i) {
-    w.put(points[i]);
-    w.put(ids[i]);
-  }
-  positions.clear();
-  templates.clear();
-  for (const Bytes& b : comm_->all_gather(mine)) {
-    ByteReader r(b);
-    while (!r.done()) {
-      positions.push_back(r.get<Vec3d>());
-      templates.push_back(r.get<int>());
-    }
-  }
+  std::vector<Vec3d> points = particles_.positions();
+  std::vector<int> ids = particles_.template_ids();
+  points.resize(own), ids.resize(own);  // the ghosts are others'
+  gather_positions(*comm_, points, ids, positions, templates);
 }
 
 template <class Real>
@@ -245,24 +232,9 @@ void DeviceDecomposition<Real>::migrate() {
     leaving.emplace_back(rows.global_ids[k], destination_of[k]);
   }
   std::sort(leaving.begin(), leaving.end());
-  const auto destination = [&](long long id) {
-    const auto it = std::lower_bound(leaving.begin(), leaving.end(), std::make_pair(id, -1));
-    return it != leaving.end() && it->first == id ? it->second : -1;
-  };
   // Each leaving particle's histories go with it (its pairs: keys holding its id; its walls: the
-  // key's low id). The pair store holds only those entries on the host.
+  // key's low id). Of the pair store only the entries naming them leave the device.
   using Entries = std::vector<std::vector<KeyedHistory<Real>>>;
-  const auto pack = [&](const std::vector<PairKey>& keys,
-                        const std::vector<ContactHistoryData<Real>>& histories, bool pair) {
-    Entries out(ranks);
-    for (std::size_t k = 0; k < keys.size() && !leaving.empty(); ++k) {
-      const int d_low = destination(keys[k].low);
-      const int d_high = pair ? destination(keys[k].high) : -1;
-      if (d_low >= 0) out[d_low].push_back({keys[k], histories[k]});
-      if (d_high >= 0 && d_high != d_low) out[d_high].push_back({keys[k], histories[k]});
-    }
-    return out;
-  };
   std::vector<PairKey> pair_keys, wall_keys;
   std::vector<ContactHistoryData<Real>> pair_histories, wall_histories;
   if (list_ && !leaving.empty()) {
@@ -271,8 +243,10 @@ void DeviceDecomposition<Real>::migrate() {
     list_->histories_with(ids, pair_keys, pair_histories);  // the store: drop_ghosts kept it
   }
   if (walls_) walls_->export_histories(wall_keys, wall_histories);
-  const Entries pair_out = pack(pair_keys, pair_histories, true);
-  const Entries wall_out = pack(wall_keys, wall_histories, false);
+  const Entries pair_out =
+      histories_by_destination(pair_keys, pair_histories, leaving, true, ranks);
+  const Entries wall_out =
+      histories_by_destination(wall_keys, wall_histories, leaving, false, ranks);
   std::vector<Bytes> to(ranks);
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;

@@ -54,21 +54,12 @@ void HostStep<Real>::drop_ghosts() {
 
 template <class Real>
 void HostStep<Real>::gather_all(std::vector<Vec3d>& positions, std::vector<int>& templates) const {
-  Bytes mine;
-  ByteWriter w(mine);
-  for (int i = 0; i < owned_; ++i) {
-    w.put(Vec3d(view_.position.get(i)));
-    w.put(template_ids_[i]);
-  }
-  positions.clear();
-  templates.clear();
-  for (const Bytes& b : comm_->all_gather(mine)) {
-    ByteReader r(b);
-    while (!r.done()) {
-      positions.push_back(r.get<Vec3d>());
-      templates.push_back(r.get<int>());
-    }
-  }
+  std::vector<Vec3d> own;
+  own.reserve(owned_);
+  for (int i = 0; i < owned_; ++i) own.push_back(Vec3d(view_.position.get(i)));
+  gather_positions(*comm_, own,
+                   std::vector<int>(template_ids_.begin(), template_ids_.begin() + owned_),
+                   positions, templates);
 }
 
 template <class Real>
@@ -157,28 +148,15 @@ void HostStep<Real>::migrate() {
   // Each leaving particle's histories go with it (its pairs: keys holding its id; its walls: the
   // key's low id), after the particles: a count, then (key, history) pairs.
   std::sort(leaving.begin(), leaving.end());
-  const auto destination = [&](long long id) {
-    const auto it = std::lower_bound(leaving.begin(), leaving.end(), std::make_pair(id, -1));
-    return it != leaving.end() && it->first == id ? it->second : -1;
-  };
-  const auto pack_histories = [&](const std::vector<PairKey>& keys,
-                                  const std::vector<ContactHistoryData<Real>>& histories,
-                                  bool pair) {
-    std::vector<std::vector<KeyedHistory<Real>>> out(ranks);
-    for (std::size_t k = 0; k < keys.size() && !leaving.empty(); ++k) {
-      const int d_low = destination(keys[k].low);
-      const int d_high = pair ? destination(keys[k].high) : -1;
-      if (d_low >= 0) out[d_low].push_back({keys[k], histories[k]});
-      if (d_high >= 0 && d_high != d_low) out[d_high].push_back({keys[k], histories[k]});
-    }
-    return out;
-  };
   using Entries = std::vector<std::vector<KeyedHistory<Real>>>;
   const Entries pair_out =
-      contacts_ ? pack_histories(contacts_->history_keys(), contacts_->histories(), true)
+      contacts_ ? histories_by_destination(contacts_->history_keys(), contacts_->histories(),
+                                           leaving, true, ranks)
                 : Entries(ranks);
   const Entries wall_out =
-      walls_ ? pack_histories(walls_->history_keys(), walls_->histories(), false) : Entries(ranks);
+      walls_ ? histories_by_destination(walls_->history_keys(), walls_->histories(), leaving, false,
+                                        ranks)
+             : Entries(ranks);
   for (int r = 0; r < ranks; ++r) {
     Bytes marked;
     ByteWriter w(marked);
