@@ -484,10 +484,6 @@ long long CudaStep<Real>::rebalances() const {
   return impl_->decomposition ? impl_->decomposition->rebalances() : 0;
 }
 template <class Real>
-bool CudaStep<Real>::decomposed() const {
-  return impl_->decomposition != nullptr;
-}
-template <class Real>
 long long CudaStep<Real>::removed_count() const {
   return impl_->removed;
 }

@@ -101,9 +101,8 @@ class CudaStep {
   long long steps() const;
   const StepPlan& plan() const;
   int particle_count() const;  // this rank's (ghosts are not counted)
-  // Decomposed: whether it is, seconds in the exchanges between ranks so far (waits included),
-  // and how many times the boxes were cut again (as HostStep's).
-  bool decomposed() const;
+  // Decomposed: seconds in the exchanges between ranks so far (waits included), and how many
+  // times the boxes were cut again (as HostStep's).
   double exchange_seconds() const;
   double exchange_bytes() const;  // this rank's sent to the others
   long long rebalances() const;
