@@ -27,6 +27,13 @@ class Communicator {
   // to[r]: what this rank sends rank r (to[rank()] is returned as from[rank()]); from[r]: what r
   // sent this rank.
   virtual std::vector<Bytes> exchange(const std::vector<Bytes>& to) const = 0;
+  // An exchange whose sizes both sides know already (the ghosts' states each step): out_sizes[r]
+  // bytes from `out` (one block per rank, in rank order) to rank r, in_sizes[r] bytes from rank r
+  // into `in` (likewise); this rank's own block copied. Point to point, no sizes sent: a rank's
+  // out_sizes[r] must be rank r's in_sizes[rank()] (a mismatch is an error). Every rank calls it
+  // at the same point of the step, as a collective.
+  virtual void exchange_sized(const char* out, const std::vector<std::size_t>& out_sizes, char* in,
+                              const std::vector<std::size_t>& in_sizes) const = 0;
   // Every rank's bytes, on every rank, in rank order.
   virtual std::vector<Bytes> all_gather(const Bytes& mine) const = 0;
   // `bytes` of rank `root` on every rank.
@@ -46,6 +53,12 @@ class SerialCommunicator final : public Communicator {
   double max(double local) const override { return local; }
   long long sum(long long local) const override { return local; }
   std::vector<Bytes> exchange(const std::vector<Bytes>& to) const override { return to; }
+  void exchange_sized(const char* out, const std::vector<std::size_t>& out_sizes, char* in,
+                      const std::vector<std::size_t>& in_sizes) const override {
+    if (out_sizes.size() != 1 || in_sizes.size() != 1 || out_sizes[0] != in_sizes[0])
+      throw std::runtime_error("exchange_sized: one rank's sizes disagree");
+    if (out_sizes[0] > 0) std::memcpy(in, out, out_sizes[0]);
+  }
   std::vector<Bytes> all_gather(const Bytes& mine) const override { return {mine}; }
   void broadcast(Bytes&, int) const override {}
   int broadcast(int value, int) const override { return value; }

@@ -51,6 +51,27 @@ void wait(MPI_Request& request, const char* call) {
   }
 }
 
+// wait() for several requests (point-to-point messages) at once; their statuses into `statuses`.
+void wait_all(std::vector<MPI_Request>& requests, std::vector<MPI_Status>& statuses,
+              const char* call) {
+  statuses.resize(requests.size());
+  if (requests.empty()) return;
+  int done = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto pause = std::chrono::microseconds(10);
+  for (;;) {
+    check(MPI_Testall(static_cast<int>(requests.size()), requests.data(), &done, statuses.data()),
+          call);
+    if (done) return;
+    if (std::chrono::steady_clock::now() - start < spin_budget) continue;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(200));
+  }
+}
+
+// The tag of exchange_sized's messages (no other point-to-point messages are sent).
+constexpr int kSizedTag = 7;
+
 class MpiCommunicator final : public Communicator {
  public:
   MpiCommunicator() {
@@ -104,6 +125,56 @@ class MpiCommunicator final : public Communicator {
     for (int r = 0; r < size_; ++r)
       from[r].assign(recv.begin() + recv_at[r], recv.begin() + recv_at[r] + recv_counts[r]);
     return from;
+  }
+  void exchange_sized(const char* out, const std::vector<std::size_t>& out_sizes, char* in,
+                      const std::vector<std::size_t>& in_sizes) const override {
+    if (static_cast<int>(out_sizes.size()) != size_ || static_cast<int>(in_sizes.size()) != size_)
+      throw std::runtime_error("exchange_sized: sizes for " + std::to_string(out_sizes.size()) +
+                               " and " + std::to_string(in_sizes.size()) + " ranks, not " +
+                               std::to_string(size_));
+    std::vector<MPI_Request> requests;
+    std::vector<int> from;  // the receives' ranks, in the order of their requests
+    requests.reserve(2 * static_cast<std::size_t>(size_));
+    std::size_t send_at = 0, recv_at = 0, own_send = 0, own_recv = 0;
+    // The receives first, so that the sends find them posted.
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_) {
+        own_recv = recv_at;
+      } else if (in_sizes[r] > 0) {
+        requests.emplace_back();
+        from.push_back(r);
+        check(MPI_Irecv(in + recv_at, count_of(in_sizes[r]), MPI_BYTE, r, kSizedTag, MPI_COMM_WORLD,
+                        &requests.back()),
+              "MPI_Irecv");
+      }
+      recv_at += in_sizes[r];
+    }
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_) {
+        own_send = send_at;
+      } else if (out_sizes[r] > 0) {
+        requests.emplace_back();
+        check(MPI_Isend(out + send_at, count_of(out_sizes[r]), MPI_BYTE, r, kSizedTag,
+                        MPI_COMM_WORLD, &requests.back()),
+              "MPI_Isend");
+      }
+      send_at += out_sizes[r];
+    }
+    if (out_sizes[rank_] != in_sizes[rank_])
+      throw std::runtime_error("exchange_sized: this rank's own block disagrees");
+    if (out_sizes[rank_] > 0)
+      std::copy(out + own_send, out + own_send + out_sizes[rank_], in + own_recv);
+    std::vector<MPI_Status> statuses;
+    wait_all(requests, statuses, "MPI_Isend/MPI_Irecv");
+    // A longer message fails its receive (MPI_ERR_TRUNCATE, thrown above); a shorter one here.
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      int got = 0;
+      check(MPI_Get_count(&statuses[k], MPI_BYTE, &got), "MPI_Get_count");
+      if (static_cast<std::size_t>(got) != in_sizes[from[k]])
+        throw std::runtime_error("exchange_sized: rank " + std::to_string(from[k]) + " sent " +
+                                 std::to_string(got) + " bytes, not " +
+                                 std::to_string(in_sizes[from[k]]));
+    }
   }
   std::vector<Bytes> all_gather(const Bytes& mine) const override {
     const int count = count_of(mine.size());

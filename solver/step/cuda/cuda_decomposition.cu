@@ -104,11 +104,14 @@ DeviceDecomposition<Real>::DeviceDecomposition(DeviceStepShared<Real>& shared,
       walls_(walls),
       comm_(std::move(comm)),
       send_(comm_->size()),
-      received_(comm_->size(), 0) {}
+      received_(comm_->size(), 0) {
+  TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&packed_, cudaEventDisableTiming));
+}
 
 template <class Real>
 DeviceDecomposition<Real>::~DeviceDecomposition() {
-  if (pinned_out_) cudaFreeHost(pinned_out_);  // no throw from a destructor
+  if (packed_) cudaEventDestroy(packed_);  // no throw from a destructor
+  if (pinned_out_) cudaFreeHost(pinned_out_);
   if (pinned_in_) cudaFreeHost(pinned_in_);
 }
 
@@ -169,8 +172,9 @@ void DeviceDecomposition<Real>::gather_all(std::vector<Vec3d>& positions,
 }
 
 template <class Real>
-void DeviceDecomposition<Real>::exchange(bool rebuild) {
+bool DeviceDecomposition<Real>::begin_exchange(bool rebuild) {
   const auto start = std::chrono::steady_clock::now();
+  bool pending = false;
   // The ranks agree whether to rebuild: some rank's particles changed (feed, removal, arrival) or
   // its list is due (a particle moved 0.45 skin since the build). Without contacts there are no
   // ghosts, and particles move to their owners only when one has left its box.
@@ -201,10 +205,12 @@ void DeviceDecomposition<Real>::exchange(bool rebuild) {
     }
     changed_ = false;
   } else if (list_) {
-    update_ghosts();
+    begin_update();
+    pending = true;
   }
   exchange_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return pending;
 }
 
 template <class Real>
@@ -347,13 +353,13 @@ void DeviceDecomposition<Real>::send_ghosts() {
 }
 
 template <class Real>
-void DeviceDecomposition<Real>::update_ghosts() {
-  const int me = comm_->rank(), ranks = comm_->size();
+void DeviceDecomposition<Real>::begin_update() {
   const GhostColumns<Real> columns = ghost_columns(shared_.view);
   const std::size_t n = columns.n;
   std::size_t sending = 0, arriving = 0;
-  for (int r = 0; r < ranks; ++r) sending += send_[r].size(), arriving += received_[r];
+  for (int r = 0; r < comm_->size(); ++r) sending += send_[r].size(), arriving += received_[r];
   const cudaStream_t stream = shared_.stream;
+  // The last step's copies from them are done: its end waited for the stream.
   pinned_room(pinned_out_, pinned_out_size_, sending * n);
   pinned_room(pinned_in_, pinned_in_size_, arriving * n);
   if (sending > 0) {
@@ -364,36 +370,39 @@ void DeviceDecomposition<Real>::update_ghosts() {
     TALUS_CUDA_CHECK(cudaMemcpyAsync(pinned_out_, packed_out_.data(), sending * n * sizeof(Real),
                                      cudaMemcpyDeviceToHost, stream));
   }
-  TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
-  std::vector<Bytes> to(ranks);
-  std::size_t at = 0;
+  packed_in_.grow_to(arriving * n);  // here: no allocation between the step's launches later
+  TALUS_CUDA_CHECK(cudaEventRecord(packed_, stream));
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::finish_exchange() {
+  const auto start = std::chrono::steady_clock::now();
+  const int me = comm_->rank(), ranks = comm_->size();
+  const GhostColumns<Real> columns = ghost_columns(shared_.view);
+  const std::size_t n = columns.n;
+  std::vector<std::size_t> out_sizes(ranks, 0), in_sizes(ranks, 0);
+  std::size_t arriving = 0;
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;
-    const char* begin = reinterpret_cast<const char*>(pinned_out_ + at * n);
-    to[r].assign(begin, begin + send_[r].size() * n * sizeof(Real));
-    at += send_[r].size();
+    out_sizes[r] = send_[r].size() * n * sizeof(Real);
+    in_sizes[r] = received_[r] * n * sizeof(Real);
+    bytes_sent_ += static_cast<double>(out_sizes[r]);
+    arriving += received_[r];
   }
-  const std::vector<Bytes> from = exchange_bytes(to);
-  at = 0;
-  for (int r = 0; r < ranks; ++r) {
-    if (r == me) continue;
-    if (from[r].size() != received_[r] * n * sizeof(Real))
-      throw std::runtime_error("decomposed cuda step: rank " + std::to_string(r) + " sent " +
-                               std::to_string(from[r].size()) + " bytes of ghost states, not " +
-                               std::to_string(received_[r] * n * sizeof(Real)));
-    std::memcpy(pinned_in_ + at * n, from[r].data(), from[r].size());
-    at += received_[r];
-  }
+  // Only the pack and its copy: the work enqueued after them goes on.
+  TALUS_CUDA_CHECK(cudaEventSynchronize(packed_));
+  comm_->exchange_sized(reinterpret_cast<const char*>(pinned_out_), out_sizes,
+                        reinterpret_cast<char*>(pinned_in_), in_sizes);
   if (arriving > 0) {
-    packed_in_.grow_to(arriving * n);
+    const cudaStream_t stream = shared_.stream;
     TALUS_CUDA_CHECK(cudaMemcpyAsync(packed_in_.data(), pinned_in_, arriving * n * sizeof(Real),
                                      cudaMemcpyHostToDevice, stream));
     unpack_ghost_states<<<blocks_for(arriving), kBlock, 0, stream>>>(
         columns, packed_in_.data(), static_cast<int>(arriving), shared_.owned);
     TALUS_CUDA_LAUNCH_CHECK();
-    // The pinned buffer is read by the copy before the next exchange writes it.
-    TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
   }
+  exchange_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 template class DeviceDecomposition<double>;

@@ -38,8 +38,20 @@ class DeviceDecomposition {
   void decompose();
   // The ghosts brought up to date after integrate_begin; with `rebuild` (or where any rank's
   // list is due or its particles changed) the migration and the ghosts chosen again (a
-  // collective).
-  void exchange(bool rebuild);
+  // collective). begin_exchange then finish_exchange.
+  void exchange(bool rebuild) {
+    if (begin_exchange(rebuild)) finish_exchange();
+  }
+  // The ranks' vote, and a rebuild when due (as exchange); else the ghosts' update begun: their
+  // states packed and copied to pinned host memory on the step's stream, nothing waiting.
+  // Returns whether an update is pending: finish_exchange is then due, and the step may enqueue
+  // work that needs no ghost (its inner slots) first, which the device does while the states
+  // travel (method paper §2.6).
+  bool begin_exchange(bool rebuild);
+  // The pending update's messages (after the copy to the host; a collective in effect) and the
+  // arrivals copied to the device and unpacked into the ghosts, on the step's stream (nothing
+  // waits for that; the step's end does).
+  void finish_exchange();
   // Before particles are appended or removed: the ghosts dropped, and the next exchange rebuilds.
   void drop_ghosts();
   void particles_changed() { changed_ = true; }
@@ -59,7 +71,7 @@ class DeviceDecomposition {
   void migrate();
   void reorder_own_by_cell();
   void send_ghosts();
-  void update_ghosts();
+  void begin_update();
   std::vector<Bytes> exchange_bytes(const std::vector<Bytes>& to);
 
   DeviceStepShared<Real>& shared_;
@@ -78,6 +90,7 @@ class DeviceDecomposition {
   Real* pinned_out_ = nullptr;
   Real* pinned_in_ = nullptr;
   std::size_t pinned_out_size_ = 0, pinned_in_size_ = 0;  // Reals
+  cudaEvent_t packed_ = nullptr;  // the sent states are in pinned_out_ (begin_update)
   double exchange_seconds_ = 0, bytes_sent_ = 0;
   long long rebalances_ = 0;
 };

@@ -130,6 +130,14 @@ struct NotTwoGhosts {
   }
 };
 
+// A candidate of two own particles (the inner region's).
+struct TwoOwn {
+  int owned;
+  __host__ __device__ bool operator()(const ContactPair& c) const {
+    return c.a < owned && c.b < owned;
+  }
+};
+
 // flags[k]: whether store entry k names a particle among ids[0 .. n) (sorted).
 __global__ void flag_keys_with(const PairKey* __restrict__ keys, int count,
                                const long long* __restrict__ ids, int n,
@@ -489,7 +497,17 @@ void DevicePairList<Real>::update() {
                                    NotTwoGhosts{owned});
     });
     candidates_ = shared_.flags.read(selected);
-    pairs_ = own_pairs_.data();
+    // Those of two own particles first (in the broad phase's order), then those with a ghost
+    // (in reverse order: cub's partition): the inner slots, computed while the ghosts travel.
+    split_pairs_.grow_to(candidates_);
+    cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+      return cub::DevicePartition::If(t, b, own_pairs_.data(), split_pairs_.data(), selected_count,
+                                      candidates_, TwoOwn{owned});
+    });
+    inner_ = shared_.flags.read(selected);
+    pairs_ = split_pairs_.data();
+  } else {
+    inner_ = candidates_;
   }
   ++builds_;
   carry_histories(stored);

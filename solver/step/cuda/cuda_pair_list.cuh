@@ -86,6 +86,7 @@ class DevicePairList {
   void forget_histories() {
     imported_ = 0;
     candidates_ = 0;
+    inner_ = 0;
     stale_ = true;
     due_ = -1;
   }
@@ -97,6 +98,9 @@ class DevicePairList {
   void import_reference(const std::vector<Real>& reference, bool stale);
 
   int candidates() const { return candidates_; }
+  // The first slots, pairs of two own particles; the pairs with a ghost follow them (decomposed:
+  // the step computes these first while the ghosts' states travel). All of them in one process.
+  int inner_candidates() const { return inner_; }
   long long builds() const { return builds_; }
   Real skin() const { return skin_; }
   // The candidates of the last build (decomposed: without the pairs of two ghosts).
@@ -139,6 +143,7 @@ class DevicePairList {
   Real skin_ = 0;
   long long builds_ = 0;
   int candidates_ = 0;
+  int inner_ = 0;       // inner_candidates()
   int imported_ = -1;   // entries of an imported store awaiting the next build; -1: none
   bool stale_ = false;  // the particles changed since the last build
   int due_ = -1;        // due()'s answer until the next update (-1: not measured)
@@ -160,9 +165,10 @@ class DevicePairList {
   DeviceBuffer<int> entry_particle_, entry_slot_, sorted_particle_, sorted_slot_;
   DeviceBuffer<int> entry_begin_, entry_end_, entry_index_, sorted_index_;
   DeviceBuffer<long long> entry_partner_, sorted_partner_;
-  // The candidates (the broad phase's list, or decomposed its pairs not of two ghosts).
+  // The candidates (the broad phase's list, or decomposed its pairs not of two ghosts, those of
+  // two own particles first: own_pairs_ selected, split_pairs_ partitioned).
   const ContactPair* pairs_ = nullptr;
-  DeviceBuffer<ContactPair> own_pairs_;
+  DeviceBuffer<ContactPair> own_pairs_, split_pairs_;
 };
 
 }  // namespace talus

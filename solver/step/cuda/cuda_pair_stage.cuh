@@ -32,7 +32,12 @@ class DevicePairStage {
   // Every slot of the list. spring_dt: 0 in the evaluation at t = 0, else the step. A pair whose
   // geometry is degenerate raises flag degenerate_pair, which the step reads at its end
   // (check_flags).
-  void compute(Real spring_dt);
+  void compute(Real spring_dt) { compute(spring_dt, 0, list_.candidates(), true); }
+  // The slots first .. first + count only (a decomposed step: the inner slots while the ghosts'
+  // states travel, then the rest, DevicePairList::inner_candidates). `wait`: false when nothing
+  // may make the host wait for the device (the phased path's ranges and deferred pairs then
+  // read on the device, as in a graph step). The first range of a step starts at slot 0.
+  void compute(Real spring_dt, int first, int count, bool wait);
   // The flags read at the end of the step (DeviceFlags::read_all): throws std::runtime_error
   // naming the two particles when a pair's geometry was degenerate; keeps the touching count.
   void check_flags(const std::array<int, flags>& all);
@@ -46,7 +51,7 @@ class DevicePairStage {
  private:
   // Templated on the scene's contact law (contact/laws/), which compute picks once per call.
   template <class Law>
-  void launch_all(int candidates);
+  void launch_all(int candidates, bool wait);
   template <class Law>
   void launch_pairs(int capacity, const int* slots, int n, const int* count_at);
   template <class Law, int Capacity>
@@ -54,13 +59,14 @@ class DevicePairStage {
   template <class Law, int Cap>
   void launch_polytopes(const PhasedBuckets* buckets, int slots, cudaStream_t stream);
   template <class Law>
-  void compute_phased();
+  void compute_phased(int n, bool wait);
 
   DeviceStepShared<Real>& shared_;
   DevicePairList<Real>& list_;
   std::vector<int> capacities_;  // the workspace capacities of the scene's template pairs
   bool phased_ = false;
   Real spring_dt_ = 0;
+  int first_ = 0;  // the range's first slot (compute)
   mutable long long contact_count_ = 0;
   mutable bool contact_count_ready_ = true;
   // The phased path's per-slot masks, keys, orders and deferral list (phased_overlap.cuh).

@@ -104,9 +104,11 @@ struct SlotArgs {
   bool gjk_filter = true;         // DeviceStepShared::gjk_filter
   double* energy_sums = nullptr;  // DeviceStepShared::energy_sums
   int owned = INT_MAX;            // decomposed: DeviceStepShared::owned (attributed)
+  int first = 0;                  // the launch's first slot: its slot j is the list's first + j
 };
 
-// One thread per slot of the pair list (or of the given `slots`), the whole pair in one thread;
+// One thread per slot of the launch's range (or of the given `slots`, numbered from its start),
+// the whole pair in one thread;
 // this launch computes only the pairs of workspace capacity `Capacity` (another launch per
 // capacity present in the scene computes the rest), so a thread's local memory is the
 // workspace of its own template pair. Used for the linear model and spheres (Capacity 0), for
@@ -121,7 +123,7 @@ __global__ void __launch_bounds__(kBlock)
   if (count_at) count = min(count, *count_at);
   bool in_contact = false;
   if (j < count) {
-    const int k = slots ? slots[j] : j;
+    const int k = s.first + (slots ? slots[j] : j);
     const ContactPair pair = s.pairs[k];
     int ia, ib;
     order_pair(p, t, pair.a, pair.b, ia, ib);
@@ -171,8 +173,9 @@ __global__ void __launch_bounds__(kBlock, 4)
   __shared__ int block_histogram[kPhasedKeys];
   for (int b = threadIdx.x; b < kPhasedKeys; b += blockDim.x) block_histogram[b] = 0;
   __syncthreads();
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < count) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;  // the scratch's index; the slot's is k
+  if (j < count) {
+    const int k = s.first + j;
     const ContactPair pair = s.pairs[k];
     int ia, ib;
     order_pair(p, t, pair.a, pair.b, ia, ib);
@@ -190,7 +193,7 @@ __global__ void __launch_bounds__(kBlock, 4)
         unsigned long long mask = 0;
         kept = overlap_cull_mask(a.shape, pose_a, b.shape, pose_b, OverlapOptions(), mask, result);
         if (kept >= 0)
-          masks[k] = mask;
+          masks[j] = mask;
         else
           g = volume_geometry_from(result);  // separate, touching or degenerate: no contact
       }
@@ -203,8 +206,8 @@ __global__ void __launch_bounds__(kBlock, 4)
       }
       atomicAdd(&block_histogram[key], 1);
     }
-    keys[k] = key;
-    order[k] = k;
+    keys[j] = key;
+    order[j] = j;
   }
   __syncthreads();
   for (int b = threadIdx.x; b < kPhasedKeys; b += blockDim.x)
@@ -228,15 +231,16 @@ __global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
                          const PhasedBuckets* __restrict__ buckets,
                          const unsigned long long* __restrict__ masks, int* deferred,
                          int* deferred_count) {
-  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (buckets) {
     const PhasedRange range = buckets->workspace(Cap);
     begin = range.begin;
     count = min(count, range.count);
   }
   bool in_contact = false;
-  if (j < count) {
-    const int k = order[begin + j];
+  if (e < count) {
+    const int j = order[begin + e];  // the scratch's index; the slot's is k
+    const int k = s.first + j;
     const ContactPair pair = s.pairs[k];
     int ia, ib;
     order_pair(p, t, pair.a, pair.b, ia, ib);
@@ -254,15 +258,15 @@ __global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
                                                            pose_a.position, pose_a.orientation,
                                                            pose_b.position, pose_b.orientation,
                                                            Real(0)};
-      if (!overlap_enumerate_from_mask(bodies, masks[k], shared_enumeration_planes<Real, kBlock>(),
+      if (!overlap_enumerate_from_mask(bodies, masks[j], shared_enumeration_planes<Real, kBlock>(),
                                        kBlock, overlap))
         overlap.workspace_overrun = true;
     } else {
       OverlapWorkspace<Real, Cap> workspace;  // per-thread local memory
-      overlap = overlap_from_mask(a.shape, pose_a, b.shape, pose_b, masks[k], workspace);
+      overlap = overlap_from_mask(a.shape, pose_a, b.shape, pose_b, masks[j], workspace);
     }
     if (overlap.workspace_overrun) {
-      deferred[atomicAdd(deferred_count, 1)] = k;
+      deferred[atomicAdd(deferred_count, 1)] = j;
     } else {
       in_contact = finish_slot<Law, Real, Atomic>(
           p, t, pair, ia, ib, k, volume_geometry_from(overlap), s.spring_dt, s.histories, s.forces,
@@ -274,8 +278,8 @@ __global__ void __launch_bounds__(kBlock, Cap == kEnumerationPlanes ? 3 : 1)
 
 // What each slot needs besides the particles and the tables.
 template <class Real>
-SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& list,
-                         Real spring_dt) {
+SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& list, Real spring_dt,
+                         int first) {
   SlotArgs<Real> a;
   a.pairs = list.pairs();
   a.spring_dt = spring_dt;
@@ -287,6 +291,7 @@ SlotArgs<Real> slot_args(DeviceStepShared<Real>& shared, DevicePairList<Real>& l
   a.gjk_filter = shared.gjk_filter;
   a.energy_sums = shared.energy_sums.size() > 0 ? shared.energy_sums.data() : nullptr;
   a.owned = shared.owned >= 0 ? shared.owned : INT_MAX;
+  a.first = first;
   return a;
 }
 
@@ -338,7 +343,7 @@ template <class Real>
 template <class Law, int Capacity>
 void DevicePairStage<Real>::launch_pairs(const int* slots, int n, const int* count_at) {
   if (n <= 0) return;
-  const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
+  const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_, first_);
   const ParticleView<Real>& v = shared_.view;
   const cudaStream_t stream = shared_.stream;
   if (shared_.scene.deterministic) {
@@ -382,7 +387,7 @@ void DevicePairStage<Real>::launch_polytopes(const PhasedBuckets* buckets, int s
                                              cudaStream_t stream) {
   const PhasedRange range = buckets ? buckets->workspace(Cap) : PhasedRange{0, slots};
   if (range.count <= 0) return;
-  const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_);
+  const SlotArgs<Real> args = slot_args(shared_, list_, spring_dt_, first_);
   const PhasedBuckets* on_device = buckets ? nullptr : scratch_.device_buckets();
   const auto launch = [&](auto kernel) {
     kernel<<<blocks_for(range.count), kBlock, 0, stream>>>(
@@ -403,14 +408,15 @@ void DevicePairStage<Real>::launch_polytopes(const PhasedBuckets* buckets, int s
 // pairs' kernel for every slot too, their number read on the device.
 template <class Real>
 template <class Law>
-void DevicePairStage<Real>::compute_phased() {
-  const int n = list_.candidates();
+void DevicePairStage<Real>::compute_phased(int n, bool wait) {
   const cudaStream_t stream = shared_.stream;
-  const bool graph = shared_.graph_mode;
-  scratch_.prepare(n, stream);
+  const bool graph = shared_.graph_mode || !wait;  // nothing read back
+  // Room for every slot at a step's first range, so that a later range of the step does not
+  // reallocate what the first one's kernels still read.
+  scratch_.prepare(first_ == 0 ? std::max(n, list_.candidates()) : n, stream);
   cull_pair_kernel<Law><<<blocks_for(n), kBlock, 0, stream>>>(
-      shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_), n, scratch_.masks(),
-      scratch_.keys(), scratch_.order(), scratch_.histogram());
+      shared_.view, shared_.tables, slot_args(shared_, list_, spring_dt_, first_), n,
+      scratch_.masks(), scratch_.keys(), scratch_.order(), scratch_.histogram());
   TALUS_CUDA_LAUNCH_CHECK();
   // kOtherPath (255) sorts last.
   scratch_.sort(n, kOtherPath, shared_.temp, stream);
@@ -447,9 +453,9 @@ void DevicePairStage<Real>::compute_phased() {
 // The launches under the scene's law Law; the phased path only for a law of volume geometry.
 template <class Real>
 template <class Law>
-void DevicePairStage<Real>::launch_all(int candidates) {
+void DevicePairStage<Real>::launch_all(int candidates, bool wait) {
   if constexpr (Law::kVolumeGeometry) {
-    if (phased_) compute_phased<Law>();
+    if (phased_) compute_phased<Law>(candidates, wait);
   }
   for (const int capacity : capacities_) {
     if (!phased_ || capacity == 0 || capacity > kMaxPhasedPlanes)
@@ -458,14 +464,19 @@ void DevicePairStage<Real>::launch_all(int candidates) {
 }
 
 template <class Real>
-void DevicePairStage<Real>::compute(Real spring_dt) {
-  contact_count_ = 0;
-  contact_count_ready_ = true;
-  const int candidates = list_.candidates();
-  if (candidates == 0) return;
+void DevicePairStage<Real>::compute(Real spring_dt, int first, int count, bool wait) {
+  if (first == 0) {
+    contact_count_ = 0;
+    contact_count_ready_ = true;
+  }
+  if (first < 0 || count < 0 || first + count > list_.candidates())
+    throw std::logic_error("DevicePairStage::compute: slots " + std::to_string(first) + " + " +
+                           std::to_string(count) + " of " + std::to_string(list_.candidates()));
+  if (count == 0) return;
   spring_dt_ = spring_dt;
+  first_ = first;
   with_contact_law(*shared_.scene.effects.contact,
-                   [&](auto law) { launch_all<decltype(law)>(candidates); });
+                   [&](auto law) { launch_all<decltype(law)>(count, wait); });
   contact_count_ready_ = false;  // flag[touching_pairs], read when asked or at check_flags
 }
 

@@ -315,9 +315,26 @@ void CudaStep<Real>::Impl::decomposed_step() {
     report_and_wait();
     check_rotation(shared.flags.read(failed_rotation));
   });
-  decomposition->exchange(false);
+  // The ghosts' states travel while the device computes what needs no ghost: the body forces
+  // and the pairs of two own particles (the inner region's work, method paper §2.6); the pairs
+  // with a ghost, the walls and the rest follow their arrival. A rebuild exchanges whole
+  // particles first. TALUS_HALO_OVERLAP=0: the exchange, then the stages (to measure the gain).
+  const bool pending = decomposition->begin_exchange(false);
+  std::exception_ptr inner_failure;
+  if (pending && overlap_halo()) {
+    try {
+      run_force_stages_with_energy(dt, ForcePart::inner);
+    } catch (...) {
+      inner_failure = std::current_exception();  // after the messages: the others wait for them
+    }
+    decomposition->finish_exchange();
+  } else if (pending) {
+    decomposition->finish_exchange();
+  }
+  const ForcePart rest = pending && overlap_halo() ? ForcePart::outer : ForcePart::whole;
   agreed([&] {
-    run_force_stages_with_energy(dt);
+    if (inner_failure) std::rethrow_exception(inner_failure);
+    run_force_stages_with_energy(dt, rest);
     finish_enqueue();
     report_and_wait();
     const std::array<int, flags> all = report_flags();

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -82,16 +83,23 @@ struct CudaStep<Real>::Impl {
   EnergyLedger ledger;
   std::array<double, kEnergySums> energy_sums{};  // the last evaluation's
 
+  // The force stages in two parts for a decomposed step whose ghosts' states travel meanwhile
+  // (decomposed_step): `inner`, what needs no ghost (the body forces and the slots of two own
+  // particles, DevicePairList::inner_candidates), enqueued without waiting for the device; then
+  // `outer`, the slots with a ghost, the walls and the accumulation. `whole`: both at once.
+  enum class ForcePart { whole, inner, outer };
+
   // The force stages with the energy sums around them (when asked for): the contacts' sums
   // zeroed before and added up after; they reach the report at the end of the step.
-  void run_force_stages_with_energy(Real spring_dt) {
+  void run_force_stages_with_energy(Real spring_dt, ForcePart part = ForcePart::whole) {
     const bool track = shared.energy_sums.size() > 0;
-    if (track) {
+    if (track && part != ForcePart::outer) {
       TALUS_CUDA_CHECK(cudaMemsetAsync(shared.energy_sums.data(), 0, sizeof(double) * kEnergySums,
                                        shared.stream));
     }
-    run_force_stages(spring_dt);
-    if (track && walls) walls->add_energy_sums(shared.energy_sums.data());
+    run_force_stages(spring_dt, part);
+    if (track && walls && part != ForcePart::inner)
+      walls->add_energy_sums(shared.energy_sums.data());
   }
 
   // The ledger from the report's energy sums: its start at the first evaluation, else a step.
@@ -219,8 +227,18 @@ struct CudaStep<Real>::Impl {
     finish_enqueue();
   }
 
-  // Decomposed: the step's integrate_begin, the ghosts' exchange, the rest (cuda_step.cu).
+  // Decomposed: the step's integrate_begin, the ghosts' exchange beside the inner slots, the rest
+  // (cuda_step.cu).
   void decomposed_step();
+  // Whether a decomposed step overlaps the ghosts' update with its inner work (unless
+  // TALUS_HALO_OVERLAP=0 in the environment).
+  static bool overlap_halo() {
+    static const bool on = [] {
+      const char* v = std::getenv("TALUS_HALO_OVERLAP");
+      return v == nullptr || std::string(v) != "0";
+    }();
+    return on;
+  }
 
   void enqueue_integrate_begin() {
     const OwnParticlesOnly<Real> own(shared);  // a ghost is its owner's to move
@@ -333,8 +351,10 @@ struct CudaStep<Real>::Impl {
     TALUS_CUDA_LAUNCH_CHECK();
   }
 
-  void run_force_stages(Real spring_dt) {
+  void run_force_stages(Real spring_dt, ForcePart part = ForcePart::whole) {
+    const bool inner = part != ForcePart::outer, outer = part != ForcePart::inner;
     if (count() == 0) {
+      if (!outer) return;
       // Decomposed, a rank that holds no particle now keeps no history of those it held.
       if (decomposition && list) list->forget_histories();
       if (decomposition && walls) walls->import_histories({}, {});
@@ -345,6 +365,7 @@ struct CudaStep<Real>::Impl {
     for (const Stage stage : plan.stages) {
       switch (stage) {
         case Stage::clear_forces:
+          if (!inner) break;
           timed(stage, [&] {
             const OwnParticlesOnly<Real> own(shared);
             if (count() == 0) return;
@@ -353,6 +374,7 @@ struct CudaStep<Real>::Impl {
           });
           break;
         case Stage::gravity:
+          if (!inner) break;
           timed(stage, [&] {
             const OwnParticlesOnly<Real> own(shared);
             if (count() == 0) return;
@@ -362,6 +384,7 @@ struct CudaStep<Real>::Impl {
           });
           break;
         case Stage::drag:
+          if (!inner) break;
           timed(stage, [&] {
             const OwnParticlesOnly<Real> own(shared);
             if (count() == 0) return;
@@ -373,7 +396,7 @@ struct CudaStep<Real>::Impl {
         case Stage::candidate_pairs:
           // A graph step keeps the list: the step before predicted that no particle reaches
           // the rebuild distance in it (DevicePairList::keeps).
-          if (shared.graph_mode) break;
+          if (shared.graph_mode || !inner) break;
           timed(stage, [&] {
             // Decomposed, the exchange renumbers the own particles (the ghosts follow them).
             if (!decomposition && scene.reorder.value_or(true) && list->due() &&
@@ -383,9 +406,19 @@ struct CudaStep<Real>::Impl {
           });
           break;
         case Stage::pair_contacts:
-          timed(stage, [&] { pairs->compute(spring_dt); });
+          timed(stage, [&] {
+            const int inner_slots = list->inner_candidates();
+            if (part == ForcePart::whole) {
+              pairs->compute(spring_dt);
+            } else if (part == ForcePart::inner) {
+              pairs->compute(spring_dt, 0, inner_slots, false);
+            } else {
+              pairs->compute(spring_dt, inner_slots, list->candidates() - inner_slots, true);
+            }
+          });
           break;
         case Stage::wall_contacts:
+          if (!outer) break;
           timed(stage, [&] {
             const OwnParticlesOnly<Real> own(shared);  // a ghost's walls are its owner's
             if (count() > 0) {
@@ -396,6 +429,7 @@ struct CudaStep<Real>::Impl {
           });
           break;
         case Stage::accumulate:
+          if (!outer) break;
           timed(stage, [&] { accumulate(); });
           break;
         case Stage::integrate_begin:

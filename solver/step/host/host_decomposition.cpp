@@ -244,8 +244,12 @@ void HostStep<Real>::send_ghosts() {
   std::size_t each = 2 * 3 * sizeof(Real) + 4 * sizeof(Real) + sizeof(long long) + sizeof(int);
   if (view_.angular_velocity.present()) each += 3 * sizeof(Real);
   long long arriving = 0;
-  for (int r = 0; r < ranks; ++r)
-    if (r != me) arriving += static_cast<long long>(from[r].size() / each);
+  received_.assign(ranks, 0);
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    received_[r] = static_cast<int>(from[r].size() / each);
+    arriving += received_[r];
+  }
   grow(count_ + static_cast<int>(arriving));  // owned_ stays: these are ghosts
   int i = owned_;
   for (int r = 0; r < ranks; ++r) {
@@ -258,20 +262,26 @@ void HostStep<Real>::send_ghosts() {
 
 template <class Real>
 void HostStep<Real>::update_ghosts() {
+  // The sizes are known on both sides since send_ghosts: one message each way, no sizes sent.
   const int me = comm_->rank(), ranks = comm_->size();
-  std::vector<Bytes> to(ranks);
-  for (int r = 0; r < ranks; ++r) {
-    ByteWriter w(to[r]);
-    if (r != me)
-      for (const int i : send_[r]) put_ghost(w, i, false);
-  }
-  const std::vector<Bytes> from = exchange_bytes(to);
-  int i = owned_;
+  std::size_t each = 2 * 3 * sizeof(Real) + 4 * sizeof(Real);  // put_ghost without the ids
+  if (view_.angular_velocity.present()) each += 3 * sizeof(Real);
+  std::vector<std::size_t> out_sizes(ranks, 0), in_sizes(ranks, 0);
+  ghost_out_.clear();
+  ByteWriter w(ghost_out_);
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;
-    ByteReader in(from[r]);
-    while (!in.done()) get_ghost(in, i++, false);
+    for (const int i : send_[r]) put_ghost(w, i, false);
+    out_sizes[r] = send_[r].size() * each;
+    in_sizes[r] = static_cast<std::size_t>(received_[r]) * each;
+    exchange_bytes_ += static_cast<double>(out_sizes[r]);
   }
+  std::size_t arriving = 0;
+  for (const std::size_t n : in_sizes) arriving += n;
+  ghost_in_.resize(arriving);
+  comm_->exchange_sized(ghost_out_.data(), out_sizes, ghost_in_.data(), in_sizes);
+  ByteReader in(ghost_in_);
+  for (int i = owned_; !in.done(); ++i) get_ghost(in, i, false);
 }
 
 template <class Real>

@@ -235,6 +235,8 @@ class HostStep {
   int owned_ = 0;
   bool changed_ = false;  // this rank's particles changed since the last exchange
   std::vector<std::vector<int>> send_;
+  std::vector<int> received_;   // ghosts from each rank, in rank order after the own particles
+  Bytes ghost_out_, ghost_in_;  // update_ghosts' packed states, kept between steps
   double exchange_seconds_ = 0;
   double exchange_bytes_ = 0;
   long long rebalances_ = 0;
