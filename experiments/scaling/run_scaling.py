@@ -509,9 +509,16 @@ class Study:
         if summary.get("particles") != count:
             raise RunFailed(f"the run on {ranks} ranks ended with {summary.get('particles')} "
                             f"particles, not {count}")
-        wall = summary["wall_seconds"]
-        exchange = summary.get("exchange_seconds", 0.0) if ranks > 1 else 0.0
-        stages = {k: v / steps for k, v in summary["stage_seconds"].items()}
+        # The steps after the run's first (`steady` in talus's summary): the resumed run's setup
+        # (reading the checkpoint, the walls' grid: about 20 s at a million particles) and its
+        # first step (the first list, the boxes cut, the first ghosts) left out. A talus that
+        # prints no `steady` is timed over the whole run, setup included.
+        steady = summary.get("steady")
+        timed = steady["steps"] if steady else steps
+        source = steady if steady else summary
+        wall = source["seconds"] if steady else summary["wall_seconds"]
+        exchange = source.get("exchange_seconds", 0.0) if ranks > 1 else 0.0
+        stages = {k: v / timed for k, v in source["stage_seconds"].items()}
         # The summary's mean is over the whole run (steps 1 to S + M, the checkpoint carries the
         # sum); the settle's over steps 1 to S + 1. Their difference is the sum over steps
         # S + 2 to S + M, the same contacts on any rank count (docs/parallel.md).
@@ -523,17 +530,19 @@ class Study:
             "particles": count,
             "threads_per_rank": a.threads,
             "measured_steps": steps,
-            "wall_seconds": wall,
+            "timed_steps": timed,  # the steps after the first (all of them from an older talus)
+            "wall_seconds": summary["wall_seconds"],
+            "timed_seconds": wall,
             "process_seconds": seconds,
-            "seconds_per_step": wall / steps,
+            "seconds_per_step": wall / timed,
+            "seconds_per_step_with_setup": summary["wall_seconds"] / steps,
             "stage_seconds_per_step": stages,
-            "exchange_seconds_per_step": exchange / steps,
+            "exchange_seconds_per_step": exchange / timed,
             "exchange_share": exchange / wall,
-            # Rank 0's time outside its stages and the exchange: the resumed run's setup
-            # (reading the checkpoint, cutting the boxes, the first ghosts) spread over the
-            # steps, the commands to the other ranks and the agreement after each stage, where
-            # a rank waits for a slower one.
-            "rest_seconds_per_step": wall / steps - sum(stages.values()) - exchange / steps,
+            # Rank 0's time outside its stages and the exchange: the commands to the other ranks
+            # and the agreement after each stage, where a rank waits for a slower one, and the
+            # gaps between the stages' kernels (and, from a talus without `steady`, the setup).
+            "rest_seconds_per_step": wall / timed - sum(stages.values()) - exchange / timed,
             "contacts_per_step": contacts,
             "pair_list_builds": summary.get("pair_list_builds"),
             "at_last_step": probe_row(os.path.join(run_dir, "probes.csv"),
@@ -547,9 +556,9 @@ class Study:
             # exchange_seconds is (neither is carried by the checkpoint, and the settle ran on one
             # rank), so the run's own figure over its steps; 0 on one rank, as the exchange's
             # seconds. Left out where talus prints none.
-            sent = summary["exchange_bytes"] if ranks > 1 else 0.0
-            record["exchange_bytes_per_step"] = sent / steps
-        say(f"  {wall / steps * 1e3:.2f} ms a step, exchange {100 * exchange / wall:.1f} % "
+            sent = source.get("exchange_bytes", summary["exchange_bytes"]) if ranks > 1 else 0.0
+            record["exchange_bytes_per_step"] = sent / timed
+        say(f"  {wall / timed * 1e3:.2f} ms a step, exchange {100 * exchange / wall:.1f} % "
             f"({seconds:.1f} s with start-up)")
         shutil.rmtree(run_dir)  # its numbers are in the record; the settled run stays
         return record
@@ -713,10 +722,12 @@ def markdown(result):
         f"The packing: dodecahedra of {result['scene']['diameter_m']} m settled "
         f"{result['scene']['settle_steps']} steps ({result['scene']['settle_seconds']:.3g} s) on "
         f"one rank, then {result['scene']['measure_steps']} steps measured on each rank count "
-        "(experiments/scaling/README.md). s/step is the resumed run's `wall_seconds` over its "
-        "steps; stages: the sum of rank 0's `stage_seconds`; the exchange is the most any rank "
-        "spent exchanging, waiting included; rest: s/step less the two (rank 0's setup spread over "
-        "the steps, its commands to the other ranks, the waits after each stage); each (ranks, "
+        "(experiments/scaling/README.md). s/step: the resumed run's wall-clock seconds after its "
+        "first step (its summary's `steady`: the setup and the first step left out) over those "
+        "steps; stages: the sum of rank 0's `stage_seconds` over the same steps; the exchange is "
+        "the most any rank spent exchanging, waiting included; rest: s/step less the two (rank "
+        "0's commands to the other ranks, the waits after each stage, the gaps between kernels); "
+        "each (ranks, "
         "particles) was run as many times as the last columns list, one pass over all of them "
         "after the other, and the row is the run with the median s/step; load before: the "
         "machine's 1-minute load average as each run started.",

@@ -268,6 +268,17 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
     json["exchange_bytes"] = report.exchange_bytes;
     json["rebalances"] = report.rebalances;
   }
+  if (report.steady.steps > 0) {  // the steps after the first (ProductionReport::steady)
+    Json& steady = json["steady"] = Json::object();
+    steady["steps"] = report.steady.steps;
+    steady["seconds"] = report.steady.seconds;
+    Json& s = steady["stage_seconds"] = Json::object();
+    for (const auto& [stage, seconds] : report.steady.stage_seconds) s[stage] = seconds;
+    if (world()->size() > 1) {
+      steady["exchange_seconds"] = report.steady.exchange_seconds;
+      steady["exchange_bytes"] = report.steady.exchange_bytes;
+    }
+  }
   json["particle_array_bytes"] = report.particle_bytes;
   json["peak_memory_bytes"] = report.peak_memory_bytes;
   json["outputs"] = report.outputs;

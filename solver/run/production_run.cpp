@@ -87,6 +87,11 @@ struct ProductionRunner::Impl {
   EnergyTerms first_energy;
   double lowest_gravitational = 0;
   long long next_watch = 0;
+  // The steady part (ProductionReport::steady): the clock and the step's counters at the end of
+  // this run's first step (steady_step -1: not reached yet).
+  long long steady_step = -1;
+  double steady_clock = 0, steady_exchange = 0, steady_bytes = 0;
+  StageSeconds steady_stages{};
 
   Impl(const Scene& s, ProductionSettings set) : scene(s), settings(std::move(set)) {}
 
@@ -322,6 +327,13 @@ void ProductionRunner::advance() {
   if (!m.checkpoint_dir.empty() && m.step_index % m.scene.outputs.checkpoint->every == 0 && !done())
     m.write_checkpoint_now();
   const double now = clock_seconds();
+  if (m.steady_step < 0) {  // the first step of this run: what follows is steady
+    m.steady_step = m.step_index;
+    m.steady_clock = now;
+    m.steady_stages = m.step->stage_seconds();
+    m.steady_exchange = m.step->exchange_seconds();  // decomposed: a collective, once
+    m.steady_bytes = m.step->exchange_bytes();
+  }
   if (now - m.last_progress >= m.settings.progress_interval) {
     report_progress();
     m.last_progress = now;
@@ -378,6 +390,18 @@ ProductionReport ProductionRunner::report() const {
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;
   if (m.scene.effects.gravity) r.bed_height = m.step->bed_height(*m.scene.effects.gravity);
+  if (m.steady_step >= 0 && m.step_index > m.steady_step) {
+    ProductionReport::Steady& s = r.steady;
+    s.steps = m.step_index - m.steady_step;
+    s.seconds = clock_seconds() - m.steady_clock;
+    for (const Stage stage : m.step->plan().stages) {
+      const int k = static_cast<int>(stage);
+      s.stage_seconds.emplace_back(to_string(stage),
+                                   m.step->stage_seconds()[k] - m.steady_stages[k]);
+    }
+    s.exchange_seconds = r.exchange_seconds - m.steady_exchange;
+    s.exchange_bytes = r.exchange_bytes - m.steady_bytes;
+  }
   r.resumed_from_step = m.resumed_from;
   r.interrupted = m.interrupted;
   r.last_checkpoint = m.last_checkpoint;

@@ -106,8 +106,20 @@ struct ProductionReport {
   // without gravity.
   double bed_height = std::numeric_limits<double>::quiet_NaN();
   long long resumed_from_step = -1;  // the checkpoint's step; -1: a new run
-  bool interrupted = false;          // stopped by stop_requested before the end
-  std::string last_checkpoint;       // the newest checkpoint written (empty: none)
+  // The run after its first step, for timing the steps alone: a run's setup (reading a
+  // checkpoint, building the walls' grid) and its first step (the first list, the boxes cut and
+  // the first ghosts on several ranks) take seconds at a million particles, which a short run's
+  // wall_seconds spreads over its steps. steps 0: the run made at most one step.
+  struct Steady {
+    long long steps = 0;
+    double seconds = 0;  // wall-clock, from the end of the first step to the end of the last
+    std::vector<std::pair<std::string, double>> stage_seconds;
+    // Decomposed: the change in exchange_seconds (the most any rank spent, at the end less at
+    // the first step's end) and exchange_bytes.
+    double exchange_seconds = 0, exchange_bytes = 0;
+  } steady;
+  bool interrupted = false;     // stopped by stop_requested before the end
+  std::string last_checkpoint;  // the newest checkpoint written (empty: none)
 };
 
 // Steps: round(end_time / time_step). Throws StepNotSupported naming the scene item for what

@@ -61,6 +61,13 @@ TEST(TalusRunProduction, CpuBackendRunsAndSummarises) {
   EXPECT_TRUE(summary["stage_seconds"]["pair_contacts"].is_number());
   EXPECT_FALSE(summary["stage_seconds"].contains("gravity"));  // not in the scene
   EXPECT_GT(summary["peak_memory_bytes"].get<double>(), 0);
+  // The steps after the first, timed alone: 1999 of them, within the run's wall time, their
+  // stages' seconds no more than the whole run's.
+  EXPECT_EQ(summary["steady"]["steps"].get<double>(), 1999);
+  EXPECT_GT(summary["steady"]["seconds"].get<double>(), 0);
+  EXPECT_LT(summary["steady"]["seconds"].get<double>(), summary["wall_seconds"].get<double>());
+  EXPECT_LE(summary["steady"]["stage_seconds"]["pair_contacts"].get<double>(),
+            summary["stage_seconds"]["pair_contacts"].get<double>());
   EXPECT_EQ(run.err.find("running on the host"), std::string::npos) << run.err;
   // Elastic head-on collision of equal balls: they swap velocities (1e-3 of 0.5 m/s: above the
   // integrator's O(dt^2) energy error at 80 steps per contact, far below a wrong sign).
