@@ -551,6 +551,12 @@ class Study:
             "load_average_before": load,
             "command": command_text(env, argv),
         }
+        if ranks > 1 and "exchange_rebuild_seconds" in source:
+            # Of the exchange: the rebuild vote (its wait for the slowest rank included) and the
+            # rebuild steps (migration, the ghosts chosen again); the rest is the ghosts' updates.
+            record["exchange_vote_seconds_per_step"] = source["exchange_vote_seconds"] / timed
+            record["exchange_rebuild_seconds_per_step"] = (
+                source["exchange_rebuild_seconds"] / timed)
         if "exchange_bytes" in summary:
             # Bytes sent to the other ranks, counted by the resumed run's step from its start as
             # exchange_seconds is (neither is carried by the checkpoint, and the settle ran on one

@@ -265,6 +265,8 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   stages["output"] = report.output_seconds;
   if (world()->size() > 1) {
     json["exchange_seconds"] = report.exchange_seconds;
+    json["exchange_vote_seconds"] = report.exchange_vote_seconds;
+    json["exchange_rebuild_seconds"] = report.exchange_rebuild_seconds;
     json["exchange_bytes"] = report.exchange_bytes;
     json["rebalances"] = report.rebalances;
   }
@@ -276,6 +278,8 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
     for (const auto& [stage, seconds] : report.steady.stage_seconds) s[stage] = seconds;
     if (world()->size() > 1) {
       steady["exchange_seconds"] = report.steady.exchange_seconds;
+      steady["exchange_vote_seconds"] = report.steady.exchange_vote_seconds;
+      steady["exchange_rebuild_seconds"] = report.steady.exchange_rebuild_seconds;
       steady["exchange_bytes"] = report.steady.exchange_bytes;
     }
   }

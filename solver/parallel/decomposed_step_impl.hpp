@@ -199,7 +199,8 @@ class Decomposed {
         break;
       }
       case kExchangeSeconds:
-        a.numbers = {c.max(step_.exchange_seconds())};
+        a.numbers = {c.max(step_.exchange_seconds()), c.max(step_.exchange_vote_seconds()),
+                     c.max(step_.exchange_rebuild_seconds())};
         break;
       case kExchangeBytes:
         a.numbers = sums(c, {step_.exchange_bytes()});
@@ -262,6 +263,8 @@ class DecomposedStep final : public AnyStep {
   const StageSeconds& stage_seconds() const override { return d_.step().stage_seconds(); }
   std::size_t bytes() const override { return number(kBytes); }
   double exchange_seconds() const override { return call(kExchangeSeconds).numbers.at(0); }
+  double exchange_vote_seconds() const override { return call(kExchangeSeconds).numbers.at(1); }
+  double exchange_rebuild_seconds() const override { return call(kExchangeSeconds).numbers.at(2); }
   double exchange_bytes() const override { return call(kExchangeBytes).numbers.at(0); }
   long long rebalances() const override { return number(kRebalances); }
   void save_state(Checkpoint& checkpoint) const override { call(kSave, 0, "", &checkpoint); }

@@ -39,6 +39,10 @@ class AnyStep {
   virtual std::size_t bytes() const = 0;
   // Seconds spent exchanging particles between ranks (a decomposed step; 0 in one process).
   virtual double exchange_seconds() const { return 0; }
+  // Of those: the rebuild vote's (the wait for the slowest rank included) and the rebuild
+  // steps' (migration, the ghosts chosen again); the rest is the ghosts' updates.
+  virtual double exchange_vote_seconds() const { return 0; }
+  virtual double exchange_rebuild_seconds() const { return 0; }
   // Decomposed: the bytes every rank sent to the others so far, summed (ghosts, migrations).
   virtual double exchange_bytes() const { return 0; }
   // Times the ranks' boxes were cut again (a decomposed step; 0 in one process).

@@ -90,7 +90,8 @@ struct ProductionRunner::Impl {
   // The steady part (ProductionReport::steady): the clock and the step's counters at the end of
   // this run's first step (steady_step -1: not reached yet).
   long long steady_step = -1;
-  double steady_clock = 0, steady_exchange = 0, steady_bytes = 0;
+  double steady_clock = 0, steady_exchange = 0, steady_bytes = 0, steady_vote = 0,
+         steady_rebuild = 0;
   StageSeconds steady_stages{};
 
   Impl(const Scene& s, ProductionSettings set) : scene(s), settings(std::move(set)) {}
@@ -332,6 +333,8 @@ void ProductionRunner::advance() {
     m.steady_clock = now;
     m.steady_stages = m.step->stage_seconds();
     m.steady_exchange = m.step->exchange_seconds();  // decomposed: a collective, once
+    m.steady_vote = m.step->exchange_vote_seconds();
+    m.steady_rebuild = m.step->exchange_rebuild_seconds();
     m.steady_bytes = m.step->exchange_bytes();
   }
   if (now - m.last_progress >= m.settings.progress_interval) {
@@ -385,6 +388,8 @@ ProductionReport ProductionRunner::report() const {
   r.output_seconds = m.output_seconds;
   r.particle_bytes = m.step->bytes();
   r.exchange_seconds = m.step->exchange_seconds();
+  r.exchange_vote_seconds = m.step->exchange_vote_seconds();
+  r.exchange_rebuild_seconds = m.step->exchange_rebuild_seconds();
   r.exchange_bytes = m.step->exchange_bytes();
   r.rebalances = m.step->rebalances();
   r.peak_memory_bytes = peak_resident_bytes();
@@ -401,6 +406,8 @@ ProductionReport ProductionRunner::report() const {
     }
     s.exchange_seconds = r.exchange_seconds - m.steady_exchange;
     s.exchange_bytes = r.exchange_bytes - m.steady_bytes;
+    s.exchange_vote_seconds = r.exchange_vote_seconds - m.steady_vote;
+    s.exchange_rebuild_seconds = r.exchange_rebuild_seconds - m.steady_rebuild;
   }
   r.resumed_from_step = m.resumed_from;
   r.interrupted = m.interrupted;

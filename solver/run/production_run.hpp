@@ -96,6 +96,9 @@ struct ProductionReport {
   // A run on several ranks: the most wall-clock seconds a rank spent exchanging particles and
   // ghosts (and waiting for the others there); 0 in one process.
   double exchange_seconds = 0;
+  // Of exchange_seconds: the rebuild vote's (the wait for the slowest rank included) and the
+  // rebuild steps' (AnyStep); the rest is the ghosts' updates.
+  double exchange_vote_seconds = 0, exchange_rebuild_seconds = 0;
   double exchange_bytes = 0;  // decomposed: bytes the ranks sent each other (AnyStep)
   long long rebalances = 0;   // the boxes cut again (docs/parallel.md)
   double output_seconds = 0;
@@ -117,6 +120,7 @@ struct ProductionReport {
     // Decomposed: the change in exchange_seconds (the most any rank spent, at the end less at
     // the first step's end) and exchange_bytes.
     double exchange_seconds = 0, exchange_bytes = 0;
+    double exchange_vote_seconds = 0, exchange_rebuild_seconds = 0;
   } steady;
   bool interrupted = false;     // stopped by stop_requested before the end
   std::string last_checkpoint;  // the newest checkpoint written (empty: none)

@@ -7,7 +7,8 @@
 #    byte for byte; the probes' contact counts identical and their energies and wall forces
 #    within 1e-9 of each column's largest magnitude (the same terms summed over ranks in another
 #    order differ by rounding only: about 1e-14 relative here; a contact missed or counted twice
-#    changes them by more than 1e-4);
+#    changes them by more than 1e-4); the summary's exchange seconds hold the rebuild vote's
+#    and the rebuilds' as parts;
 #  - the silo (scenes/silo.yaml: a feed whose region the ranks' boxes cut, removal below the
 #    outlet) on 1 and 3 ranks: the frames identical, and the particles and removals counted alike;
 #    the boxes were cut again (rebalanced) as the particles gathered at the bottom;
@@ -56,6 +57,20 @@ same_frames() {  # DIR_A DIR_B: every trajectory frame of A in B, byte for byte
   test "$count" -ge 5 || fail "$1: only $count frames"
   echo "$name: $2: $count frames identical to $1's"
 }
+exchange_parts() {  # SUMMARY: the exchange's vote and rebuild seconds are parts of it
+  # (top-level keys, two spaces in; the steady part's are deeper), the rebuilds taking some time:
+  # the drum's list is rebuilt dozens of times.
+  /usr/bin/awk -v f="$1" '
+    /^  "exchange_seconds"/ { total = $2 + 0; seen++ }
+    /^  "exchange_vote_seconds"/ { vote = $2 + 0; seen++ }
+    /^  "exchange_rebuild_seconds"/ { rebuild = $2 + 0; seen++ }
+    END {
+      if (seen != 3) { print f ": no exchange seconds with their parts"; exit 1 }
+      if (!(rebuild > 0) || vote < 0 || vote + rebuild > total) {
+        printf "%s: exchange %g s, vote %g s, rebuild %g s\n", f, total, vote, rebuild; exit 1
+      }
+    }' "$1" || fail "the exchange's parts"
+}
 close_probes() {  # A B: contact counts equal, the rest within 1e-9 of each column's scale
   /usr/bin/awk -F, -v a="$1" -v b="$2" '
     FNR == 1 { if (NR == 1) header = $0; else if ($0 != header) bad = "headers differ"; next }
@@ -86,6 +101,7 @@ for n in 2 3 4; do
   grep -q "\"ranks\": $n" "$work/drum-$n.json" || fail "the drum's summary does not say $n ranks"
   same_frames "$work/drum-1" "$work/drum-$n"
   close_probes "$work/drum-1/probes.csv" "$work/drum-$n/probes.csv"
+  exchange_parts "$work/drum-$n.json"
 done
 "$talus" run "$scenes/silo.yaml" $opts --quiet --output "$work/silo-1" \
   > "$work/silo-1.json" || fail "the one-process silo exited with $?"

@@ -1,11 +1,15 @@
 // The CUDA step decomposed over MPI ranks (cuda_decomposition.cuh; docs/parallel.md).
 #include "solver/step/cuda/cuda_decomposition.cuh"
 
+#include <cub/cub.cuh>
+
 #include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <utility>
 
+#include "solver/core/cub_call.cuh"
+#include "solver/domain/box_arrays.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/gathered_state.hpp"
 
@@ -51,6 +55,49 @@ __global__ void unpack_ghost_states(GhostColumns<Real> c, const Real* __restrict
   const int g = blockIdx.x * blockDim.x + threadIdx.x;
   if (g >= count) return;
   for (int k = 0; k < c.n; ++k) c.column[k][first + g] = in[g * c.n + k];
+}
+
+// The own particles classified against the boxes (box_arrays.hpp: RcbDomain's answers, to the
+// bit), so that only the few that leave, or that another rank needs as ghosts, leave the device.
+// index[i] = i. Migration: leaving[i] when particle i's owner is another rank (destination[i]),
+// kept[i] otherwise (its own, or outside the region: the step's end removes it).
+template <class Real>
+__global__ void classify_owners(ParticleView<Real> p, int n, const double* __restrict__ boxes,
+                                int ranks, int me, int* __restrict__ index,
+                                int* __restrict__ destination, unsigned char* __restrict__ leaving,
+                                unsigned char* __restrict__ kept) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const int owner = box_owner(boxes, ranks, double(p.position.x[i]), double(p.position.y[i]),
+                              double(p.position.z[i]));
+  const bool leaves = owner >= 0 && owner != me;
+  index[i] = i;
+  destination[i] = owner;
+  leaving[i] = leaves;
+  kept[i] = !leaves;
+}
+
+// near[i]: particle i lies within the halo (squared width h2) of `box` (send_ghosts's test).
+template <class Real>
+__global__ void flag_near_box(ParticleView<Real> p, int n, const double* __restrict__ box,
+                              double h2, unsigned char* __restrict__ near) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  near[i] = box_squared_distance(box, double(p.position.x[i]), double(p.position.y[i]),
+                                 double(p.position.z[i])) <= h2;
+}
+
+// index[i] = i.
+__global__ void iota_kernel(int* __restrict__ index, int n) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) index[i] = i;
+}
+
+// out[k] = values[at[k]].
+__global__ void gather_ints(const int* __restrict__ values, const int* __restrict__ at, int n,
+                            int* __restrict__ out) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k < n) out[k] = values[at[k]];
 }
 
 template <class Real>
@@ -123,12 +170,22 @@ std::vector<Bytes> DeviceDecomposition<Real>::exchange_bytes(const std::vector<B
 }
 
 template <class Real>
+int DeviceDecomposition<Real>::select_flagged(const unsigned char* flags, int n, int* out) {
+  int* count = shared_.flags.at(selected);
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::Flagged(t, b, index_.data(), flags, out, count, n, shared_.stream);
+  });
+  return shared_.flags.read(selected);
+}
+
+template <class Real>
 void DeviceDecomposition<Real>::cut(const std::vector<Vec3d>& points) {
   const Scene& scene = shared_.scene;
   const Box region = rcb_ ? rcb_->region() : (scene.domain ? *scene.domain : Box());
   rcb_ = std::make_unique<RcbDomain>(points, region, comm_->size(), comm_->rank(),
                                      scene_halo_width(scene), comm_.get());
   shared_.domain = rcb_.get();
+  boxes_.upload(box_numbers(*rcb_));
 }
 
 template <class Real>
@@ -185,7 +242,11 @@ bool DeviceDecomposition<Real>::begin_exchange(bool rebuild) {
     for (std::size_t i = 0; i < points.size() && !mine; ++i)
       mine = rcb_->owner(points[i]) >= 0 && !rcb_->local_box().contains(points[i]);
   }
-  if (comm_->max(mine ? 1.0 : 0.0) > 0) {
+  const auto vote_start = std::chrono::steady_clock::now();
+  const bool rebuilding = comm_->max(mine ? 1.0 : 0.0) > 0;
+  const auto rebuild_start = std::chrono::steady_clock::now();
+  vote_seconds_ += std::chrono::duration<double>(rebuild_start - vote_start).count();
+  if (rebuilding) {
     drop_ghosts();
     // The boxes cut again from every particle where one rank holds too many (a pour collapsing
     // to the bottom of a silo): `decomposition: {rebalance: R}`.
@@ -204,6 +265,8 @@ bool DeviceDecomposition<Real>::begin_exchange(bool rebuild) {
       send_ghosts();
     }
     changed_ = false;
+    rebuild_seconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - rebuild_start).count();
   } else if (list_) {
     begin_update();
     pending = true;
@@ -216,20 +279,33 @@ bool DeviceDecomposition<Real>::begin_exchange(bool rebuild) {
 template <class Real>
 void DeviceDecomposition<Real>::migrate() {
   const int me = comm_->rank(), ranks = comm_->size();
-  // The ghosts are dropped (drop_ghosts): every particle here is this rank's.
-  const std::vector<Vec3d> points = particles_.positions();
-  const int own = static_cast<int>(points.size());
-  std::vector<int> kept, leaving_index;
+  // The ghosts are dropped (drop_ghosts): every particle here is this rank's. Each one's owner
+  // on the device; the leaving ones' indices (in order) and destinations downloaded, the kept
+  // ones' selected into order_ there.
+  const int own = shared_.count;
+  std::vector<int> leaving_index, destination_of;  // per leaving particle, in index order
+  int kept_count = own;
   std::vector<std::pair<long long, int>> leaving;  // (global id, destination)
-  std::vector<int> destination_of;                 // per leaving_index entry
-  for (int i = 0; i < own; ++i) {
-    const int owner = rcb_->owner(points[i]);
-    if (owner < 0 || owner == me) {
-      kept.push_back(i);
-    } else {
-      leaving_index.push_back(i);
-      destination_of.push_back(owner);
+  if (own > 0) {
+    index_.grow_to(own), destination_.grow_to(own), selected_.grow_to(own);
+    flags_.grow_to(2 * static_cast<std::size_t>(own));
+    unsigned char* leaves = flags_.data();
+    unsigned char* stays = flags_.data() + own;
+    classify_owners<<<blocks_for(own), kBlock, 0, shared_.stream>>>(
+        shared_.view, own, boxes_.data(), ranks, me, index_.data(), destination_.data(), leaves,
+        stays);
+    TALUS_CUDA_LAUNCH_CHECK();
+    const int leaving_count = select_flagged(leaves, own, selected_.data());
+    if (leaving_count > 0) {
+      leaving_index = download(selected_.data(), leaving_count);
+      order_.grow_to(leaving_count);
+      gather_ints<<<blocks_for(leaving_count), kBlock, 0, shared_.stream>>>(
+          destination_.data(), selected_.data(), leaving_count, order_.data());
+      TALUS_CUDA_LAUNCH_CHECK();
+      destination_of = download(order_.data(), leaving_count);
     }
+    order_.grow_to(own);
+    kept_count = select_flagged(stays, own, order_.data());
   }
   const typename DeviceParticles<Real>::Rows rows = particles_.gather_rows(leaving_index);
   std::vector<std::vector<int>> rows_to(ranks);
@@ -261,10 +337,7 @@ void DeviceDecomposition<Real>::migrate() {
     w.put_vector(pair_out[r]);
     w.put_vector(wall_out[r]);
   }
-  if (static_cast<int>(kept.size()) != own) {
-    order_.upload(kept);
-    particles_.keep(order_.data(), static_cast<int>(kept.size()));
-  }
+  if (kept_count != own) particles_.keep(order_.data(), kept_count);
   const std::vector<Bytes> from = exchange_bytes(to);
   const std::size_t arrays = particles_.names().size();
   typename DeviceParticles<Real>::Rows arriving;
@@ -316,14 +389,23 @@ template <class Real>
 void DeviceDecomposition<Real>::send_ghosts() {
   const int me = comm_->rank(), ranks = comm_->size();
   const double h = rcb_->halo_width(), h2 = h * h;
-  const std::vector<Vec3d> points = particles_.positions();  // the own particles: no ghosts yet
+  // The own particles (no ghosts yet) within each other rank's halo, chosen on the device; only
+  // their indices (in order) come to the host.
+  const int own = shared_.count;
   std::vector<int> all;
+  if (own > 0) {
+    index_.grow_to(own), selected_.grow_to(own), flags_.grow_to(own);
+    iota_kernel<<<blocks_for(own), kBlock, 0, shared_.stream>>>(index_.data(), own);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
   for (int r = 0; r < ranks; ++r) {
     send_[r].clear();
-    if (r == me) continue;
-    const Box& box = rcb_->box_of(r);
-    for (int i = 0; i < static_cast<int>(points.size()); ++i)
-      if (squared_distance(box, points[i]) <= h2) send_[r].push_back(i);
+    if (r == me || own == 0) continue;
+    flag_near_box<<<blocks_for(own), kBlock, 0, shared_.stream>>>(
+        shared_.view, own, boxes_.data() + kBoxNumbers * (r + 1), h2, flags_.data());
+    TALUS_CUDA_LAUNCH_CHECK();
+    const int near = select_flagged(flags_.data(), own, selected_.data());
+    if (near > 0) send_[r] = download(selected_.data(), near);
     all.insert(all.end(), send_[r].begin(), send_[r].end());
   }
   const typename DeviceParticles<Real>::Rows rows = particles_.gather_rows(all);

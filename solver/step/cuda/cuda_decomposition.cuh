@@ -61,6 +61,10 @@ class DeviceDecomposition {
   const RcbDomain& domain() const { return *rcb_; }
   const Communicator& comm() const { return *comm_; }
   double exchange_seconds() const { return exchange_seconds_; }
+  // Of exchange_seconds: the rebuild vote's (the wait for the slowest rank included) and the
+  // rebuild steps' (migration, renumbering, the ghosts chosen again).
+  double vote_seconds() const { return vote_seconds_; }
+  double rebuild_seconds() const { return rebuild_seconds_; }
   void add_exchange_seconds(double s) { exchange_seconds_ += s; }
   long long rebalances() const { return rebalances_; }
   // Bytes sent to other ranks so far (ghosts, migrations).
@@ -73,6 +77,9 @@ class DeviceDecomposition {
   void send_ghosts();
   void begin_update();
   std::vector<Bytes> exchange_bytes(const std::vector<Bytes>& to);
+  // index_[i] for the first n i with flags[i] set, in order, into `out` (on the device); their
+  // number.
+  int select_flagged(const unsigned char* flags, int n, int* out);
 
   DeviceStepShared<Real>& shared_;
   DeviceParticles<Real>& particles_;
@@ -86,12 +93,17 @@ class DeviceDecomposition {
   std::vector<std::vector<int>> send_;
   std::vector<int> received_;  // ghosts from each rank
   DeviceBuffer<int> send_index_, order_;
+  // The boxes as box_arrays.hpp's numbers (the region, then each rank's), and the scratch of
+  // the device's classification (migrate, send_ghosts).
+  DeviceBuffer<double> boxes_;
+  DeviceBuffer<int> index_, destination_, selected_;
+  DeviceBuffer<unsigned char> flags_;
   DeviceBuffer<Real> packed_out_, packed_in_;
   Real* pinned_out_ = nullptr;
   Real* pinned_in_ = nullptr;
   std::size_t pinned_out_size_ = 0, pinned_in_size_ = 0;  // Reals
   cudaEvent_t packed_ = nullptr;  // the sent states are in pinned_out_ (begin_update)
-  double exchange_seconds_ = 0, bytes_sent_ = 0;
+  double exchange_seconds_ = 0, bytes_sent_ = 0, vote_seconds_ = 0, rebuild_seconds_ = 0;
   long long rebalances_ = 0;
 };
 

@@ -493,6 +493,16 @@ double CudaStep<Real>::exchange_seconds() const {
   return impl_->decomposition ? impl_->decomposition->exchange_seconds() : 0.0;
 }
 template <class Real>
+double CudaStep<Real>::exchange_vote_seconds() const {
+  return impl_->decomposition ? impl_->decomposition->vote_seconds() : 0.0;
+}
+
+template <class Real>
+double CudaStep<Real>::exchange_rebuild_seconds() const {
+  return impl_->decomposition ? impl_->decomposition->rebuild_seconds() : 0.0;
+}
+
+template <class Real>
 double CudaStep<Real>::exchange_bytes() const {
   return impl_->decomposition ? impl_->decomposition->bytes_sent() : 0.0;
 }

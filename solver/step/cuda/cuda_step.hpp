@@ -104,7 +104,9 @@ class CudaStep {
   // Decomposed: seconds in the exchanges between ranks so far (waits included), and how many
   // times the boxes were cut again (as HostStep's).
   double exchange_seconds() const;
-  double exchange_bytes() const;  // this rank's sent to the others
+  double exchange_vote_seconds() const;     // of exchange_seconds: the rebuild vote's
+  double exchange_rebuild_seconds() const;  // of exchange_seconds: the rebuild steps'
+  double exchange_bytes() const;            // this rank's sent to the others
   long long rebalances() const;
   // As HostStep's: the local domain, the particles removed so far.
   const Domain& domain() const;

@@ -102,7 +102,14 @@ void HostStep<Real>::exchange(bool rebuild) {
       mine = rcb_->owner(Vec3d(view_.position.get(i))) >= 0 &&
              !rcb_->local_box().contains(Vec3d(view_.position.get(i)));
   }
-  if (comm_->max(mine ? 1.0 : 0.0) > 0) {
+  const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  const auto vote_start = std::chrono::steady_clock::now();
+  const bool rebuilding = comm_->max(mine ? 1.0 : 0.0) > 0;
+  exchange_vote_seconds_ += seconds_since(vote_start);
+  const auto rebuild_start = std::chrono::steady_clock::now();
+  if (rebuilding) {
     // The boxes cut again from every particle where one rank holds too many (a pour collapsing
     // to the bottom of a silo): `decomposition: {rebalance: R}`.
     const double most = comm_->max(double(owned_)), total = comm_->sum(double(owned_));
@@ -119,6 +126,7 @@ void HostStep<Real>::exchange(bool rebuild) {
     migrate();
     if (contacts_) send_ghosts();
     changed_ = false;
+    exchange_rebuild_seconds_ += seconds_since(rebuild_start);
   } else if (contacts_) {
     update_ghosts();
   }

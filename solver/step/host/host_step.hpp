@@ -136,6 +136,10 @@ class HostStep {
   // Decomposed: wall-clock seconds in the exchanges between ranks so far (migration, ghosts, the
   // feeds' gathering), waiting for the other ranks included.
   double exchange_seconds() const { return exchange_seconds_; }
+  // Of exchange_seconds: the rebuild vote's (the wait for the slowest rank included) and the
+  // rebuild steps' (migration, the ghosts chosen again).
+  double exchange_vote_seconds() const { return exchange_vote_seconds_; }
+  double exchange_rebuild_seconds() const { return exchange_rebuild_seconds_; }
   // Decomposed: the bytes this rank sent to the others so far.
   double exchange_bytes() const { return exchange_bytes_; }
   // Decomposed: how many times the boxes were cut again (Scene::rebalance).
@@ -237,7 +241,7 @@ class HostStep {
   std::vector<std::vector<int>> send_;
   std::vector<int> received_;   // ghosts from each rank, in rank order after the own particles
   Bytes ghost_out_, ghost_in_;  // update_ghosts' packed states, kept between steps
-  double exchange_seconds_ = 0;
+  double exchange_seconds_ = 0, exchange_vote_seconds_ = 0, exchange_rebuild_seconds_ = 0;
   double exchange_bytes_ = 0;
   long long rebalances_ = 0;
 };
