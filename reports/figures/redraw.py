@@ -3,6 +3,7 @@
 numbers the paper gives for it, with an index (README.md) that names the run behind each figure.
 
 usage: redraw.py [--output DIR] [--provenance FILE] RESULTS_DIR [RESULTS_DIR ...]
+                 [--scaling FILE [FILE ...]]
 
 RESULTS_DIR is an output directory of `talus validate` (validation-results.json, and per case
 <case>/checks.csv with what else the case writes). Where several hold a case, a full version is
@@ -11,6 +12,13 @@ validation-results.json, or a case that no directory holds, is reported on stder
 the figures that can be drawn are drawn and the index says which are missing and why. Exit
 status 0 when every figure was drawn and every directory read, 1 otherwise, 2 for a bad command
 line or provenance file. reports/README.md, "reports/figures", says more.
+
+--scaling FILE draws the method paper's Figs. 17-18 too, from scaling.json files that
+experiments/scaling/run_scaling.py writes on the CUDA backend: the parallel efficiency of its
+rows timed after the run's setup (those with timed_steps) on no more ranks than the machine has
+GPUs. Give it after the directories (or end its files with --). A scaling file that is missing,
+not JSON or not as run_scaling.py writes it is refused in one line (exit 2); one without a row to
+draw is reported in one line and the figure drawn without it (exit 1).
 
 The papers: the method paper (large-scale multiple-GPU DEM of polyhedral particles) and
 BLAZE-DEM. Their copies hold the figures as pictures only, so no value is digitised from a
@@ -61,6 +69,17 @@ PAPER_PACKING_TIME = 1.0
 # BLAZE-DEM, §5.3: 836 marbles (Fig. 18) and 13,824 corn-shaped polyhedra (Fig. 19) discharge
 # from a square hopper over 5 s; pictures compared by eye, no dimensions, sizes or rates.
 PAPER_HOPPER_FIGURE = {"marbles": 18, "corn": 19}
+# Method paper, §3.5, Figs. 17-18 (no table): the strong-scaling efficiency "remains above 85% up
+# to 16 GPUs" (Fig. 17); with 5.0e6 particles a GPU the weak-scaling efficiency drops "to
+# approximately 85% at 16 GPUs" (Fig. 18 b). Drawn as statements: a line over 1-16 GPUs, a point.
+PAPER_SCALING_TEXT = ("Fig. 17: the parallel efficiency \"remains above 85% up to 16 GPUs\"; "
+                      "Fig. 18 (b): with 5.0e6 particles a GPU it drops \"to approximately 85% "
+                      "at 16 GPUs\" (section 3.5)")
+PAPER_EFFICIENCY, PAPER_GPUS, PAPER_WEAK_PER_GPU = 0.85, 16, 5.0e6
+# The sizes of the paper's scaling runs, used only to say which are still to be run: weak
+# scaling at 1.0e6, 2.0e6 and 5.0e6 particles a GPU (docs/parallel.md: "1 to 5 million particles
+# a GPU"), strong scaling of 2.0e7 particles.
+PAPER_WEAK_COUNTS, PAPER_STRONG_TOTALS = (1.0e6, 2.0e6, 5.0e6), (2.0e7,)
 
 # ---- One style --------------------------------------------------------------------------
 STYLE = {"savefig.dpi": 100, "font.size": 8, "axes.titlesize": 9, "axes.labelsize": 8,
@@ -195,7 +214,8 @@ def finish(fig, spec, run, paper_note):
     fig.suptitle(f"{spec['paper']} {spec['number']}: {spec['title']}", fontsize=10, x=0.01,
                  ha="left")
     height = fig.get_figheight()  # inches: the footer takes 0.4 of them, the title 0.3
-    fig.text(0.01, 0.22 / height, run.footer(), fontsize=6.5, color="0.3")
+    footer = "; ".join(r.footer() for r in (run if isinstance(run, list) else [run]))
+    fig.text(0.01, 0.22 / height, footer, fontsize=6.5, color="0.3")
     fig.text(0.01, 0.06 / height, "paper: " + paper_note, fontsize=6.5, color="0.3")
     for _ in range(2):  # twice: the first pass sees equal-aspect panels at their full size
         fig.tight_layout(rect=(0, 0.4 / height, 1, 1 - 0.3 / height))
@@ -606,6 +626,217 @@ def blaze_fig18_19(spec, run, rows):
     return fig, facts
 
 
+# ---- The scaling study (method paper Figs. 17-18) ------------------------------------------
+SCALING_WHAT = "experiments/scaling/run_scaling.py's scaling.json"
+
+
+def count_words(n):
+    """A particle count as the index and legend write it: 1e6, 1.5e6, 2e5; below 1000 whole."""
+    if n < 1000:
+        return generate.fmt(n)
+    exponent = int(math.floor(math.log10(n)))
+    mantissa = float(f"{n / 10 ** exponent:.3g}")
+    if mantissa >= 10:  # 9.999e5 rounds to 10e5
+        mantissa, exponent = mantissa / 10, exponent + 1
+    return f"{mantissa:g}e{exponent}"
+
+
+def and_list(words):
+    """'a', 'a and b', 'a, b and c'."""
+    return ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else "".join(words)
+
+
+def percent(efficiency):
+    return f"{100 * efficiency:.1f} %"
+
+
+class ScalingRun:
+    """One --scaling file: the machine, commit, backend and command it records, and its rows
+    that can be drawn (timed after the setup, no more ranks than GPUs) with those left out."""
+
+    def __init__(self, order, path, data):
+        self.id, self.order, self.dir = f"R{order}", order, path
+        self.commit, self.backend = str(data["commit"]), str(data["backend"])
+        self.version = "scaling study"
+        self.command = str(data["driver_command"])
+        m = data["machine"]
+        names, self.gpus = m.get("gpu_names"), m.get("gpus")
+        names = names if isinstance(names, list) and names else []
+        if names and all(n == names[0] for n in names):
+            gpu_words = f"{len(names)} × {names[0]}"
+            model = names[0].split(",")[0].strip()
+            self.short = f"{len(names)}×{model[7:] if model.startswith('NVIDIA ') else model}"
+        else:
+            gpu_words = "; ".join(names) or "GPUs not recorded"
+            self.short = f"{len(names)} GPUs" if names else "GPUs not recorded"
+        cores = m.get("usable_cpus")
+        self.machine = gpu_words + "".join(
+            f", {x}" for x in (m.get("cpu_model"), f"{cores} cores" if cores else None) if x)
+        self.used, self.rows, self.left_out = [], [], []
+        untimed = [r for r in data["runs"] if "timed_steps" not in r]
+        timed = [r for r in data["runs"] if "timed_steps" in r]
+        known = generate.is_number(self.gpus) and self.gpus > 0
+        shared = [r for r in timed if known and r["ranks"] > self.gpus]
+        self.rows = [r for r in timed if not (known and r["ranks"] > self.gpus)]
+        if untimed:
+            self.left_out.append(f"{len(untimed)} of its rows timed with the run's setup (no "
+                                 "timed_steps: from before talus's steady summary)")
+        if shared:
+            self.left_out.append(f"{len(shared)} of its rows on more ranks than its {self.gpus} "
+                                 "GPUs (ranks sharing a GPU)")
+
+    def footer(self):
+        return (f"talus: commit {self.commit} on the {self.backend} backend, {self.short} "
+                f"(run {self.id}: {self.dir})")
+
+
+def read_scaling(path, order):
+    """A --scaling file as a ScalingRun; a Refusal naming the file when it is missing, not JSON
+    or not as run_scaling.py writes it on the CUDA backend."""
+    data = generate.load_json(path)
+    generate.require(data, ("machine", "commit", "backend", "driver_command", "runs"), path,
+                     "the top level", SCALING_WHAT, lists=("runs",))
+    generate.require(data["machine"], (), path, "'machine'", SCALING_WHAT)
+    if data["backend"] != "cuda":
+        raise generate.Refusal(f"{path}: its backend is {data['backend']!r}, not 'cuda': its "
+                               "ranks are not GPUs")
+    for i, row in enumerate(data["runs"]):
+        generate.require(row, ("mode", "ranks", "particles", "efficiency"), path, f"runs[{i}]",
+                         SCALING_WHAT)
+        if row["mode"] not in ("strong", "weak"):
+            raise generate.Refusal(f"{path}: runs[{i}]'s 'mode' is {row['mode']!r}, not "
+                                   "'strong' or 'weak'")
+        for key in ("ranks", "particles", "efficiency"):
+            value = row[key]
+            if not generate.is_number(value) or not math.isfinite(value) or value <= 0 or (
+                    key == "ranks" and value != int(value)):
+                raise generate.Refusal(f"{path}: runs[{i}]'s '{key}' is {value!r}, not a "
+                                       + ("whole number" if key == "ranks" else "number")
+                                       + " above 0; expected " + SCALING_WHAT)
+    return ScalingRun(order, path, data)
+
+
+def scaling_series(runs):
+    """{(run, mode, count): rows by rank count}: count is the particles a GPU (weak) or in all
+    (strong), the series in the order of the files and of their rows."""
+    series = {}
+    for run in runs:
+        for r in run.rows:
+            count = r["particles"] / r["ranks"] if r["mode"] == "weak" else r["particles"]
+            series.setdefault((run, r["mode"], count), []).append(r)
+    for rows in series.values():
+        rows.sort(key=lambda r: r["ranks"])
+    return series
+
+
+def series_words(mode, count):
+    return f"{count_words(count)} a GPU" if mode == "weak" else f"{count_words(count)} in all"
+
+
+def method_fig17_18(spec, runs):
+    """Two panels, (a) strong and (b) weak scaling: each series' efficiency against the GPUs,
+    the paper's statements as a line over 1-16 GPUs (strong) and a point at 16 (weak)."""
+    series = scaling_series(runs)
+    if not series:
+        raise Missing("no scaling file has a row to draw (" + "; ".join(
+            f"{r.dir}: " + (", ".join(r.left_out) or "no runs") for r in runs) + ")")
+    top = max([PAPER_GPUS] + [r["ranks"] for rows in series.values() for r in rows])
+    ticks = [2 ** k for k in range(int(math.log2(top)) + 1)]
+    efficiencies = [100 * r["efficiency"] for rows in series.values() for r in rows]
+    low = min(efficiencies + [100 * PAPER_EFFICIENCY])
+    bottom, ceiling = max(0, 10 * math.floor(low / 10 - 1)), max(110, max(efficiencies) + 10)
+    fig, grid = new_figure(4.2, 2)
+    paper_note = "the paper's text, not data"
+    for k, (mode, name) in enumerate((("strong", "(a) strong scaling (Fig. 17)"),
+                                      ("weak", "(b) weak scaling (Fig. 18)"))):
+        ax = fig.add_subplot(grid[0, k])
+        ax.axhline(100, color="0.6", lw=0.8, ls="--", label="ideal (100 %)")
+        if mode == "strong":
+            ax.fill_between([1, PAPER_GPUS], 100 * PAPER_EFFICIENCY, ceiling, color="0.94",
+                            zorder=0)
+            ax.plot([1, PAPER_GPUS], [100 * PAPER_EFFICIENCY] * 2, "-", color=PAPER, lw=1.2,
+                    label=f"{paper_note}: \"remains above 85% up to 16 GPUs\"")
+        else:
+            ax.plot([PAPER_GPUS], [100 * PAPER_EFFICIENCY], "s", color=PAPER, ms=6, mfc="none",
+                    mew=1.2, label=f"{paper_note}: with 5.0e6 particles a GPU,\n"
+                                   "\"to approximately 85% at 16 GPUs\"")
+        drawn = 0
+        for i, ((run, m, count), rows) in enumerate(series.items()):
+            if m != mode:
+                continue
+            n = [r["ranks"] for r in rows]
+            e = [100 * r["efficiency"] for r in rows]
+            ax.plot(n, e, "o-", color=f"C{i}",
+                    label=f"{mode}, {series_words(mode, count)}, {run.short} ({run.id})")
+            for x, y in zip(n, e):
+                if x > 1:
+                    ax.annotate(f"{y:.1f} %", (x, y), xytext=(5, -3),
+                                textcoords="offset points", fontsize=7, color=f"C{i}")
+            drawn += 1
+        if not drawn:
+            ax.text(0.5, 0.5, f"no {mode} rows in the scaling files", ha="center",
+                    transform=ax.transAxes)
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(ticks)
+        ax.set_xticklabels([str(t) for t in ticks])
+        ax.set_xlim(0.8, top * 1.25)
+        ax.set_ylim(bottom, ceiling)
+        ax.set_xlabel("GPUs (talus: MPI ranks, a GPU each)")
+        ax.set_ylabel("parallel efficiency (%)")
+        ax.set_title(name, fontsize=9)
+        ax.legend(loc="lower left")
+    facts = {"agrees": [], "differs": []}
+    compare = (f"the paper's {100 * PAPER_EFFICIENCY:g} % (strong: above it up to "
+               f"{PAPER_GPUS} GPUs; weak: about it at {PAPER_GPUS} GPUs with "
+               f"{count_words(PAPER_WEAK_PER_GPU)} a GPU)")
+    for run in runs:
+        for gpus in sorted({r["ranks"] for r in run.rows if r["ranks"] > 1}):
+            above, below = [], []
+            for (owner, mode, count), rows in series.items():
+                for r in rows:
+                    if owner is run and r["ranks"] == gpus:
+                        words = (f"{mode} {percent(r['efficiency'])} "
+                                 + (f"at {count_words(count)} a GPU" if mode == "weak"
+                                    else f"for {count_words(count)}"))
+                        (above if r["efficiency"] >= PAPER_EFFICIENCY else below).append(words)
+            where = f"{gpus} GPUs ({run.short}, {run.id})"
+            if above:
+                facts["agrees"].append(f"{where}: {', '.join(above)}: at or above {compare}")
+            if below:
+                facts["differs"].append(f"{where}: {', '.join(below)}: below {compare}")
+        facts["differs"] += [f"{run.id}: {words}, left out" for words in run.left_out]
+    most = max(r["ranks"] for rows in series.values() for r in rows)
+    if most < PAPER_GPUS:
+        facts["differs"].append(f"measured on up to {most} GPU{'s' if most > 1 else ''}; the "
+                                f"paper's statements reach {PAPER_GPUS}")
+    weak = sorted({c for (_, m, c) in series if m == "weak"})
+    if weak and PAPER_WEAK_PER_GPU not in weak:
+        facts["differs"].append(f"weak at {', '.join(count_words(c) for c in weak)} a GPU, the "
+                                f"paper's Fig. 18 (b) at {count_words(PAPER_WEAK_PER_GPU)}")
+    finish(fig, spec, runs, PAPER_SCALING_TEXT + "; no table: drawn as statements.")
+    return fig, facts
+
+
+def scaling_state(runs):
+    """The 'To come' row's state while the figure is drawn: what it holds, what is still to run."""
+    series = scaling_series(runs)
+    most = max(r["ranks"] for rows in series.values() for r in rows)
+    weak = {c for (_, m, c) in series if m == "weak"}
+    strong = {c for (_, m, c) in series if m == "strong"}
+    still = ([f"more than {most} GPUs (the paper: up to {PAPER_GPUS})"] if most < PAPER_GPUS
+             else [])
+    lacking = [count_words(c) for c in PAPER_WEAK_COUNTS if c not in weak]
+    if lacking:
+        still.append(f"weak at {and_list(lacking)} a GPU")
+    lacking = [count_words(c) for c in PAPER_STRONG_TOTALS if c not in strong]
+    if lacking:
+        still.append(f"the paper's {and_list(lacking)} strong total")
+    held = ", ".join(f"{m} {series_words(m, c)}" for (_, m, c) in series)
+    return (f"partly drawn ({', '.join(r.id for r in runs if r.rows)}: {held}, up to {most} "
+            f"GPU{'s' if most > 1 else ''}); "
+            + (f"to come (multi-GPU): {'; '.join(still)}" if still else "nothing to come"))
+
+
 METHOD, BLAZE = "Method paper", "BLAZE-DEM"
 
 
@@ -634,12 +865,13 @@ FIGURES = [
     figure(BLAZE, "Figs. 18-19", "hopper discharge of marbles and corn-shaped polyhedra, "
            "coloured by layer", "hopper_flow", blaze_fig18_19),
 ]
+# Drawn from --scaling files, not from a case of talus validate.
+SCALING = dict(figure(METHOD, "Figs. 17-18", "strong and weak scaling over GPUs, the parallel "
+                      "efficiency", "scaling", method_fig17_18), source="scaling.json")
 # The papers' figures of the kind above that are not redrawn yet, with what they need.
 TO_COME = [
     (METHOD, "Figs. 17-18", "strong and weak scaling over GPUs",
-     "to come (multi-GPU): talus runs on one GPU so far",
-     "Fig. 17: the parallel efficiency \"remains above 85% up to 16 GPUs\"; Fig. 18 (b): with "
-     "5.0e6 particles a GPU it drops \"to approximately 85% at 16 GPUs\" (section 3.5)"),
+     "to come (multi-GPU): talus runs on one GPU so far", PAPER_SCALING_TEXT),
     (BLAZE, "Fig. 16", "the time against the number of polyhedra on one GPU (performance, "
      "not validation)",
      "to come: a timing over particle counts, which talus validate does not write; it belongs "
@@ -654,7 +886,7 @@ def cell(text):
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
-def index(runs, drawn, missing, problems, command):
+def index(runs, drawn, missing, problems, command, to_come=TO_COME):
     out = ["# reports/figures", "",
            "The two papers' figures redrawn in one style from the results of `talus validate`, "
            "each beside the numbers the paper gives for it (the papers' figures are pictures: "
@@ -676,7 +908,8 @@ def index(runs, drawn, missing, problems, command):
         out.append("| " + " | ".join(cell(x) for x in (
             f"[`{spec['file']}`]({spec['file']})",
             f"{spec['paper']} {spec['number']}: {spec['title']}",
-            f"{run.id} (`{spec['case']}`)", "; ".join(facts["agrees"]) or "—",
+            f"{run.id} (`{spec.get('source', spec['case'])}`)",
+            "; ".join(facts["agrees"]) or "—",
             "; ".join(facts["differs"]) or "—")) + " |")
     out += ["", "## Missing", ""]
     if missing:
@@ -687,11 +920,13 @@ def index(runs, drawn, missing, problems, command):
     else:
         out.append("None: every figure above was drawn.")
     if problems:
-        out += ["", "Results directories not read:", ""] + [f"- {cell(p)}" for p in problems]
+        heading = ("Results directories not read:" if all(
+            not isinstance(r, ScalingRun) for r in runs) else "Inputs not read or not drawn:")
+        out += ["", heading, ""] + [f"- {cell(p)}" for p in problems]
     out += ["", "## To come", "", "| the paper's | what | state | the paper's numbers |",
             "|---|---|---|---|"]
     out += ["| " + " | ".join(cell(x) for x in (f"{paper} {number}", what, state, numbers))
-            + " |" for paper, number, what, state, numbers in TO_COME]
+            + " |" for paper, number, what, state, numbers in to_come]
     return "\n".join(out) + "\n"
 
 
@@ -706,9 +941,38 @@ def small_png(fig):
     return small.getvalue()
 
 
+def draw_scaling(runs, output, drawn, missing, problems):
+    """Figs. 17-18 from the --scaling files into `output`, its entry put after the method
+    paper's other figures in `drawn` (or `missing`); a file without a row to draw is one of
+    `problems`. Returns the 'To come' rows to write: the one of Figs. 17-18 says what is still
+    to run where the figure is drawn."""
+    for run in runs:
+        if not run.rows:
+            problems.append(f"{run.dir}: no row to draw (" + (", ".join(run.left_out)
+                                                              or "its runs are empty") + ")")
+    target = os.path.join(output, SCALING["file"])
+    place = sum(spec["paper"] == METHOD for spec, *_ in drawn)
+    try:
+        fig, facts = method_fig17_18(SCALING, runs)
+    except Missing as e:
+        plt.close("all")
+        missing.insert(sum(spec["paper"] == METHOD for spec, _ in missing), (SCALING, str(e)))
+        if os.path.exists(target):  # an earlier run's figure must not stand for this one
+            os.unlink(target)
+        return TO_COME
+    generate.write_atomic(target, small_png(fig))
+    used = [r for r in runs if r.rows]
+    for run in used:
+        run.used.append(f"{SCALING['paper']} {SCALING['number']}")
+    drawn.insert(place, (SCALING, argparse.Namespace(id=", ".join(r.id for r in used)), facts))
+    to_come = [row if row[1] != SCALING["number"] else row[:3] + (scaling_state(used), row[4])
+               for row in TO_COME]
+    return to_come
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("results", nargs="+", metavar="RESULTS_DIR",
+    parser.add_argument("results", nargs="*", metavar="RESULTS_DIR",
                         help="an output directory of talus validate")
     parser.add_argument("--output", default=HERE, metavar="DIR",
                         help="where the figures and README.md go (default reports/figures/)")
@@ -716,9 +980,18 @@ def main(argv):
                         help="JSON: results directory (as given, or its last part) -> "
                              "{machine, command}, for what validation-results.json does not "
                              "record")
+    parser.add_argument("--scaling", nargs="+", action="extend", default=[], metavar="FILE",
+                        help="a scaling.json of experiments/scaling/run_scaling.py (CUDA "
+                             "backend): draws the method paper's Figs. 17-18; give it after "
+                             "the directories")
     args = parser.parse_args(argv[1:])
+    if not args.results:
+        parser.error("the following arguments are required: RESULTS_DIR (with --scaling, give "
+                     "the directories first, or end --scaling's files with --)")
     try:
         provenance = generate.read_provenance(args.provenance)
+        scaling = [read_scaling(path, len(args.results) + k)
+                   for k, path in enumerate(args.scaling, 1)]
     except generate.Refusal as e:
         print(f"redraw.py: {e}", file=sys.stderr)
         return 2
@@ -743,15 +1016,18 @@ def main(argv):
         generate.write_atomic(target, small_png(fig))
         run.used.append(f"{spec['paper']} {spec['number']}")
         drawn.append((spec, run, facts))
+    to_come = TO_COME
+    if scaling:
+        to_come = draw_scaling(scaling, args.output, drawn, missing, problems)
     command = " ".join(["/usr/bin/python3 reports/figures/redraw.py"]
                        + [shlex.quote(a) for a in argv[1:]])
-    generate.write_atomic(os.path.join(args.output, "README.md"),
-                          index(runs, drawn, missing, problems, command).encode("utf-8"))
+    generate.write_atomic(os.path.join(args.output, "README.md"), index(
+        runs + scaling, drawn, missing, problems, command, to_come).encode("utf-8"))
     for line in problems + [f"{s['paper']} {s['number']} ({s['file']}) not drawn: {why}"
                             for s, why in missing]:
         print(f"redraw.py: {line}", file=sys.stderr)
-    print(f"redraw.py: {len(drawn)} of {len(FIGURES)} figures drawn into {args.output}",
-          file=sys.stderr)
+    print(f"redraw.py: {len(drawn)} of {len(FIGURES) + bool(scaling)} figures drawn into "
+          f"{args.output}", file=sys.stderr)
     return 0 if not problems and not missing else 1
 
 
