@@ -39,10 +39,12 @@ TALUS_HD inline double box_squared_distance(const double* b, double x, double y,
   const double v[3] = {x, y, z};
   double d2 = 0;
   for (int a = 0; a < 3; ++a) {
+    // std::max({lo - v, 0.0, v - hi}) as the standard library takes it: the first, replaced by
+    // each later one it is less than (so a NaN first stays, as on the host).
     double d = b[a] - v[a];
+    if (d < 0.0) d = 0.0;
     const double above = v[a] - b[a + 3];
-    if (!(d >= 0.0)) d = 0.0;  // std::max({lo - v, 0.0, v - hi}): the largest of the three
-    if (above > d) d = above;
+    if (d < above) d = above;
 #ifdef __CUDA_ARCH__
     d2 = __dadd_rn(d2, __dmul_rn(d, d));
 #else

@@ -97,6 +97,15 @@ TEST(BoxArrays, OwnerWithPointsOutsideTheRegionAndAnOpenRegion) {
   const std::vector<double> open = box_numbers(RcbDomain(points, Box(), 3, 1, 0.01));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(box_owner(open.data(), 3, nan, 0, 0), -1);  // NaN is in no box, as Box::contains
+  // A NaN position is near no box (NaN <= h^2 is false), as on the host.
+  Box unit;
+  unit.min = {0, 0, 0};
+  unit.max = {1, 1, 1};
+  const double numbers[kBoxNumbers] = {0, 0, 0, 1, 1, 1};
+  for (const Vec3d& x : {Vec3d{nan, 0.5, 0.5}, Vec3d{2, nan, 0.5}, Vec3d{-1, 0.5, nan}}) {
+    EXPECT_TRUE(std::isnan(squared_distance(unit, x)));
+    EXPECT_TRUE(std::isnan(box_squared_distance(numbers, x.x, x.y, x.z)));
+  }
 }
 
 }  // namespace
