@@ -32,41 +32,44 @@ int count_of(std::size_t bytes) {
 // sets it: see there).
 std::chrono::microseconds spin_budget(20);
 
-// Waits for a nonblocking collective: tests it in a loop for spin_budget, then sleeps between
-// tests, 10 to 200 microseconds, so that a rank waiting for a slower one gives its core away.
-// Open MPI's blocking collectives spin instead: with more ranks than cores (CI's two cores
-// running three ranks, or a busy machine) a spinning rank takes the core the others need, and a
-// step of milliseconds took seconds. A sleep overshoots by tens of microseconds, and a GPU's
-// step has some eight collectives: where every rank has a core of its own, the loop tests longer.
-void wait(MPI_Request& request, const char* call) {
-  int done = 0;
+// Waits until `done()` (a test of nonblocking requests) says so: tests in a loop for
+// spin_budget, then sleeps between tests, 10 to 200 microseconds, so that a rank waiting for a
+// slower one gives its core away. Open MPI's blocking collectives spin instead: with more ranks
+// than cores (CI's two cores running three ranks, or a busy machine) a spinning rank takes the
+// core the others need, and a step of milliseconds took seconds. A sleep overshoots by tens of
+// microseconds, and a GPU's step has some eight collectives: where every rank has a core of its
+// own, the loop tests longer.
+template <class Test>
+void wait_until(Test&& done) {
   const auto start = std::chrono::steady_clock::now();
   auto pause = std::chrono::microseconds(10);
-  for (;;) {
-    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), call);
-    if (done) return;
+  while (!done()) {
     if (std::chrono::steady_clock::now() - start < spin_budget) continue;
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(200));
   }
 }
 
-// wait() for several requests (point-to-point messages) at once; their statuses into `statuses`.
+// A nonblocking collective's request, waited for.
+void wait(MPI_Request& request, const char* call) {
+  wait_until([&] {
+    int done = 0;
+    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), call);
+    return done != 0;
+  });
+}
+
+// Several requests (point-to-point messages) waited for at once; their statuses into `statuses`.
 void wait_all(std::vector<MPI_Request>& requests, std::vector<MPI_Status>& statuses,
               const char* call) {
   statuses.resize(requests.size());
   if (requests.empty()) return;
-  int done = 0;
-  const auto start = std::chrono::steady_clock::now();
-  auto pause = std::chrono::microseconds(10);
-  for (;;) {
+  wait_until([&] {
+    int done = 0;
     check(MPI_Testall(static_cast<int>(requests.size()), requests.data(), &done, statuses.data()),
           call);
-    if (done) return;
-    if (std::chrono::steady_clock::now() - start < spin_budget) continue;
-    std::this_thread::sleep_for(pause);
-    pause = std::min(pause * 2, std::chrono::microseconds(200));
-  }
+    return done != 0;
+  });
 }
 
 // The tag of exchange_sized's messages (no other point-to-point messages are sent).
