@@ -192,13 +192,16 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
                                 const ResumePoint* resume, const ExtraMembers& extra = {}) {
   if (world()->rank() != 0) {
     // Rank 0 runs the runner; this rank serves its step's commands (parallel/decomposed_step.hpp).
+    // Resumed, its step starts empty as rank 0's does (production_run.cpp): the checkpoint's
+    // particles arrive with the restore.
+    const Scene start = resume ? without_initial_particles(scene) : scene;
 #if TALUS_HAVE_CUDA
-    if (decomposed_on_cuda(scene)) {
-      serve_decomposed_cuda_step(scene, world());
+    if (decomposed_on_cuda(start)) {
+      serve_decomposed_cuda_step(start, world());
       return "";
     }
 #endif
-    serve_decomposed_step(scene, decomposed_threads(args), world());
+    serve_decomposed_step(start, decomposed_threads(args), world());
     return "";
   }
   ProductionSettings settings;

@@ -17,6 +17,7 @@
 #include "solver/io/output_schedule.hpp"
 #include "solver/io/run_directory.hpp"
 #include "solver/run/any_step.hpp"
+#include "solver/scene/initial_particles.hpp"
 #include "solver/scene/scene_limits.hpp"
 #include "solver/step/host/host_step.hpp"
 
@@ -65,6 +66,9 @@ struct ProductionRunner::Impl {
   // checkpoint's).
   OutputLock lock;
   std::string run_id;
+  // A resumed run's step is built from the scene without its initial particles (the checkpoint
+  // replaces them; initial_particles.hpp), which must outlive the step.
+  std::unique_ptr<Scene> resumed_scene;
   std::unique_ptr<AnyStep> step;
   int host_threads = 0;  // the host step's, 0 for another backend
   long long step_index = 0, total_steps = 0;
@@ -251,14 +255,16 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   m.run_id = resume && resume->has("run.id") ? resume->text("run.id") : new_run_id();
   m.lock = claim_output_root(scene, m.settings.output_root, m.run_id, resume != nullptr,
                              m.settings.overwrite);
+  if (resume) m.resumed_scene = std::make_unique<Scene>(without_initial_particles(scene));
+  const Scene& step_scene = resume ? *m.resumed_scene : scene;
   if (m.settings.make_step) {
-    m.step = m.settings.make_step(scene);
+    m.step = m.settings.make_step(step_scene);
   } else {
     m.host_threads = host_thread_count(m.settings.host_threads);
-    m.step = make_host_step(scene, m.host_threads);
+    m.step = make_host_step(step_scene, m.host_threads);
   }
   m.total_steps = scene_step_count(scene);  // at most kMaxSteps (the loader refused more)
-  m.initial_particles = m.step->particles();
+  m.initial_particles = resume ? initial_particle_count(scene) : m.step->particles();
   if (resume) {
     if (resume->text("run.precision") != to_string(scene.precision))
       resume->fail("run.precision", "written in " + resume->text("run.precision") +

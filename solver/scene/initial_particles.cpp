@@ -75,4 +75,27 @@ std::vector<ParticleState> initial_particles(const Scene& scene) {
   return particles;
 }
 
+std::size_t initial_particle_count(const Scene& scene) {
+  std::size_t count = scene.particles.size();
+  for (const LatticeRequest& lattice : scene.lattices) {
+    // As lattice_particles counts them.
+    const std::array<double, 3> dimensions = lattice_dimensions(lattice.region, lattice.spacing);
+    std::size_t points = 1;
+    for (int k = 0; k < 3; ++k) points *= static_cast<std::size_t>(static_cast<int>(dimensions[k]));
+    count += points;
+  }
+  for (const RandomFillRequest& fill : scene.random_fills)
+    count += static_cast<std::size_t>(fill.count);
+  return count;
+}
+
+Scene without_initial_particles(const Scene& scene) {
+  Scene start = scene;
+  start.particles.clear();
+  start.lattices.clear();
+  start.random_fills.clear();
+  start.left_out_particles = scene.left_out_particles + initial_particle_count(scene);
+  return start;
+}
+
 }  // namespace talus

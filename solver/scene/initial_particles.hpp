@@ -18,6 +18,18 @@ constexpr int kFillAttemptsPerParticle = 100000;
 // how many it placed when a fill cannot be completed.
 std::vector<ParticleState> initial_particles(const Scene& scene);
 
+// How many particles initial_particles(scene) makes, without placing them: the explicit list,
+// every lattice's points and every random fill's count (a fill that cannot place them all
+// throws, so a scene that ran has them all).
+std::size_t initial_particle_count(const Scene& scene);
+
+// The scene without its initial particles (no list, lattices or random fills), the rest as it
+// is: what a resumed run builds its step from, since the checkpoint's state replaces them.
+// Placing a million-particle random fill again took most of such a run's start. Its
+// left_out_particles says how many it lacks (the steps check a checkpoint's count against the
+// scene's: step_state.hpp, checkpoint_count_fits).
+Scene without_initial_particles(const Scene& scene);
+
 // The parts, for tests and tools. lattice_particles: the points min + spacing (i + 1/2) that
 // fit in the box, x fastest, then y, then z. random_fill_particles: appends to `particles`
 // (whose bounding radii it reads from the scene's templates).

@@ -318,6 +318,10 @@ struct Scene {
   std::vector<ParticleState> particles;  // the explicit list
   std::vector<LatticeRequest> lattices;
   std::vector<RandomFillRequest> random_fills;
+  // How many initial particles the three above would make but were taken out
+  // (without_initial_particles, initial_particles.hpp): a resumed run's step is built without
+  // them, and its checkpoint's count is checked against this many (step_state.hpp). 0 otherwise.
+  std::size_t left_out_particles = 0;
   std::vector<FeedRequest> feeds;
   std::vector<WallSpec> walls;
   Effects effects;

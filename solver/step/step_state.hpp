@@ -162,6 +162,16 @@ inline std::string bad_history_key(const std::vector<PairKey>& keys, long long n
 
 }  // namespace detail
 
+// Whether a checkpoint of `count` particles can continue a run of `scene` whose step started with
+// `initial` (its own plus the scene's left_out_particles): as many, more where feeds insert
+// (`feeding`), fewer where the domain box removes, any count on several ranks (`decomposed`: each
+// rank holds a share). Where it cannot, check_state_fits with `initial` refuses it.
+inline bool checkpoint_count_fits(long long count, long long initial, const Scene& scene,
+                                  bool feeding, bool decomposed) {
+  return count == initial || (feeding && count > initial) || (scene.domain && count < initial) ||
+         decomposed;
+}
+
 // Throws CheckpointError unless `s` fits a step of `count` particles whose real arrays are
 // `names` (in order) made from `scene` (a checkpoint of another scene), and unless every value
 // it holds is one the step can go on from: a checkpoint is read from a file, and a value no run

@@ -88,6 +88,40 @@ TEST(InitialParticles, ExplicitThenLatticesThenFillsInSceneOrder) {
   }
 }
 
+// A resumed run counts the initial particles (they shape its VTK output) without placing them,
+// and builds its step from the scene without them (production_run.cpp).
+TEST(InitialParticles, CountedWithoutPlacingAndTakenOutForAResume) {
+  const Scene scene = scene_of(R"(particles:
+  - random:
+      template: ball
+      region: {box: {min: [0.2, 0, 0], max: [0.3, 0.1, 0.1]}}
+      count: 30
+  - explicit:
+      - {template: grain, position: [0, 0, 0.05]}
+      - {template: ball, position: [0.1, 0, 0.05]}
+  - lattice:
+      template: ball
+      region: {box: {min: [-0.05, 0.01, 0], max: [0.05, 0.04, 0.035]}}
+      spacing: [0.012, 0.01, 0.012]
+  - feed:
+      template: ball
+      region: {box: {min: [0.2, 0, 0.2], max: [0.3, 0.1, 0.3]}}
+      rate: 100
+      stop: 0.05
+)");
+  // The count is exact: the placement's own size. The lattice (8 x 3 x 2, the test below) has
+  // round-off at its edges that a separate count could get wrong by a row.
+  EXPECT_EQ(initial_particle_count(scene), initial_particles(scene).size());
+  EXPECT_EQ(initial_particle_count(scene), 30u + 2u + 48u);
+  const Scene start = without_initial_particles(scene);
+  EXPECT_EQ(initial_particle_count(start), 0u);
+  EXPECT_TRUE(initial_particles(start).empty());
+  // The rest stays: templates, feeds, the time step.
+  EXPECT_EQ(start.templates.size(), scene.templates.size());
+  EXPECT_EQ(start.feeds.size(), 1u);
+  EXPECT_EQ(start.time_step, scene.time_step);
+}
+
 TEST(InitialParticles, LatticePointsAreMinPlusSpacingTimesHalfIntegers) {
   LatticeRequest lattice;
   lattice.template_index = 0;

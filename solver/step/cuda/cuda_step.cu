@@ -276,6 +276,7 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options,
   m.report->predicted_move = ~0ULL;  // NaN's bits: no graph step before a prediction
   m.particles = std::make_unique<DeviceParticles<Real>>(m.shared, m.plan);
   m.particles->append(initial_particles(scene), m.host_bodies, false);
+  m.left_out = scene.left_out_particles;
   if (host_pairs) m.set_up_pairs(host_pairs->tables());
   if (host_walls) {
     m.walls = std::make_unique<DeviceWallStage<Real>>(m.shared, std::move(host_walls), m.time);
@@ -389,10 +390,14 @@ void CudaStep<Real>::import_state(const StepState<Real>& s) {
   // Decomposed: every rank reads one process's state, then keeps its own (decompose below).
   if (m.decomposition) m.shared.owned = -1;
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
-  // run with a domain box: less those removed.
-  const bool resized = (!m.feeding.empty() && s.count > m.count()) ||
-                       (m.scene.domain && s.count < m.count()) ||
-                       (m.decomposition && s.count != m.count());
+  // run with a domain box: less those removed. A step built for a resume holds none of the
+  // scene's initial particles (left_out, once): the checkpoint brings them.
+  const long long initial = m.count() + static_cast<long long>(m.left_out);
+  m.left_out = 0;
+  if (!checkpoint_count_fits(s.count, initial, m.scene, !m.feeding.empty(),
+                             m.decomposition != nullptr))
+    check_state_fits(s, m.scene, static_cast<int>(initial), m.particles->names());  // refuses
+  const bool resized = s.count != m.count();
   if (resized) m.particles->resize(s.count);
   check_state_fits(s, m.scene, m.count(), m.particles->names());
   m.particles->import_from(s);

@@ -80,6 +80,9 @@ struct CudaStep<Real>::Impl {
   double time = 0;
   long long steps = 0;
   bool forces_ready = false;
+  // The scene's initial particles this step was built without (Scene::left_out_particles; a
+  // resumed run's): the first import_state checks the checkpoint's count against them.
+  std::size_t left_out = 0;
   EnergyLedger ledger;
   std::array<double, kEnergySums> energy_sums{};  // the last evaluation's
 

@@ -73,6 +73,7 @@ HostStep<Real>::HostStep(const Scene& scene, int threads, WallSearch wall_search
   }
   const std::vector<ParticleState> initial = initial_particles(scene);
   count_ = static_cast<int>(initial.size());
+  left_out_ = scene.left_out_particles;
   for (const std::string& name : particle_array_names(plan_.arrays)) allocate(name);
   for (auto* ids : {&template_ids_, &material_ids_}) ids->reserve(std::max(count_, 1));
   global_ids_.reserve(std::max(count_, 1));
@@ -496,10 +497,13 @@ void HostStep<Real>::import_state(const StepState<Real>& s) {
   for (const auto& entry : storage_) names.push_back(entry.first);
   feeding_.restore(s.feed_states, s.source);  // first: it refuses a checkpoint of other feeds
   // A feeding run's particles: the initial ones and those inserted by the checkpoint's step; a
-  // run with a domain box: less those removed.
-  if ((!feeding_.empty() && s.count > count_) || (scene_.domain && s.count < count_) ||
-      (comm_ && s.count != count_))
-    grow(s.count);
+  // run with a domain box: less those removed. A step built for a resume holds none of the
+  // scene's initial particles (left_out_, once): the checkpoint brings them.
+  const long long initial = count_ + static_cast<long long>(left_out_);
+  left_out_ = 0;
+  if (!checkpoint_count_fits(s.count, initial, scene_, !feeding_.empty(), comm_ != nullptr))
+    check_state_fits(s, scene_, static_cast<int>(initial), names);  // refuses the count
+  if (s.count != count_) grow(s.count);
   check_state_fits(s, scene_, count_, names);
   // Copied into the arrays in place: view_ keeps pointing at them.
   for (std::size_t k = 0; k < storage_.size(); ++k)

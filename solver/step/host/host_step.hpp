@@ -214,6 +214,9 @@ class HostStep {
   Real dt_;
   int threads_;
   int count_ = 0;
+  // The scene's initial particles this step was built without (Scene::left_out_particles; a
+  // resumed run's): the first import_state checks the checkpoint's count against them.
+  std::size_t left_out_ = 0;
   std::vector<std::unique_ptr<ShapeArrays<Real>>> shapes_;  // per template (polyhedra)
   std::vector<BodyProperties<Real>> bodies_;                // per template
   std::vector<int> template_of_particle_;
