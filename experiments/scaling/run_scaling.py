@@ -2,15 +2,16 @@
 """The scaling study of the method paper's §3.5 (Figs. 17-18) on talus's MPI ranks.
 
 Writes the §3.5 packing (polyhedra placed at random in a domain 2 m tall whose x and y grow with
-the particle count, a floor and four sides meshed at lambda = 1.8), settles it once on one rank,
-then resumes it from the settled checkpoint on each rank count under `mpirun` and times the
+the particle count, a floor and four sides meshed at lambda = 1.8), settles it once (on one rank, or
+--settle-ranks), then resumes it from the settled checkpoint on each rank count under `mpirun` and times the
 measured steps: weak scaling (a fixed count per rank) and strong scaling (a fixed total).
 README.md here gives every choice and its reason.
 
     /usr/bin/python3 experiments/scaling/run_scaling.py --talus build/talus \\
         [--ranks 1 2 4] [--per-rank 1000] [--total 4000] [--modes weak strong] \\
         [--settle-steps 7500] [--measure-steps 200] [--repeats 3] [--threads 1] \\
-        [--settle-threads N] [--output scratch/scaling] [--work DIR] [--keep-work] [--quick] \\
+        [--settle-threads N] [--settle-ranks 1] [--output scratch/scaling] [--work DIR] \\
+        [--keep-work] [--quick] \\
         [--mpirun mpirun] [--mpirun-args '--bind-to none'] [--backend cpu|cuda] \\
         [--commit SHA] [--diameter 0.05]
 
@@ -443,10 +444,21 @@ class Study:
         argv = [a.talus, "run", scene, "--backend", a.backend, "--threads",
                 str(a.settle_threads), "--quiet", "--output", run_dir, "--overwrite", "--end",
                 repr(end)]
-        say(f"settling {count} particles: {a.settle_steps} steps on one rank, "
+        # On several ranks (--settle-ranks) the settle gives the same bytes as on one: the
+        # decomposed step's trajectories do not depend on the rank count (docs/parallel.md,
+        # tests/parallel/run_ranks.sh), so it only saves time.
+        env = {}
+        if a.settle_ranks > 1:
+            env = mpi_environment(a.settle_ranks, self.cores)
+            argv = a.mpirun + ["-np", str(a.settle_ranks)] + a.mpirun_args + argv
+        say(f"settling {count} particles: {a.settle_steps} steps on "
+            + (f"{a.settle_ranks} ranks" if a.settle_ranks > 1 else "one rank") + ", "
             f"{a.settle_threads} thread{'s' if a.settle_threads > 1 else ''}"
             + (", CUDA" if a.backend == "cuda" else ""))
-        summary, seconds = run_talus(argv, {}, f"the settle of {count} particles")
+        summary, seconds = run_talus(argv, env, f"the settle of {count} particles")
+        if summary.get("ranks", 1) != a.settle_ranks:
+            raise RunFailed(f"the settle of {count} particles ran on {summary.get('ranks', 1)} "
+                            f"rank(s); --settle-ranks asked for {a.settle_ranks}")
         if summary.get("steps") != a.settle_steps + 1 or summary.get("particles") != count:
             raise RunFailed(f"the settle of {count} particles ran {summary.get('steps')} steps "
                             f"with {summary.get('particles')} particles; expected "
@@ -463,11 +475,12 @@ class Study:
             "lambda_z": lambda_z,
             "steps": a.settle_steps,
             "threads": a.settle_threads,
+            "ranks": a.settle_ranks,
             "backend": a.backend,
             "wall_seconds": summary["wall_seconds"],
             "mean_contacts_per_step": summary.get("mean_contacts_per_step"),
             "at_settle_step": probe_row(os.path.join(run_dir, "probes.csv"), a.settle_steps),
-            "command": command_text({}, argv),
+            "command": command_text(env, argv),
             "talus_binary": binary,
             "reused": False,
         }
@@ -832,6 +845,9 @@ def parse_arguments(argv):
     p.add_argument("--settle-threads", type=positive_int, default=None, metavar="N",
                    help="threads of the one-rank settle (default: the usable cores; "
                         "--quick 1)")
+    p.add_argument("--settle-ranks", type=positive_int, default=1, metavar="K",
+                   help="ranks of the settle, under --mpirun (default 1; the settled bytes are "
+                        "the same on any count, so K > 1 only saves time)")
     p.add_argument("--diameter", type=positive_float, default=DIAMETER, metavar="M",
                    help=f"the dodecahedra's circumscribed diameter, m (default {DIAMETER}); "
                         "the time step and the wall cells follow it")
