@@ -718,6 +718,14 @@ def figure(result, path):
         plt.close(fig)
 
 
+def settle_ranks_words(settles):
+    """'one rank', '4 ranks' or '1 and 4 ranks': the ranks the settles ran on."""
+    counts = sorted({s.get("ranks", 1) for s in settles}) or [1]
+    if counts == [1]:
+        return "one rank"
+    return " and ".join(str(c) for c in counts) + " ranks"
+
+
 def markdown(result):
     m = result["machine"]
     gpu_words = ""
@@ -740,7 +748,8 @@ def markdown(result):
         "",
         f"The packing: dodecahedra of {result['scene']['diameter_m']} m settled "
         f"{result['scene']['settle_steps']} steps ({result['scene']['settle_seconds']:.3g} s) on "
-        f"one rank, then {result['scene']['measure_steps']} steps measured on each rank count "
+        f"{settle_ranks_words(result['settles'])} (the same bytes on any count), then "
+        f"{result['scene']['measure_steps']} steps measured on each rank count "
         "(experiments/scaling/README.md). s/step: the resumed run's wall-clock seconds after its "
         "first step (its summary's `steady`: the setup and the first step left out) over those "
         "steps; stages: the sum of rank 0's `stage_seconds` over the same steps; the exchange is "
@@ -766,7 +775,8 @@ def markdown(result):
             f"{r['speedup']:.3f} | {100 * r['efficiency']:.1f} % | "
             f"{', '.join(f'{t:.4g}' for t in r['samples_seconds_per_step'])} | "
             f"{', '.join(f'{x:.2f}' for x in r['samples_load_average_before'])} |")
-    lines += ["", f"Settles (one rank, {result['settles'][0]['threads']} threads; the state at "
+    lines += ["", f"Settles ({settle_ranks_words(result['settles'])}, "
+              f"{result['settles'][0]['threads']} threads; the state at "
               "the settled step from the probes):", "",
               "| particles | box side, m | wall triangles | lambda (x, y / z) | s | contacts | "
               "kinetic energy, J | bed height, m |",

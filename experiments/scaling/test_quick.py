@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """ctest `scaling_quick` (label parallel): the scaling driver's quick size on 1 and 2 ranks.
 
-Runs run_scaling.py --quick --ranks 1 2 with the given talus and checks its scaling.json: every
+Runs run_scaling.py --quick --ranks 1 2 --settle-ranks 2 with the given talus and checks its
+scaling.json: each settle run on 2 ranks, every
 (mode, ranks) run present with the particles its mode asks for, measured steps > 0, seconds per
 step > 0, the exchange's share of the step in (0, 1) on 2 ranks and 0 on 1, efficiency =
 speedup / ranks, and the figure and the table written. Skipped (exit 77) where mpirun or
@@ -35,7 +36,8 @@ def main(argv):
     shutil.rmtree(work, ignore_errors=True)
     out = os.path.join(work, "out")
     proc = subprocess.run([sys.executable, os.path.join(HERE, "run_scaling.py"), "--talus", talus,
-                           "--quick", "--ranks", "1", "2", "--output", out,
+                           "--quick", "--ranks", "1", "2", "--settle-ranks", "2",
+                           "--output", out,
                            "--work", os.path.join(work, "runs")],
                           capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
@@ -78,6 +80,10 @@ def main(argv):
             if ranks == 1:
                 check(r["speedup"] == 1, f"{name}: speedup {r['speedup']} on one rank, not 1")
             check(r["command"] and "-np" in r["command"], f"{name}: no command recorded")
+    for s in result["settles"]:
+        # --settle-ranks 2: the settle ran under mpirun on 2 ranks (talus's summary said so).
+        check(s.get("ranks") == 2 and "-np 2" in s["command"],
+              f"the settle of {s['particles']}: ranks {s.get('ranks')}, command {s['command']}")
     check(bool(result["machine"].get("cpu_model")), "no CPU model")
     check(bool(result.get("commit")), "no commit")
     for name in ("scaling.png", "results.md"):
