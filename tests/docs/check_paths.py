@@ -34,6 +34,7 @@ ALLOWED = {
     r"(trajectory|frame)_\d+\.(csv|png|h5)": "a frame that a run or talus render writes",
     r"(run|summary|render)\.json": "what a run, run_beds.sh or talus render writes",
     r"runs\.csv|cases\.txt": "experiments/beds: what run_beds.sh and make_scenes.py write",
+    r"bed\.(json|md|png)": "experiments/fixed_bed: what fixed_bed.py writes into its output",
     r"environment\.txt|profile\.txt|bench_\w+\.json|ncu_\w+\.(csv|txt)":
         "scripts/gpu-check: the files it writes into $OUT",
     r"ab\.txt": "scripts/gpu-ab: the summary it writes into $OUT",

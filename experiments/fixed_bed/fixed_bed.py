@@ -1,0 +1,417 @@
+#!/usr/bin/python3
+"""The method paper's §4.2 fixed bed: cylindrical catalyst pellets fed into a narrow tube.
+
+Writes the scene (a 25 mm tube, 1.80 m tall, closed at the bottom; pellets of 5.5 mm diameter
+and 5.5 mm length, N-sided prisms, fed from the top with random orientations), runs it with
+talus, and analyses the bed from its last frame, on the true polyhedra:
+
+  - the mean porosity of the bed away from its ends (random points in the tube between 2 pellet
+    diameters above the floor and 2 below the surface), with its sampling error;
+  - the radial porosity profile from the wall to the axis (equal-area rings);
+  - the orientation of the pellets' axes against the tube's (cos of the angle: uniform for
+    random orientations);
+  - the bed height against the pellets fed (from the frames written while it fills).
+
+    /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --talus build/talus \\
+        [--sides 16] [--seed 1] [--pellets 10000] [--backend auto|cpu|cuda] \\
+        [--output scratch/fixed_bed] [--quick] [--points 400000]
+    /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --analyse RUN_DIR [--talus build/talus]
+
+Into OUTPUT (each through a temporary file and a rename): scene.yaml, the run (run/: frames,
+probes, vtk, summary.json), bed.json (every number below, the command, the machine), bed.md,
+and bed.png (the radial profile, the orientations, the height against the pellets fed).
+README.md here gives the choices and their reasons. Needs numpy and matplotlib.
+"""
+
+import argparse
+import glob
+import json
+import math
+import os
+import platform
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "experiments", "beds"))
+import analyze as beds  # noqa: E402  (read_frame, shape_data, inside_mask)
+
+# §4.2: "cylindrical catalyst particles with an outer diameter of 5.5 mm and a length of 5.5 mm.
+# The reactor tube had an inner diameter of 2.5 cm, a total height of 1.80 m, and a packed bed
+# height of 1.26 m ... approximately 10,000 cylindrical catalyst particles."
+PAPER = {"pellet_diameter_m": 0.0055, "pellet_length_m": 0.0055, "tube_diameter_m": 0.025,
+         "tube_height_m": 1.80, "bed_height_m": 1.26, "pellets": 10000}
+# The feed's rate: below what its region can hold as the pellets clear it (FULL: a region 0.5 m
+# tall holds about 100 pellets and clears in about 0.17 s at 2 m/s and g: about 600 a second), so
+# that every pellet asked for goes in by `stop` and the end time holds the last one's fall.
+FULL = {"tube_height": 1.80, "pellets": 10000, "feed_height": 0.50, "settle": 0.6, "rate": 400}
+# CI's size: the same tube and pellets, 0.12 m tall, 60 pellets (about 0.05 m of bed).
+QUICK = {"tube_height": 0.12, "pellets": 60, "feed_height": 0.04, "settle": 0.10, "rate": 600}
+TUBE_SEGMENTS = 96  # the tube's polygon: its sagitta r (1 - cos(pi/96)) = 6.7 um, 0.1 % of d_p
+
+
+def write_atomically(path, data):
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".")
+    with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as f:
+        f.write(data)
+    os.replace(tmp, path)
+
+
+def pellet_spec(sides):
+    return f"cylinder:{PAPER['pellet_diameter_m']},{PAPER['pellet_length_m']},{sides}"
+
+
+def scene_text(sides, seed, pellets, size, dt):
+    """The scene at time step `dt` (a number, or "auto" for the advice run): the tube, the
+    pellets' feed near its top, the outputs the analysis reads."""
+    d, length = PAPER["pellet_diameter_m"], PAPER["pellet_length_m"]
+    radius = PAPER["tube_diameter_m"] / 2
+    bounding = math.hypot(d / 2, length / 2)
+    top = size["tube_height"]
+    # The feed region: inside the tube by the pellets' bounding radius and 0.3 mm more, below
+    # the tube's top by the same; a pellet is placed only where it touches nothing, so the feed
+    # inserts as fast as the falling pellets clear the region (docs/scenes.md, "Feed").
+    feed_radius = radius - bounding - 0.0003
+    feed_base = top - bounding - 0.0003 - size["feed_height"]
+    rate = float(size["rate"])
+    stop = pellets / rate
+    # The last pellets fall the tube's height: sqrt(2 h / g), and then settle.
+    end = stop + math.sqrt(2 * top / 9.81) + size["settle"]
+    def steps(seconds):
+        return max(1, round(seconds / dt)) if dt != "auto" else 1000
+    frames = steps(0.1 if size is FULL else 0.02)  # the filling bed, for its height
+    step_text = dt if dt == "auto" else repr(dt)
+    end_steps = -(-steps(end) // frames) * frames  # a whole number of frames: the last at the end
+    return f"""# The method paper's §4.2 fixed bed, written by experiments/fixed_bed/fixed_bed.py.
+time: {{step: {step_text}, end: {end_steps * (dt if dt != "auto" else 1e-5):.9g}}}
+seed: {seed}
+
+materials:
+  # The paper gives no material. A ceramic catalyst's density; a stiffness softened for DEM
+  # (the volume law's step grows as 1/sqrt(E)), as the paper's own packing (§3.3) uses; friction
+  # and restitution of a rough ceramic.
+  catalyst: {{density: 1800, youngs_modulus: 1.0e6, poisson_ratio: 0.3, friction: 0.5,
+              restitution: 0.3}}
+  tube: {{density: 7800, youngs_modulus: 1.0e6, poisson_ratio: 0.3, friction: 0.3,
+          restitution: 0.3}}
+
+templates:
+  pellet: {{shape: "{pellet_spec(sides)}", material: catalyst}}
+
+particles:
+  - feed:
+      template: pellet
+      region: {{cylinder: {{base: [0, 0, {feed_base:.6g}], axis: [0, 0, 1], radius: {feed_radius:.6g},
+                           height: {size['feed_height']:.6g}}}}}
+      rate: {rate:.6g}
+      stop: {stop:.6g}
+      velocity: [0, 0, -2]
+      random_orientation: true
+
+walls:
+  - cylinder: {{name: tube, base: [0, 0, 0], axis: [0, 0, 1], radius: {radius:.6g}, height: {top:.6g},
+               bottom_cap: true, segments: {TUBE_SEGMENTS}, material: tube}}
+
+effects:
+  gravity: [0, 0, -9.81]
+  contact: volume
+  friction: true
+  rotation: true
+
+outputs:
+  trajectories: {{every: {frames}, directory: frames, format: csv}}
+  vtk: {{every: {end_steps}, directory: vtk}}
+  probes: {{every: {steps(0.01)}, file: probes.csv, quantities: [kinetic_energy, bed_height]}}
+"""
+
+
+def advised_step(talus, sides, seed, pellets, size):
+    """What `step: auto` takes for this scene (0.2 of the critical step talus estimates), from a
+    run of one step of it on the host: the advisor depends on the templates, materials, walls,
+    gravity and the feed's speed, so the step is the full run's."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "advice.yaml")
+        with open(path, "w") as f:
+            f.write(scene_text(sides, seed, pellets, size, "auto"))
+        out = subprocess.run([talus, "run", path, "--backend", "cpu", "--threads", "1", "--quiet",
+                              "--end", "1e-4", "--output", os.path.join(tmp, "run")],
+                             capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit(f"fixed_bed.py: {talus} could not give the time-step advice:\n{out.stderr}")
+        summary = json.loads(out.stdout)
+        return float(summary["time_step"]), float(summary["critical_time_step"])
+
+
+# ---------------------------------------------------------------------------------------------
+# The analysis
+
+
+def cap_axis(shape_json):
+    """The pellet's axis in its body frame: the normal of its caps, the faces with the most
+    corners (N-gons; the sides are rectangles)."""
+    faces = shape_json["faces"]
+    cap = max(faces, key=lambda f: len(f["loop"]))
+    return np.array(cap["normal"], dtype=float)
+
+
+def frame_files(run_dir):
+    files = glob.glob(os.path.join(run_dir, "frames", "trajectory_*.csv"))
+    return sorted(files, key=lambda f: int(re.search(r"trajectory_(\d+)\.csv$", f).group(1)))
+
+
+def tops_of(pos, rot, vertices):
+    """Each pellet's highest posed vertex."""
+    return pos[:, 2] + (rot[:, 2, :] @ vertices.T).max(axis=1)
+
+
+def bed_surface(pos, rot, vel, vertices, radius, rest_speed=0.05):
+    """The bed's height: the mean of the 5 highest pellet tops among the pellets at rest (speed
+    below `rest_speed`), so that pellets still falling or bouncing are not taken for the bed; the
+    narrow tube holds about 5 pellets across, so the 5 highest are the top layer."""
+    resting = np.linalg.norm(vel, axis=1) < rest_speed
+    if not np.any(resting):
+        return 0.0
+    tops = np.sort(tops_of(pos[resting], rot[resting], vertices))
+    return float(tops[-5:].mean())
+
+
+def read_frame_full(path):
+    tids, pos, rot = beds.read_frame(path)
+    data = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
+    vel = np.stack([data["vx"], data["vy"], data["vz"]], axis=1)
+    return tids, pos, rot, vel
+
+
+def analyse(run_dir, talus, sides, points, seed, rings=25):
+    """Every number of the bed from the run's frames (module docstring)."""
+    spec = pellet_spec(sides)
+    shape = beds.shape_data(talus, spec, os.path.join(run_dir, "shapes"))
+    shape_json = json.load(open(glob.glob(os.path.join(run_dir, "shapes", "*.json"))[0]))
+    axis_body = cap_axis(shape_json)
+    radius = PAPER["tube_diameter_m"] / 2
+    d = PAPER["pellet_diameter_m"]
+    files = frame_files(run_dir)
+    if not files:
+        sys.exit(f"fixed_bed.py: no frames in {run_dir}/frames")
+    # The bed height against the pellets fed: each frame's count and surface.
+    filling = []
+    for path in files:
+        tids, pos, rot, vel = read_frame_full(path)
+        step = int(re.search(r"trajectory_(\d+)\.csv$", path).group(1))
+        resting = int((np.linalg.norm(vel, axis=1) < 0.05).sum()) if len(pos) else 0
+        filling.append({"step": step, "pellets": int(len(pos)), "resting": resting,
+                        "bed_height_m": bed_surface(pos, rot, vel, shape["vertices"],
+                                                    shape["radius"]) if len(pos) else 0.0})
+    tids, pos, rot, vel = read_frame_full(files[-1])
+    shapes = {t: shape for t in set(tids)}
+    surface = bed_surface(pos, rot, vel, shape["vertices"], shape["radius"])
+    rng = np.random.default_rng(seed)
+    # A check of the frames, quaternions and face planes: points in the whole tube up to the
+    # highest pellet must find the pellets' summed volume (less the contacts' overlaps, a small
+    # fraction of a percent at this stiffness), within the sampling error.
+    height = float(tops_of(pos, rot, shape["vertices"]).max()) if len(pos) else 0.0
+    if len(pos):
+        rc = radius * np.sqrt(rng.random(points))
+        ac = 2 * math.pi * rng.random(points)
+        pc = np.stack([rc * np.cos(ac), rc * np.sin(ac), height * rng.random(points)], axis=1)
+        f = float(beds.inside_mask(pc, tids, pos, rot, shapes).mean())
+        sampled = f * math.pi * radius ** 2 * height
+        summed = len(pos) * shape["volume"]
+        result_check = {"found_over_summed": sampled / summed,
+                        "error": math.sqrt(f * (1 - f) / points) / f if f > 0 else math.inf}
+    else:
+        result_check = None
+    # The core: 2 pellet diameters above the floor, 2 below the surface (the ends' own structure
+    # left out, as narrow-tube studies do), the whole cross-section.
+    z_lo, z_hi = 2 * d, surface - 2 * d
+    result = {"pellets": int(len(pos)), "surface_m": surface, "core_z_m": [z_lo, z_hi],
+              "points": points, "volume_check": result_check}
+    if z_hi <= z_lo:
+        result["note"] = "the bed is too shallow for a core 2 diameters from each end"
+        return result, filling
+    # Uniform points in the core cylinder: r = R sqrt(u) makes them uniform in area.
+    r = radius * np.sqrt(rng.random(points))
+    phi_angle = 2 * math.pi * rng.random(points)
+    z = z_lo + (z_hi - z_lo) * rng.random(points)
+    pts = np.stack([r * np.cos(phi_angle), r * np.sin(phi_angle), z], axis=1)
+    inside = beds.inside_mask(pts, tids, pos, rot, shapes)
+    solid = float(inside.mean())
+    result["porosity"] = 1 - solid
+    result["porosity_error"] = math.sqrt(solid * (1 - solid) / points)  # binomial, one sigma
+    # Rings of equal area from the axis to the wall: each holds points / rings on average.
+    edges = radius * np.sqrt(np.linspace(0, 1, rings + 1))
+    ring = np.minimum(np.searchsorted(edges, r, side="right") - 1, rings - 1)
+    profile = []
+    for k in range(rings):
+        mine = ring == k
+        n = int(mine.sum())
+        f = float(inside[mine].mean()) if n else float("nan")
+        mid = 0.5 * (edges[k] + edges[k + 1])
+        profile.append({"r_m": mid, "from_wall_d": (radius - mid) / d, "porosity": 1 - f,
+                        "error": math.sqrt(f * (1 - f) / n) if n else float("nan"),
+                        "points": n})
+    result["radial_profile"] = profile
+    # Orientations of the pellets in the core: |cos| of the angle between each pellet's axis and
+    # the tube's; random orientations give |cos| uniform on [0, 1] (mean 0.5).
+    core = (pos[:, 2] > z_lo) & (pos[:, 2] < z_hi)
+    axes = rot[core] @ axis_body
+    cos = np.abs(axes[:, 2])
+    hist, bins = np.histogram(cos, bins=10, range=(0, 1))
+    result["orientation"] = {"pellets": int(core.sum()), "mean_abs_cos": float(cos.mean()),
+                             "histogram": hist.tolist(), "bins": bins.tolist()}
+    return result, filling
+
+
+# ---------------------------------------------------------------------------------------------
+# Outputs
+
+
+def figure(result, filling, path, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+    ax = axes[0]
+    prof = result.get("radial_profile", [])
+    if prof:
+        x = [p["from_wall_d"] for p in prof]
+        ax.errorbar(x, [p["porosity"] for p in prof], yerr=[p["error"] for p in prof], fmt="o-",
+                    ms=3)
+        ax.axhline(result["porosity"], color="0.5", ls="--",
+                   label=f"mean {result['porosity']:.3f} ± {result['porosity_error']:.3f}")
+        ax.legend()
+    ax.set_xlabel("distance from the wall (pellet diameters)")
+    ax.set_ylabel("porosity of the ring")
+    ax.set_title("(a) radial porosity profile")
+    ax = axes[1]
+    o = result.get("orientation")
+    if o:
+        centres = 0.5 * (np.array(o["bins"][:-1]) + np.array(o["bins"][1:]))
+        total = sum(o["histogram"])
+        ax.bar(centres, np.array(o["histogram"]) / max(total, 1), width=0.09,
+               label=f"{o['pellets']} pellets, mean {o['mean_abs_cos']:.3f}")
+        ax.axhline(0.1, color="0.5", ls="--", label="random orientations (0.1 a bin)")
+        ax.legend()
+    ax.set_xlabel("|cos| of the angle between the pellet's axis and the tube's")
+    ax.set_ylabel("fraction of the core's pellets")
+    ax.set_title("(b) orientations")
+    ax = axes[2]
+    ax.plot([f["resting"] for f in filling], [f["bed_height_m"] for f in filling], "o-", ms=3)
+    ax.set_xlabel("pellets at rest in the tube (each frame)")
+    ax.set_ylabel("bed height, m (pellets at rest)")
+    ax.set_title("(c) bed height as the pellets land")
+    fig.suptitle(title)
+    fig.tight_layout()
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".bed.", suffix=".png")
+    os.close(fd)
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def markdown(bed):
+    r = bed["result"]
+    lines = ["# Fixed bed (method paper §4.2): results", "",
+             f"talus commit `{bed['commit']}`, {bed['machine']}; pellets `{bed['pellet']}`, "
+             f"seed {bed['seed']}, time step {bed['time_step_s']:.3g} s "
+             f"({bed['time_step_s'] / bed['critical_time_step_s']:.2f} of the critical step); "
+             f"run {bed['run_wall_seconds']:.0f} s. Command:", "", "    " + bed["command"], "",
+             "| quantity | value |", "|---|---|",
+             f"| pellets in the tube | {r['pellets']} of {bed['pellets_fed']} fed"
+             + ("" if r["pellets"] == bed["pellets_fed"] else " (the feed fell behind: the run "
+                "ended before every pellet went in)") + " |",
+             f"| bed height (top layer at rest) | {r['surface_m']:.4f} m |"]
+    if "porosity" in r:
+        lines += [f"| mean porosity, {r['core_z_m'][0]:.4f} to {r['core_z_m'][1]:.4f} m | "
+                  f"{r['porosity']:.4f} ± {r['porosity_error']:.4f} ({r['points']} points) |",
+                  f"| mean \\|cos\\| of the pellets' axes to the tube's | "
+                  f"{r['orientation']['mean_abs_cos']:.3f} (random: 0.5) |",
+                  "", "Radial profile (rings of equal area, from the axis to the wall):", "",
+                  "| r, mm | from the wall, d_p | porosity | ± |", "|---|---|---|---|"]
+        lines += [f"| {1e3 * p['r_m']:.2f} | {p['from_wall_d']:.3f} | {p['porosity']:.4f} | "
+                  f"{p['error']:.4f} |" for p in r["radial_profile"]]
+    else:
+        lines += ["", r.get("note", "")]
+    return "\n".join(lines) + "\n"
+
+
+def git_commit():
+    try:
+        return subprocess.run(["git", "-C", REPO, "rev-parse", "--short=12", "HEAD"],
+                              capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--talus", default=os.path.join(REPO, "build", "talus"))
+    p.add_argument("--sides", type=int, default=16, help="the pellets' prism sides (default 16)")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--pellets", type=int, default=None,
+                   help="pellets fed (default 10000, the paper's; --quick 60)")
+    p.add_argument("--backend", choices=("auto", "cpu", "cuda"), default="auto")
+    p.add_argument("--threads", type=int, default=0, help="host threads (default: OpenMP's)")
+    p.add_argument("--points", type=int, default=400000, help="random points of the analysis")
+    p.add_argument("--output", default="scratch/fixed_bed")
+    p.add_argument("--quick", action="store_true", help="CI's size: a 0.12 m tube, 60 pellets")
+    p.add_argument("--analyse", metavar="RUN_DIR", default=None,
+                   help="only analyse an earlier run's folder (its run/ and scene.yaml)")
+    p.add_argument("--commit", default=None)
+    a = p.parse_args(argv)
+    if a.sides < 3 or a.points < 1000:
+        p.error("--sides must be at least 3 and --points at least 1000")
+    size = QUICK if a.quick else FULL
+    pellets = a.pellets or size["pellets"]
+    out = a.analyse or a.output
+    os.makedirs(out, exist_ok=True)
+    run_dir = os.path.join(out, "run")
+    info_path = os.path.join(out, "run.json")
+    if a.analyse:
+        info = json.load(open(info_path))
+    else:
+        dt, crit = advised_step(a.talus, a.sides, a.seed, pellets, size)
+        scene = os.path.join(out, "scene.yaml")
+        write_atomically(scene, scene_text(a.sides, a.seed, pellets, size, dt))
+        argv_run = [a.talus, "run", scene, "--backend", a.backend, "--quiet", "--output",
+                    run_dir, "--overwrite"]
+        if a.threads:
+            argv_run += ["--threads", str(a.threads)]
+        started = time.monotonic()
+        proc = subprocess.run(argv_run, capture_output=True, text=True)
+        seconds = time.monotonic() - started
+        if proc.returncode != 0:
+            sys.exit(f"fixed_bed.py: the run failed ({proc.returncode}): {' '.join(argv_run)}\n"
+                     + proc.stderr[-3000:])
+        summary = json.loads(proc.stdout)
+        info = {"time_step_s": dt, "critical_time_step_s": crit, "run_wall_seconds": seconds,
+                "run_command": " ".join(argv_run), "backend": summary.get("backend"),
+                "steps": summary.get("steps"), "particles": summary.get("particles"),
+                "sides": a.sides, "seed": a.seed, "pellets_fed": pellets,
+                "quick": a.quick}
+        write_atomically(info_path, json.dumps(info, indent=2) + "\n")
+    result, filling = analyse(run_dir, a.talus, info["sides"], a.points, info["seed"])
+    bed = dict(info, result=result, filling=filling, paper=PAPER,
+               pellet=pellet_spec(info["sides"]), commit=a.commit or git_commit(),
+               machine=f"{platform.node()} ({platform.machine()}, {os.cpu_count()} CPUs)",
+               command=" ".join([sys.executable] + sys.argv))
+    write_atomically(os.path.join(out, "bed.json"), json.dumps(bed, indent=2) + "\n")
+    write_atomically(os.path.join(out, "bed.md"), markdown(bed))
+    figure(result, filling, os.path.join(out, "bed.png"),
+           f"Fixed bed: {info['pellets_fed']} pellets ({pellet_spec(info['sides'])}) in a "
+           f"{PAPER['tube_diameter_m'] * 1e3:.0f} mm tube")
+    print(json.dumps({k: result[k] for k in ("pellets", "surface_m", "porosity",
+                                             "porosity_error") if k in result}))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

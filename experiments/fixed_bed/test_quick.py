@@ -1,0 +1,81 @@
+#!/usr/bin/python3
+"""ctest `fixed_bed_quick`: the fixed-bed driver end to end at CI's size (fixed_bed.py --quick:
+60 pellets in a 0.12 m piece of the §4.2 tube, on the host), its bed.json checked.
+
+    test_quick.py TALUS WORK_DIR
+
+Checks, each a number that a broken driver, scene or analysis gets wrong:
+  - every pellet fed is in the tube at the end (none lost through the wall or the floor);
+  - the random points find the pellets' summed volume within 1 % + 4 sampling errors (the
+    contacts' overlaps are well below 1 % of a pellet's volume at this stiffness; a wrong
+    quaternion convention or face plane misses tens of percent);
+  - the bed's porosity lies in [0.30, 0.60]: cylinders of aspect 1 poured into a tube 4.5 pellet
+    diameters wide pack at 0.35 to 0.50 in experiments and simulations, a thin bed of 60 a little
+    looser; a bed that did not form or pellets overlapping deeply fall outside;
+  - the ring at the wall is the most porous of the profile (a wall admits no pellet's interior
+    beyond its contact points: > 0.7), the mean |cos| of the axes lies in (0, 1);
+  - bed.md and bed.png are written.
+Skipped (77) without /usr/bin/python3's numpy and matplotlib.
+"""
+import importlib.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def main(argv):
+    if len(argv) != 2:
+        print("usage: test_quick.py TALUS WORK_DIR", file=sys.stderr)
+        return 2
+    talus, work = argv
+    for module in ("numpy", "matplotlib"):
+        if importlib.util.find_spec(module) is None:
+            print(f"SKIPPED: {sys.executable} has no {module} (Debian's python3-{module})")
+            return 77
+    shutil.rmtree(work, ignore_errors=True)
+    proc = subprocess.run([sys.executable, os.path.join(HERE, "fixed_bed.py"), "--talus", talus,
+                           "--quick", "--backend", "cpu", "--threads", "2", "--points", "60000",
+                           "--output", work], capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode != 0:
+        print(f"fixed_bed.py exited with {proc.returncode}")
+        return 1
+    bed = json.load(open(os.path.join(work, "bed.json")))
+    r = bed["result"]
+    failures = []
+
+    def check(ok, what):
+        if not ok:
+            failures.append(what)
+
+    check(r["pellets"] == bed["pellets_fed"] == 60, f"{r['pellets']} pellets in the tube, fed "
+          f"{bed['pellets_fed']}, expected 60")
+    v = r["volume_check"]
+    check(v is not None and abs(v["found_over_summed"] - 1) <= 0.01 + 4 * v["error"],
+          f"the sampled solid volume over the pellets' summed volume: {v}")
+    check("porosity" in r and 0.30 <= r["porosity"] <= 0.60,
+          f"porosity {r.get('porosity')} outside [0.30, 0.60]")
+    profile = r.get("radial_profile", [])
+    check(len(profile) > 1 and profile[-1]["porosity"] > 0.7 and
+          profile[-1]["porosity"] == max(p["porosity"] for p in profile),
+          "the ring at the wall is not the most porous (> 0.7): "
+          + str([round(p["porosity"], 3) for p in profile]))
+    check(0 < r.get("orientation", {}).get("mean_abs_cos", -1) < 1, "no orientations")
+    for name in ("bed.md", "bed.png"):
+        path = os.path.join(work, name)
+        check(os.path.isfile(path) and os.path.getsize(path) > 0, f"{name}: not written")
+    for f in failures:
+        print("FAILED:", f)
+    if not failures:
+        print(f"fixed_bed_quick: porosity {r['porosity']:.4f} ± {r['porosity_error']:.4f}, "
+              f"volume check {v['found_over_summed']:.4f}, wall ring "
+              f"{profile[-1]['porosity']:.3f}")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
