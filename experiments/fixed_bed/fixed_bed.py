@@ -15,7 +15,12 @@ talus, and analyses the bed from its last frame, on the true polyhedra:
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --talus build/talus \\
         [--sides 16] [--seed 1] [--pellets 10000] [--backend auto|cpu|cuda] \\
         [--output scratch/fixed_bed] [--quick] [--points 400000]
-    /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --analyse RUN_DIR [--talus build/talus]
+    /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --continue OUTPUT [--time-limit S]
+    /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --analyse OUTPUT [--talus build/talus]
+
+--time-limit S stops talus (SIGTERM: it writes a checkpoint at the next step) after S seconds and
+exits with status 3; --continue OUTPUT resumes that run (with its own --time-limit), and
+analyses it once it has ended.
 
 Into OUTPUT (each through a temporary file and a rename): scene.yaml, the run (run/: frames,
 probes, vtk, summary.json), bed.json (every number below, the command, the machine), bed.md,
@@ -30,6 +35,7 @@ import math
 import os
 import platform
 import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -129,6 +135,9 @@ outputs:
   trajectories: {{every: {frames}, directory: frames, format: csv}}
   vtk: {{every: {end_steps}, directory: vtk}}
   probes: {{every: {steps(0.01)}, file: probes.csv, quantities: [kinetic_energy, bed_height]}}
+  # A run longer than a sitting (the GPU machine's calls are 10 minutes) stops with a checkpoint
+  # at SIGTERM (--time-limit) and continues from it (--continue).
+  checkpoint: {{every: {frames * 5}, directory: checkpoints, keep: 1}}
 """
 
 
@@ -343,6 +352,37 @@ def markdown(bed):
     return "\n".join(lines) + "\n"
 
 
+def run_talus(argv, info, info_path, time_limit):
+    """Runs talus (a start or a resume) for at most `time_limit` seconds: past it, SIGTERM, and
+    talus stops at the next step with a checkpoint (exit 143). Records the sitting in run.json;
+    returns whether the run has ended."""
+    started = time.monotonic()
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        stdout, stderr = proc.communicate(timeout=time_limit)
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGTERM)
+        stdout, stderr = proc.communicate()
+    info["run_wall_seconds"] += time.monotonic() - started
+    info["sittings"] += 1
+    info.setdefault("commands", []).append(" ".join(argv))
+    if proc.returncode == 128 + signal.SIGTERM:
+        info["finished"] = False
+        write_atomically(info_path, json.dumps(info, indent=2) + "\n")
+        print(f"fixed_bed.py: stopped after {time_limit} s with a checkpoint "
+              f"({stderr.strip().splitlines()[-1] if stderr.strip() else ''}); continue with "
+              f"--continue {os.path.dirname(info_path)}")
+        return False
+    if proc.returncode != 0:
+        sys.exit(f"fixed_bed.py: the run failed ({proc.returncode}): {' '.join(argv)}\n"
+                 + stderr[-3000:])
+    summary = json.loads(stdout)
+    info.update(finished=True, backend=summary.get("backend"), steps=summary.get("steps"),
+                particles=summary.get("particles"))
+    write_atomically(info_path, json.dumps(info, indent=2) + "\n")
+    return True
+
+
 def git_commit():
     try:
         return subprocess.run(["git", "-C", REPO, "rev-parse", "--short=12", "HEAD"],
@@ -365,19 +405,25 @@ def main(argv=None):
     p.add_argument("--quick", action="store_true", help="CI's size: a 0.12 m tube, 60 pellets")
     p.add_argument("--analyse", metavar="RUN_DIR", default=None,
                    help="only analyse an earlier run's folder (its run/ and scene.yaml)")
+    p.add_argument("--continue", dest="resume", metavar="OUTPUT", default=None,
+                   help="resume an earlier call's run that --time-limit stopped, then analyse")
+    p.add_argument("--time-limit", type=float, default=None, metavar="S",
+                   help="stop talus after S seconds with a checkpoint (exit status 3)")
     p.add_argument("--commit", default=None)
     a = p.parse_args(argv)
     if a.sides < 3 or a.points < 1000:
         p.error("--sides must be at least 3 and --points at least 1000")
     size = QUICK if a.quick else FULL
     pellets = a.pellets or size["pellets"]
-    out = a.analyse or a.output
+    out = a.analyse or a.resume or a.output
     os.makedirs(out, exist_ok=True)
     run_dir = os.path.join(out, "run")
     info_path = os.path.join(out, "run.json")
     if a.analyse:
         info = json.load(open(info_path))
-    else:
+        if not info.get("finished"):
+            sys.exit(f"fixed_bed.py: the run in {run_dir} has not ended; --continue it first")
+    elif not a.resume:
         dt, crit = advised_step(a.talus, a.sides, a.seed, pellets, size)
         scene = os.path.join(out, "scene.yaml")
         write_atomically(scene, scene_text(a.sides, a.seed, pellets, size, dt))
@@ -385,19 +431,18 @@ def main(argv=None):
                     run_dir, "--overwrite"]
         if a.threads:
             argv_run += ["--threads", str(a.threads)]
-        started = time.monotonic()
-        proc = subprocess.run(argv_run, capture_output=True, text=True)
-        seconds = time.monotonic() - started
-        if proc.returncode != 0:
-            sys.exit(f"fixed_bed.py: the run failed ({proc.returncode}): {' '.join(argv_run)}\n"
-                     + proc.stderr[-3000:])
-        summary = json.loads(proc.stdout)
-        info = {"time_step_s": dt, "critical_time_step_s": crit, "run_wall_seconds": seconds,
-                "run_command": " ".join(argv_run), "backend": summary.get("backend"),
-                "steps": summary.get("steps"), "particles": summary.get("particles"),
-                "sides": a.sides, "seed": a.seed, "pellets_fed": pellets,
-                "quick": a.quick}
-        write_atomically(info_path, json.dumps(info, indent=2) + "\n")
+        info = {"time_step_s": dt, "critical_time_step_s": crit, "run_wall_seconds": 0.0,
+                "run_command": " ".join(argv_run), "sides": a.sides, "seed": a.seed,
+                "pellets_fed": pellets, "quick": a.quick, "sittings": 0}
+        if not run_talus(argv_run, info, info_path, a.time_limit):
+            return 3
+    elif a.resume:
+        info = json.load(open(info_path))
+        if not info.get("finished"):
+            argv_run = [a.talus, "run", "--resume", os.path.join(run_dir, "checkpoints"),
+                        "--quiet"] + (["--threads", str(a.threads)] if a.threads else [])
+            if not run_talus(argv_run, info, info_path, a.time_limit):
+                return 3
     result, filling = analyse(run_dir, a.talus, info["sides"], a.points, info["seed"])
     bed = dict(info, result=result, filling=filling, paper=PAPER,
                pellet=pellet_spec(info["sides"]), commit=a.commit or git_commit(),

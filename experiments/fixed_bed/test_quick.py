@@ -4,7 +4,9 @@
 
     test_quick.py TALUS WORK_DIR
 
+The run is stopped after 5 s (--time-limit: SIGTERM, a checkpoint) and continued (--continue).
 Checks, each a number that a broken driver, scene or analysis gets wrong:
+  - the run ended in two sittings;
   - every pellet fed is in the tube at the end (none lost through the wall or the floor);
   - the random points find the pellets' summed volume within 1 % + 4 sampling errors (the
     contacts' overlaps are well below 1 % of a pellet's volume at this stiffness; a wrong
@@ -37,12 +39,20 @@ def main(argv):
             print(f"SKIPPED: {sys.executable} has no {module} (Debian's python3-{module})")
             return 77
     shutil.rmtree(work, ignore_errors=True)
-    proc = subprocess.run([sys.executable, os.path.join(HERE, "fixed_bed.py"), "--talus", talus,
-                           "--quick", "--backend", "cpu", "--threads", "2", "--points", "60000",
-                           "--output", work], capture_output=True, text=True)
+    driver = [sys.executable, os.path.join(HERE, "fixed_bed.py"), "--talus", talus,
+              "--threads", "2", "--points", "60000"]
+    # Stopped after 5 s (the run takes 30 s or more here), then continued: the path a GPU run
+    # longer than one sitting takes.
+    proc = subprocess.run(driver + ["--quick", "--backend", "cpu", "--output", work,
+                                    "--time-limit", "5"], capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode != 3:
+        print(f"fixed_bed.py --time-limit 5 exited with {proc.returncode}, expected 3 (stopped)")
+        return 1
+    proc = subprocess.run(driver + ["--continue", work], capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
-        print(f"fixed_bed.py exited with {proc.returncode}")
+        print(f"fixed_bed.py --continue exited with {proc.returncode}")
         return 1
     bed = json.load(open(os.path.join(work, "bed.json")))
     r = bed["result"]
@@ -52,6 +62,8 @@ def main(argv):
         if not ok:
             failures.append(what)
 
+    check(bed.get("finished") and bed.get("sittings") == 2, f"run.json: finished "
+          f"{bed.get('finished')}, sittings {bed.get('sittings')}; expected true and 2")
     check(r["pellets"] == bed["pellets_fed"] == 60, f"{r['pellets']} pellets in the tube, fed "
           f"{bed['pellets_fed']}, expected 60")
     v = r["volume_check"]
