@@ -10,7 +10,7 @@ talus, and analyses the bed from its last frame, on the true polyhedra:
   - the radial porosity profile from the wall to the axis (equal-area rings);
   - the orientation of the pellets' axes against the tube's (cos of the angle: uniform for
     random orientations);
-  - the bed height against the pellets fed (from the frames written while it fills).
+  - the bed height as the pellets land (from the frames written while it fills).
 
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --talus build/talus \\
         [--sides 16] [--seed 1] [--pellets 10000] [--backend auto|cpu|cuda] \\
@@ -24,7 +24,7 @@ analyses it once it has ended.
 
 Into OUTPUT (each through a temporary file and a rename): scene.yaml, the run (run/: frames,
 probes, vtk, summary.json), bed.json (every number below, the command, the machine), bed.md,
-and bed.png (the radial profile, the orientations, the height against the pellets fed).
+and bed.png (the radial profile, the orientations, the height as the pellets land).
 README.md here gives the choices and their reasons. Needs numpy and matplotlib.
 """
 
@@ -57,7 +57,7 @@ PAPER = {"pellet_diameter_m": 0.0055, "pellet_length_m": 0.0055, "tube_diameter_
 # tall holds about 100 pellets and clears in about 0.17 s at 2 m/s and g: about 600 a second), so
 # that every pellet asked for goes in by `stop` and the end time holds the last one's fall.
 FULL = {"tube_height": 1.80, "pellets": 10000, "feed_height": 0.50, "settle": 0.6, "rate": 400}
-# CI's size: the same tube and pellets, 0.12 m tall, 60 pellets (about 0.05 m of bed).
+# CI's size: the same tube and pellets, 0.12 m tall, 60 pellets (about 0.03 m of bed).
 QUICK = {"tube_height": 0.12, "pellets": 60, "feed_height": 0.04, "settle": 0.10, "rate": 600}
 TUBE_SEGMENTS = 96  # the tube's polygon: its sagitta r (1 - cos(pi/96)) = 6.7 um, 0.1 % of d_p
 
