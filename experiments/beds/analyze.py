@@ -88,8 +88,11 @@ def shape_data(talus, spec, cache_dir):
 
 def read_frame(path):
     """A trajectory frame: template ids, centroids (n, 3), body-to-world rotations (n, 3, 3)."""
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    data = np.atleast_1d(data)
+    return frame_arrays(np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True)))
+
+
+def frame_arrays(data):
+    """read_frame's arrays from a frame's columns as numpy reads them (named fields)."""
     pos = np.stack([data["x"], data["y"], data["z"]], axis=1)
     q = np.stack([data["qw"], data["qx"], data["qy"], data["qz"]], axis=1)
     q /= np.linalg.norm(q, axis=1, keepdims=True)

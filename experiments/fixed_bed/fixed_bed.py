@@ -46,7 +46,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "experiments", "beds"))
-import analyze as beds  # noqa: E402  (read_frame, shape_data, inside_mask)
+import analyze as beds  # noqa: E402  (frame_arrays, shape_data, inside_mask)
 
 # §4.2: "cylindrical catalyst particles with an outer diameter of 5.5 mm and a length of 5.5 mm.
 # The reactor tube had an inner diameter of 2.5 cm, a total height of 1.80 m, and a packed bed
@@ -180,7 +180,7 @@ def tops_of(pos, rot, vertices):
     return pos[:, 2] + (rot[:, 2, :] @ vertices.T).max(axis=1)
 
 
-def bed_surface(pos, rot, vel, vertices, radius, rest_speed=0.05):
+def bed_surface(pos, rot, vel, vertices, rest_speed=0.05):
     """The bed's height: the mean of the 5 highest pellet tops among the pellets at rest (speed
     below `rest_speed`), so that pellets still falling or bouncing are not taken for the bed; the
     narrow tube holds about 5 pellets across, so the 5 highest are the top layer."""
@@ -192,10 +192,10 @@ def bed_surface(pos, rot, vel, vertices, radius, rest_speed=0.05):
 
 
 def read_frame_full(path):
-    tids, pos, rot = beds.read_frame(path)
+    """beds.read_frame's arrays and the velocities (n, 3), the file read once."""
     data = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
-    vel = np.stack([data["vx"], data["vy"], data["vz"]], axis=1)
-    return tids, pos, rot, vel
+    tids, pos, rot = beds.frame_arrays(data)
+    return tids, pos, rot, np.stack([data["vx"], data["vy"], data["vz"]], axis=1)
 
 
 def analyse(run_dir, talus, sides, points, seed, rings=25):
@@ -209,18 +209,18 @@ def analyse(run_dir, talus, sides, points, seed, rings=25):
     files = frame_files(run_dir)
     if not files:
         sys.exit(f"fixed_bed.py: no frames in {run_dir}/frames")
-    # The bed height against the pellets fed: each frame's count and surface.
+    # The bed height as the pellets land: each frame's count, pellets at rest and surface.
     filling = []
     for path in files:
         tids, pos, rot, vel = read_frame_full(path)
         step = int(re.search(r"trajectory_(\d+)\.csv$", path).group(1))
         resting = int((np.linalg.norm(vel, axis=1) < 0.05).sum()) if len(pos) else 0
         filling.append({"step": step, "pellets": int(len(pos)), "resting": resting,
-                        "bed_height_m": bed_surface(pos, rot, vel, shape["vertices"],
-                                                    shape["radius"]) if len(pos) else 0.0})
-    tids, pos, rot, vel = read_frame_full(files[-1])
+                        "bed_height_m": bed_surface(pos, rot, vel, shape["vertices"])
+                        if len(pos) else 0.0})
+    # tids, pos, rot, vel: the last frame's, from the loop.
     shapes = {t: shape for t in set(tids)}
-    surface = bed_surface(pos, rot, vel, shape["vertices"], shape["radius"])
+    surface = filling[-1]["bed_height_m"]
     rng = np.random.default_rng(seed)
     # A check of the frames, quaternions and face planes: points in the whole tube up to the
     # highest pellet must find the pellets' summed volume (less the contacts' overlaps, a small

@@ -77,13 +77,8 @@ std::vector<ParticleState> initial_particles(const Scene& scene) {
 
 std::size_t initial_particle_count(const Scene& scene) {
   std::size_t count = scene.particles.size();
-  for (const LatticeRequest& lattice : scene.lattices) {
-    // As lattice_particles counts them.
-    const std::array<double, 3> dimensions = lattice_dimensions(lattice.region, lattice.spacing);
-    std::size_t points = 1;
-    for (int k = 0; k < 3; ++k) points *= static_cast<std::size_t>(static_cast<int>(dimensions[k]));
-    count += points;
-  }
+  for (const LatticeRequest& lattice : scene.lattices)  // whole numbers below 2^53: exact
+    count += static_cast<std::size_t>(lattice_point_count(lattice.region, lattice.spacing));
   for (const RandomFillRequest& fill : scene.random_fills)
     count += static_cast<std::size_t>(fill.count);
   return count;
