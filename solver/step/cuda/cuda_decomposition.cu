@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <utility>
 
 #include "solver/core/cub_call.cuh"
@@ -153,10 +156,42 @@ DeviceDecomposition<Real>::DeviceDecomposition(DeviceStepShared<Real>& shared,
       send_(comm_->size()),
       received_(comm_->size(), 0) {
   TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&packed_, cudaEventDisableTiming));
+  const char* profile = std::getenv("TALUS_EXCHANGE_PROFILE");
+  profile_.on = profile && std::strcmp(profile, "1") == 0;
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::RebuildProfile::start(cudaStream_t stream) {
+  if (!on) return;
+  ++rebuilds;
+  TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
+  last = std::chrono::steady_clock::now();
+}
+
+template <class Real>
+void DeviceDecomposition<Real>::RebuildProfile::mark(const char* part, cudaStream_t stream) {
+  if (!on) return;
+  TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
+  const auto now = std::chrono::steady_clock::now();
+  const double seconds = std::chrono::duration<double>(now - last).count();
+  last = now;
+  for (auto& entry : parts)
+    if (std::strcmp(entry.first, part) == 0) {
+      entry.second += seconds;
+      return;
+    }
+  parts.emplace_back(part, seconds);
 }
 
 template <class Real>
 DeviceDecomposition<Real>::~DeviceDecomposition() {
+  if (profile_.on && profile_.rebuilds > 0) {
+    std::string line = "talus: rank " + std::to_string(comm_->rank()) + ", " +
+                       std::to_string(profile_.rebuilds) + " rebuilds, ms each:";
+    for (const auto& [part, seconds] : profile_.parts)
+      line += std::string(" ") + part + " " + std::to_string(1e3 * seconds / profile_.rebuilds);
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
   if (packed_) cudaEventDestroy(packed_);  // no throw from a destructor
   if (pinned_out_) cudaFreeHost(pinned_out_);
   if (pinned_in_) cudaFreeHost(pinned_in_);
@@ -247,6 +282,7 @@ bool DeviceDecomposition<Real>::begin_exchange(bool rebuild) {
   const auto rebuild_start = std::chrono::steady_clock::now();
   vote_seconds_ += std::chrono::duration<double>(rebuild_start - vote_start).count();
   if (rebuilding) {
+    profile_.start(shared_.stream);
     drop_ghosts();
     // The boxes cut again from every particle where one rank holds too many (a pour collapsing
     // to the bottom of a silo): `decomposition: {rebalance: R}`.
@@ -259,10 +295,13 @@ bool DeviceDecomposition<Real>::begin_exchange(bool rebuild) {
       cut(points);
       ++rebalances_;
     }
+    profile_.mark("drop-ghosts-and-balance", shared_.stream);
     migrate();
     if (list_) {
       if (shared_.scene.reorder.value_or(true)) reorder_own_by_cell();
+      profile_.mark("reorder", shared_.stream);
       send_ghosts();
+      profile_.mark("ghosts", shared_.stream);
     }
     changed_ = false;
     rebuild_seconds_ +=
@@ -308,6 +347,7 @@ void DeviceDecomposition<Real>::migrate() {
     kept_count = select_flagged(stays, own, order_.data());
   }
   const typename DeviceParticles<Real>::Rows rows = particles_.gather_rows(leaving_index);
+  profile_.mark("migrate:owners", shared_.stream);
   std::vector<std::vector<int>> rows_to(ranks);
   for (int k = 0; k < rows.count; ++k) {
     rows_to[destination_of[k]].push_back(k);
@@ -315,16 +355,17 @@ void DeviceDecomposition<Real>::migrate() {
   }
   std::sort(leaving.begin(), leaving.end());
   // Each leaving particle's histories go with it (its pairs: keys holding its id; its walls: the
-  // key's low id). Of the pair store only the entries naming them leave the device.
+  // key's low id). Of each store only the entries naming them leave the device.
   using Entries = std::vector<std::vector<KeyedHistory<Real>>>;
   std::vector<PairKey> pair_keys, wall_keys;
   std::vector<ContactHistoryData<Real>> pair_histories, wall_histories;
-  if (list_ && !leaving.empty()) {
+  if (!leaving.empty()) {
     std::vector<long long> ids;
     for (const auto& l : leaving) ids.push_back(l.first);
-    list_->histories_with(ids, pair_keys, pair_histories);  // the store: drop_ghosts kept it
+    if (list_) list_->histories_with(ids, pair_keys, pair_histories);  // drop_ghosts kept it
+    if (walls_) walls_->histories_with(ids, wall_keys, wall_histories);
   }
-  if (walls_) walls_->export_histories(wall_keys, wall_histories);
+  profile_.mark("migrate:histories-out", shared_.stream);
   const Entries pair_out =
       histories_by_destination(pair_keys, pair_histories, leaving, true, ranks);
   const Entries wall_out =
@@ -338,7 +379,9 @@ void DeviceDecomposition<Real>::migrate() {
     w.put_vector(wall_out[r]);
   }
   if (kept_count != own) particles_.keep(order_.data(), kept_count);
+  profile_.mark("migrate:pack", shared_.stream);
   const std::vector<Bytes> from = exchange_bytes(to);
+  profile_.mark("migrate:all-to-all", shared_.stream);
   const std::size_t arrays = particles_.names().size();
   typename DeviceParticles<Real>::Rows arriving;
   std::vector<KeyedHistory<Real>> pair_in, wall_in;
@@ -354,6 +397,7 @@ void DeviceDecomposition<Real>::migrate() {
   particles_.append_rows(arriving);
   shared_.owned = shared_.count;
   if (arriving.count > 0) changed_ = true;
+  profile_.mark("migrate:arrivals", shared_.stream);
   if (list_ && !pair_in.empty()) {
     std::vector<PairKey> keys;
     std::vector<ContactHistoryData<Real>> histories;
@@ -361,15 +405,13 @@ void DeviceDecomposition<Real>::migrate() {
     list_->add_histories(keys, histories);
   }
   if (walls_ && !wall_in.empty()) {
-    // The wall store is small (a particle's walls): merged on the host, then set again.
-    std::vector<KeyedHistory<Real>> all;
-    for (std::size_t k = 0; k < wall_keys.size(); ++k)
-      all.push_back({wall_keys[k], wall_histories[k]});
-    all.insert(all.end(), wall_in.begin(), wall_in.end());
-    sorted_store(all, wall_keys, wall_histories);
-    walls_->import_histories(wall_keys, wall_histories);
+    std::vector<PairKey> keys;
+    std::vector<ContactHistoryData<Real>> histories;
+    for (const auto& e : wall_in) keys.push_back(e.key), histories.push_back(e.history);
+    walls_->add_histories(keys, histories);  // merged on the device
   }
   if (list_) list_->particles_changed();
+  profile_.mark("migrate:histories-in", shared_.stream);
 }
 
 template <class Real>

@@ -11,7 +11,9 @@
 // files.
 #pragma once
 
+#include <chrono>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "solver/domain/communicator.hpp"
@@ -105,6 +107,19 @@ class DeviceDecomposition {
   cudaEvent_t packed_ = nullptr;  // the sent states are in pinned_out_ (begin_update)
   double exchange_seconds_ = 0, bytes_sent_ = 0, vote_seconds_ = 0, rebuild_seconds_ = 0;
   long long rebalances_ = 0;
+
+  // TALUS_EXCHANGE_PROFILE=1: the rebuild steps' parts timed, the stream waited for at the end
+  // of each (which an unprofiled run does not do), and printed by each rank on stderr when the
+  // step ends (docs/parallel.md, "Costs (GPU backend)").
+  struct RebuildProfile {
+    bool on = false;
+    long long rebuilds = 0;
+    std::vector<std::pair<const char*, double>> parts;  // in the order first marked
+    std::chrono::steady_clock::time_point last;
+    void start(cudaStream_t stream);
+    void mark(const char* part, cudaStream_t stream);
+  };
+  RebuildProfile profile_;
 };
 
 }  // namespace talus

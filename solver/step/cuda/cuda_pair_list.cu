@@ -9,6 +9,7 @@
 #include "solver/contact/contact_laws.hpp"
 #include "solver/core/cub_call.cuh"
 #include "solver/dynamics/integrator.hpp"
+#include "solver/step/cuda/history_select.cuh"
 #include "solver/step/particle_kernels.hpp"
 
 namespace talus {
@@ -137,27 +138,6 @@ struct TwoOwn {
     return c.a < owned && c.b < owned;
   }
 };
-
-// flags[k]: whether store entry k names a particle among ids[0 .. n) (sorted).
-__global__ void flag_keys_with(const PairKey* __restrict__ keys, int count,
-                               const long long* __restrict__ ids, int n,
-                               unsigned char* __restrict__ flags) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  const auto holds = [&](long long id) {
-    int lo = 0, hi = n;
-    while (lo < hi) {
-      const int mid = (lo + hi) / 2;
-      if (ids[mid] < id) {
-        lo = mid + 1;
-      } else {
-        hi = mid;
-      }
-    }
-    return lo < n && ids[lo] == id;
-  };
-  flags[k] = holds(keys[k].low) || holds(keys[k].high);
-}
 
 // begin[i], end[i]: particle i's range of the sorted entries (both 0 when it has none).
 __global__ void entry_ranges(const int* __restrict__ sorted_particle, int n, int* begin, int* end) {
@@ -382,30 +362,9 @@ template <class Real>
 void DevicePairList<Real>::histories_with(const std::vector<long long>& ids,
                                           std::vector<PairKey>& keys,
                                           std::vector<ContactHistoryData<Real>>& histories) {
-  keys.clear();
-  histories.clear();
   const int stored = imported_ >= 0 ? imported_ : 0;
-  if (stored == 0 || ids.empty()) return;
-  DeviceBuffer<long long> device_ids;
-  device_ids.upload(ids);
-  DeviceBuffer<unsigned char> flags(stored);
-  DeviceBuffer<PairKey> out_keys(stored);
-  DeviceBuffer<ContactHistoryData<Real>> out_histories(stored);
-  flag_keys_with<<<blocks_for(stored), kBlock>>>(store_keys_.data(), stored, device_ids.data(),
-                                                 static_cast<int>(ids.size()), flags.data());
-  TALUS_CUDA_LAUNCH_CHECK();
-  int* selected_count = shared_.flags.at(selected);
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
-    return cub::DeviceSelect::Flagged(t, b, store_keys_.data(), flags.data(), out_keys.data(),
-                                      selected_count, stored);
-  });
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
-    return cub::DeviceSelect::Flagged(t, b, store_histories_.data(), flags.data(),
-                                      out_histories.data(), selected_count, stored);
-  });
-  const int n = shared_.flags.read(selected);
-  keys = download(out_keys.data(), n);
-  histories = download(out_histories.data(), n);
+  select_histories_with<true>(store_keys_.data(), store_histories_.data(), stored, ids, selection_,
+                              shared_.temp, keys, histories);
 }
 
 template <class Real>
@@ -540,6 +499,7 @@ std::vector<std::pair<const char*, std::size_t>> DevicePairList<Real>::parts() c
                            sizeof(int) +
                        (entry_partner_.size() + sorted_partner_.size()) * sizeof(long long)},
       {"own pairs", own_pairs_.size() * sizeof(ContactPair)},
+      {"migration's history selection", selection_.bytes()},
       {"broad phase", broad_phase_.allocated_bytes()},
   };
 }

@@ -161,6 +161,7 @@ class DevicePairList {
   DeviceBuffer<PairKey> old_keys_, store_keys_;
   DeviceBuffer<unsigned char> old_touching_;
   DeviceBuffer<ContactHistoryData<Real>> store_histories_;
+  HistorySelection<Real> selection_;  // histories_with's buffers
   // Deterministic mode: each particle's slots (CSR over the list, built with it), by partner id.
   DeviceBuffer<int> entry_particle_, entry_slot_, sorted_particle_, sorted_slot_;
   DeviceBuffer<int> entry_begin_, entry_end_, entry_index_, sorted_index_;

@@ -126,6 +126,11 @@ struct KeyLess {
     return key_less(p, q);
   }
 };
+struct KeyEqual {
+  __host__ __device__ bool operator()(const PairKey& p, const PairKey& q) const {
+    return key_equal(p, q);
+  }
+};
 
 // A history store as a kernel reads it: its keys and their number (on the device, at
 // `count_at`, in a graph step, where the host does not know it when the graph is launched).
@@ -163,6 +168,22 @@ struct DeviceHistory {
   std::size_t bytes() const {
     return (keys[0].size() + keys[1].size()) * sizeof(PairKey) +
            (histories[0].size() + histories[1].size()) * sizeof(ContactHistoryData<Real>);
+  }
+};
+
+// The buffers of a history selection (history_select.cuh), kept between rebuilds: a rebuild of a
+// million-particle rank selects from a store of millions of entries, and allocating and freeing
+// that much each time (cudaFree waits for the device) is avoidable.
+template <class Real>
+struct HistorySelection {
+  DeviceBuffer<long long> ids;
+  DeviceBuffer<unsigned char> flags;
+  DeviceBuffer<PairKey> keys;
+  DeviceBuffer<ContactHistoryData<Real>> histories;
+  DeviceBuffer<int> count;
+  std::size_t bytes() const {
+    return ids.size() * sizeof(long long) + flags.size() + keys.size() * sizeof(PairKey) +
+           histories.size() * sizeof(ContactHistoryData<Real>) + count.size() * sizeof(int);
   }
 };
 

@@ -12,6 +12,7 @@
 #include "solver/contact/contact_laws.hpp"
 #include "solver/core/cub_call.cuh"
 #include "solver/step/cuda/cuda_wall_kernels.cuh"
+#include "solver/step/cuda/history_select.cuh"
 
 namespace talus {
 
@@ -433,7 +434,7 @@ std::size_t DeviceWallStage<Real>::bytes() const {
   return corners_.size() * sizeof(Vec3<Real>) + mesh_corners_.size() * sizeof(Vec3d) +
          (grid_cells_.size() + grid_facets_.size() + materials_.size()) * sizeof(int) +
          facets_.size() * sizeof(WallFacets<Real>) + patches_.size() * sizeof(PlanarPatch<Real>) +
-         motions_.size() * sizeof(WallMotionData<Real>) + history_.bytes() +
+         motions_.size() * sizeof(WallMotionData<Real>) + history_.bytes() + selection_.bytes() +
          (touching_.size() + contacts_.size()) * sizeof(WallContactRecord<Real>) +
          (keys_.size() + sorted_keys_.size()) * sizeof(long long) +
          (index_.size() + sorted_index_.size() + wall_slot_.size() + run_first_.size() +
@@ -463,6 +464,50 @@ void DeviceWallStage<Real>::import_histories(
                                 cudaMemcpyHostToDevice));
   }
   history_.flip(n);
+}
+
+template <class Real>
+void DeviceWallStage<Real>::histories_with(const std::vector<long long>& ids,
+                                           std::vector<PairKey>& keys,
+                                           std::vector<ContactHistoryData<Real>>& histories) {
+  select_histories_with<false>(history_.keys[history_.current].data(), history_.values(),
+                               history_.count, ids, selection_, shared_.temp, keys, histories);
+}
+
+template <class Real>
+void DeviceWallStage<Real>::add_histories(const std::vector<PairKey>& keys,
+                                          const std::vector<ContactHistoryData<Real>>& histories) {
+  const int added = static_cast<int>(keys.size());
+  if (added == 0) return;
+  // The store and the arrivals into the next buffers; sorted there, stably (the store's entry
+  // before an arrival of the same key); the unique keys back into the current buffers.
+  const int stored = history_.count, n = stored + added;
+  PairKey* next_keys = history_.next_keys(n);
+  ContactHistoryData<Real>* next = history_.next_histories(n);
+  PairKey* current_keys = history_.keys[history_.current].data();
+  ContactHistoryData<Real>* current = history_.histories[history_.current].data();
+  if (stored > 0) {
+    TALUS_CUDA_CHECK(
+        cudaMemcpy(next_keys, current_keys, stored * sizeof(PairKey), cudaMemcpyDeviceToDevice));
+    TALUS_CUDA_CHECK(cudaMemcpy(next, current, stored * sizeof(ContactHistoryData<Real>),
+                                cudaMemcpyDeviceToDevice));
+  }
+  TALUS_CUDA_CHECK(
+      cudaMemcpy(next_keys + stored, keys.data(), added * sizeof(PairKey), cudaMemcpyHostToDevice));
+  TALUS_CUDA_CHECK(cudaMemcpy(next + stored, histories.data(),
+                              added * sizeof(ContactHistoryData<Real>), cudaMemcpyHostToDevice));
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceMergeSort::StableSortPairs(t, b, next_keys, next, n, KeyLess());
+  });
+  history_.keys[history_.current].grow_to(n);
+  history_.histories[history_.current].grow_to(n);
+  selection_.count.grow_to(1);
+  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    return cub::DeviceSelect::UniqueByKey(
+        t, b, next_keys, next, history_.keys[history_.current].data(),
+        history_.histories[history_.current].data(), selection_.count.data(), n, KeyEqual());
+  });
+  history_.count = download(selection_.count.data(), 1).at(0);
 }
 
 template class DeviceWallStage<double>;

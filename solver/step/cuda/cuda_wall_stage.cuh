@@ -84,6 +84,15 @@ class DeviceWallStage {
                         std::vector<ContactHistoryData<Real>>& histories) const;
   void import_histories(const std::vector<PairKey>& keys,
                         const std::vector<ContactHistoryData<Real>>& histories);
+  // Decomposed (docs/parallel.md), at a rebuild: the store's entries of the particles among
+  // `ids` (sorted global ids: those leaving for other ranks), chosen on the device; and the
+  // arriving particles' entries merged into the store there, in key order, an entry whose key
+  // the store holds already dropped (as sorted_store does). Neither moves the whole store
+  // through the host: at a million particles on a floor it holds tens of thousands of entries.
+  void histories_with(const std::vector<long long>& ids, std::vector<PairKey>& keys,
+                      std::vector<ContactHistoryData<Real>>& histories);
+  void add_histories(const std::vector<PairKey>& keys,
+                     const std::vector<ContactHistoryData<Real>>& histories);
 
  private:
   void upload(double time);
@@ -122,6 +131,7 @@ class DeviceWallStage {
   DeviceBuffer<int> run_first_, run_count_;
   int contact_count_ = 0;
   DeviceHistory<Real> history_;
+  HistorySelection<Real> selection_;  // histories_with's buffers
   mutable bool sums_ready_ = false;
   mutable std::vector<Vec3d> force_, torque_;
 };
