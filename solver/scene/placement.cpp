@@ -89,6 +89,7 @@ void PlacementGrid::Cells::init(const Vec3d& low_corner, const Vec3d& high_corne
                                 std::size_t max_cells) {
   low = low_corner;
   size = min_size;
+  if (!(size > 0)) size = std::max(1e-12, norm(high_corner - low_corner));  // a zero radius
   for (;;) {
     double count = 1;
     for (int k = 0; k < 3; ++k)
@@ -99,6 +100,7 @@ void PlacementGrid::Cells::init(const Vec3d& low_corner, const Vec3d& high_corne
   for (int k = 0; k < 3; ++k)
     n[k] = int(std::max(1.0, std::ceil((high_corner[k] - low_corner[k]) / size)));
   head.assign(std::size_t(n[0]) * n[1] * n[2], -1);
+  node.clear();
 }
 
 int PlacementGrid::Cells::coordinate(double x, int axis) const {
@@ -116,6 +118,16 @@ void PlacementGrid::Cells::add(int cell, int item) {
   head[cell] = int(node.size()) - 1;
 }
 
+namespace {
+
+// Cells are this much wider than the reach they are cut for, and a sphere is listed once only
+// when its reach is this much narrower than a cell: far above the round-off of a cell index
+// (1e-13 of a cell at a thousand cells from the corner), so two points closer than the reach
+// always lie in the same or neighbouring cells.
+constexpr double kCellMargin = 1 + 1e-9;
+
+}  // namespace
+
 PlacementGrid::PlacementGrid(const Vec3d& low, const Vec3d& high, double radius,
                              std::size_t expected)
     : radius_(radius) {
@@ -124,12 +136,22 @@ PlacementGrid::PlacementGrid(const Vec3d& low, const Vec3d& high, double radius,
   const double slack = 1e-9 * (radius + norm(high - low));
   low_ = low - Vec3d(slack, slack, slack);
   high_ = high + Vec3d(slack, slack, slack);
-  // Cells about one diameter wide, at most a few per expected sphere (and 4M in all); triangles
-  // get a coarser grid of at most 32^3 cells, since one triangle may span many cells.
+  // Cells one reach (two radii) wide, at most four per expected sphere (a random fill's spheres
+  // fill at most 0.38 of the box, 2.2 reach-wide cells a sphere at 0.25) and 2^27 in all.
   const std::size_t sphere_cells =
-      std::min<std::size_t>(std::max<std::size_t>(4096, 8 * expected), std::size_t(1) << 22);
-  sphere_cells_.init(low_, high_, 2 * radius, sphere_cells);
-  triangle_cells_.init(low_, high_, 2 * radius, 32768);
+      std::min<std::size_t>(std::max<std::size_t>(4096, 4 * expected), std::size_t(1) << 27);
+  sphere_cells_.init(low_, high_, 2 * radius * kCellMargin, sphere_cells);
+  near_.reserve(std::min<std::size_t>(expected, std::size_t(1) << 27));
+  init_triangle_cells(0);
+}
+
+void PlacementGrid::init_triangle_cells(std::size_t triangles) {
+  // A triangle may span many cells, so these are coarser: four per triangle, at least 32^3 and
+  // at most 2^22. Reach-wide cells list only the triangles near a wall; coarse ones would make
+  // every query near a finely meshed floor read hundreds.
+  const std::size_t cells =
+      std::min<std::size_t>(std::max<std::size_t>(32768, 4 * triangles), std::size_t(1) << 22);
+  triangle_cells_.init(low_, high_, 2 * radius_, cells);
 }
 
 void PlacementGrid::add_sphere(const Vec3d& centre, double radius) {
@@ -137,10 +159,22 @@ void PlacementGrid::add_sphere(const Vec3d& centre, double radius) {
   const double reach = radius + radius_;
   for (int k = 0; k < 3; ++k)
     if (centre[k] + reach < low_[k] || centre[k] - reach > high_[k]) return;
-  const int item = int(centres_.size());
-  centres_.push_back(centre);
-  radii_.push_back(radius);
   const Cells& g = sphere_cells_;
+  if (reach * kCellMargin <= g.size) {
+    const int cell = g.cell_of(centre);
+    near_.push_back({centre, reach * reach, g.head[cell]});
+    sphere_cells_.head[cell] = int(near_.size()) - 1;
+    return;
+  }
+  if (wide_cells_.head.empty()) {  // the same cells as sphere_cells_
+    wide_cells_.low = g.low;
+    wide_cells_.size = g.size;
+    for (int k = 0; k < 3; ++k) wide_cells_.n[k] = g.n[k];
+    wide_cells_.head.assign(g.head.size(), -1);
+  }
+  const int item = int(wide_centres_.size());
+  wide_centres_.push_back(centre);
+  wide_radii_.push_back(radius);
   int from[3], to[3];
   for (int k = 0; k < 3; ++k) {
     from[k] = g.coordinate(centre[k] - reach, k);
@@ -148,7 +182,7 @@ void PlacementGrid::add_sphere(const Vec3d& centre, double radius) {
   }
   for (int z = from[2]; z <= to[2]; ++z)
     for (int y = from[1]; y <= to[1]; ++y)
-      for (int x = from[0]; x <= to[0]; ++x) sphere_cells_.add((z * g.n[1] + y) * g.n[0] + x, item);
+      for (int x = from[0]; x <= to[0]; ++x) wide_cells_.add((z * g.n[1] + y) * g.n[0] + x, item);
 }
 
 void PlacementGrid::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
@@ -180,17 +214,37 @@ void PlacementGrid::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d& c)
 }
 
 void PlacementGrid::add_mesh(const TriangleMesh& mesh) {
+  if (triangle_vertices_.empty()) init_triangle_cells(mesh.triangles.size());
   for (const auto& t : mesh.triangles)
     add_triangle(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
 }
 
 bool PlacementGrid::is_free(const Vec3d& centre) const {
-  for (int i = sphere_cells_.head[sphere_cells_.cell_of(centre)]; i >= 0;) {
-    const auto [next, item] = sphere_cells_.node[i];
-    const double reach = radius_ + radii_[item];
-    if (norm2(centre - centres_[item]) < reach * reach) return false;
-    i = next;
+  // The spheres listed once: the 27 cells about the centre's (every one within a reach of it).
+  const Cells& g = sphere_cells_;
+  int from[3], to[3];
+  for (int k = 0; k < 3; ++k) {
+    const int c = g.coordinate(centre[k], k);
+    from[k] = c > 0 ? c - 1 : 0;
+    to[k] = c + 1 < g.n[k] ? c + 1 : c;
   }
+  for (int z = from[2]; z <= to[2]; ++z)
+    for (int y = from[1]; y <= to[1]; ++y) {
+      const int row = (z * g.n[1] + y) * g.n[0];
+      for (int x = from[0]; x <= to[0]; ++x)
+        for (int i = g.head[row + x]; i >= 0;) {
+          const Near& s = near_[i];
+          if (norm2(centre - s.centre) < s.reach2) return false;
+          i = s.next;
+        }
+    }
+  if (!wide_cells_.head.empty())
+    for (int i = wide_cells_.head[wide_cells_.cell_of(centre)]; i >= 0;) {
+      const auto [next, item] = wide_cells_.node[i];
+      const double reach = radius_ + wide_radii_[item];
+      if (norm2(centre - wide_centres_[item]) < reach * reach) return false;
+      i = next;
+    }
   bool free = true;
   for_each_triangle_near(centre, [&](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
     free = free && !(point_triangle_distance2(centre, a, b, c) < radius_ * radius_);

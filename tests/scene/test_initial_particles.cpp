@@ -297,6 +297,53 @@ TEST(InitialParticles, PlacementGridAgreesWithBruteForce) {
   EXPECT_LT(free, 19000);
 }
 
+TEST(InitialParticles, PlacementGridOnAFineFloorAgreesWithBruteForce) {
+  // A floor meshed finer than the spheres (20,000 triangles, so the triangle cells are sized by
+  // the mesh, not the default 32^3) and 600 equal spheres, each listed once in its
+  // centre's cell: queries near the floor and among the spheres must match the exhaustive answer.
+  PlacementRandom random(5);
+  const double radius = 0.01;
+  const Vec3d low(0, 0, 0), high(0.5, 0.5, 0.06);
+  PlacementGrid grid(low, high, radius, 600);
+  TriangleMesh floor;
+  const int n = 100;  // 100 x 100 squares, two triangles each, 5 mm wide, 1 mm below z = 0
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) floor.vertices.push_back({0.5 * i / n, 0.5 * j / n, -0.001});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      floor.triangles.push_back({a, a + 1, a + n + 2});
+      floor.triangles.push_back({a, a + n + 2, a + n + 1});
+    }
+  grid.add_mesh(floor);
+  std::vector<Vec3d> centres;
+  for (int i = 0; i < 600; ++i) {
+    centres.push_back({random.uniform(0, 0.5), random.uniform(0, 0.5), random.uniform(0, 0.06)});
+    grid.add_sphere(centres.back(), radius);
+  }
+  int free = 0, near_floor = 0;
+  for (int q = 0; q < 4000; ++q) {
+    const Vec3d p(random.uniform(0, 0.5), random.uniform(0, 0.5), random.uniform(0, 0.06));
+    bool brute = true;
+    for (const Vec3d& c : centres)
+      if (norm2(p - c) < (2 * radius) * (2 * radius)) brute = false;
+    bool touches_floor = false;
+    for (const auto& t : floor.triangles)
+      if (point_triangle_distance2(p, floor.vertices[t[0]], floor.vertices[t[1]],
+                                   floor.vertices[t[2]]) < radius * radius)
+        touches_floor = true;
+    ASSERT_EQ(grid.is_free(p), brute && !touches_floor) << "query " << q;
+    free += brute && !touches_floor;
+    near_floor += touches_floor;
+  }
+  // Each kind of answer occurs often enough to mean something: about 1/6 of the queries lie
+  // within 9 mm of the floor, and the spheres' excluded volumes (radius 2 cm, overlapping at
+  // random) sum to 1.3 times the box's, so e^-1.3 = 0.27 of it stays free: about 900 answers.
+  EXPECT_GT(near_floor, 300);
+  EXPECT_GT(free, 300);
+  EXPECT_LT(free, 2000);
+}
+
 TEST(InitialParticles, PointTriangleDistanceInEveryRegion) {
   const Vec3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   // Face, the three edges and the three vertices: distances by hand.
