@@ -55,7 +55,7 @@ constexpr int kMaxThreads = 1024;
 // "--threads '0': expected a whole number of at least 1".
 struct RunText {
   std::vector<std::string> scenes;
-  std::string solver, backend, precision, output, threads, end, resume;
+  std::string solver, backend, precision, output, threads, end, resume, stop_after;
   bool quiet = false, allow_unstable_step = false, overwrite = false;
 };
 
@@ -109,7 +109,7 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
                                                                   {"float", Precision::float32}};
   refuse_extras(app, "run",
                 "--solver, --backend, --precision, --output, --threads, --end, --resume, "
-                "--quiet, --allow-unstable-step, --overwrite");
+                "--stop-after, --quiet, --allow-unstable-step, --overwrite");
   const auto given = [&](const char* name) { return app->count(name) > 0; };
   RunArguments parsed;
   if (t.scenes.size() > 1)
@@ -130,11 +130,17 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
   if (given("--threads"))
     parsed.threads = parse_positive_count("--threads", t.threads, kMaxThreads);
   if (given("--end")) parsed.end_time = positive_number("--end", t.end, "time in s");
+  if (given("--stop-after"))
+    parsed.stop_after_seconds = positive_number("--stop-after", t.stop_after, "number of seconds");
   if (given("--resume")) {
     if (t.resume.empty())
       throw UsageError("--resume expects a checkpoint directory or a checkpoint file");
     parsed.resume_directory = t.resume;
   }
+  if (parsed.stop_after_seconds && parsed.solver == SolverKind::reference)
+    throw UsageError(
+        "--stop-after stops the production solver with a checkpoint; the reference solver "
+        "writes none: drop --stop-after or --solver reference");
   parsed.quiet = t.quiet;
   parsed.allow_unstable_step = t.allow_unstable_step;
   parsed.overwrite = t.overwrite;
@@ -322,8 +328,11 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   text_option(run, "--end", r.end, "T", "stop at T seconds instead of the scene's end time");
   text_option(run, "--resume", r.resume, "DIR|FILE",
               "continue the run from the newest checkpoint in DIR (outputs.checkpoint), or from "
-              "the checkpoint FILE, instead of a scene file; takes --backend, --threads, --quiet "
-              "and --allow-unstable-step only");
+              "the checkpoint FILE, instead of a scene file; takes --backend, --threads, "
+              "--stop-after, --quiet and --allow-unstable-step only");
+  text_option(run, "--stop-after", r.stop_after, "S",
+              "stop after S seconds of wall-clock time, at a step boundary, with a checkpoint "
+              "(as Ctrl-C does; exit status 75): runs longer than a sitting");
   run->add_flag("--quiet", r.quiet, "no progress lines on stderr");
   run->add_flag("--overwrite", r.overwrite,
                 "remove an earlier run's outputs from the output directory first (a new run "

@@ -27,17 +27,22 @@ class RunError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// A run stopped by a signal (Ctrl-C: SIGINT, or SIGTERM) at a step boundary, after writing its
-// checkpoint when the scene asks for checkpoints. main prints the message (where the run stopped,
-// the checkpoint, how to resume) and exits with status 128 + the signal's number.
+// The exit status of a run that --stop-after stopped: EX_TEMPFAIL of sysexits.h, "try again",
+// which a driver reads as "resume it".
+constexpr int kExitStopped = 75;
+
+// A run stopped at a step boundary by a signal (Ctrl-C: SIGINT, or SIGTERM) or by --stop-after,
+// after writing its checkpoint when the scene asks for checkpoints. main prints the message
+// (where the run stopped, the checkpoint, how to resume) and exits with `exit_status`: 128 + the
+// signal's number, or kExitStopped.
 class RunInterrupted : public std::runtime_error {
  public:
-  RunInterrupted(const std::string& message, int signal)
-      : std::runtime_error(message), signal_(signal) {}
-  int signal() const { return signal_; }
+  RunInterrupted(const std::string& message, int exit_status)
+      : std::runtime_error(message), exit_status_(exit_status) {}
+  int exit_status() const { return exit_status_; }
 
  private:
-  int signal_;
+  int exit_status_;
 };
 
 // `talus run [options] scene.yaml`: runs the scene, writing its outputs as it goes and progress

@@ -103,7 +103,7 @@ int run_and_report(const std::vector<std::string>& args) {
     return kExitUsage;
   } catch (const talus::RunInterrupted& error) {
     std::fprintf(stderr, "talus: %s\n", talus::printable_message(error.what()).c_str());
-    return 128 + error.signal();
+    return error.exit_status();
   } catch (const talus::validation::ValidationError& error) {
     // An unknown case or a bad expected.yaml: named before any case runs.
     std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());

@@ -33,6 +33,10 @@ struct RunArguments {
   bool overwrite = false;
   // --end T: stop at T seconds instead of the scene's end time (s, > 0; shorter runs).
   std::optional<double> end_time;
+  // --stop-after S: stop the run after S seconds of wall-clock time from the command's start, at
+  // a step boundary, with a checkpoint, as a stop signal does (exit status 75, kExitStopped), so
+  // that a run longer than a sitting goes on with --resume. Rank 0 decides for every rank.
+  std::optional<double> stop_after_seconds;
   // --resume PATH: continue the run from the newest checkpoint in the directory PATH, or from the
   // checkpoint file PATH (no scene path; the checkpoint names the scene, the output root and the
   // precision). Empty: a new run.

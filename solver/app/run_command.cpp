@@ -11,11 +11,13 @@
 // step above dt_crit unless --allow-unstable-step.
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -75,6 +77,9 @@ using ExtraMembers = std::function<void(const ProductionReport&, Json&)>;
 // The signal that asked the run to stop (0: none). The handler only records it and puts the
 // default action back, so that a second Ctrl-C ends the process at once.
 volatile std::sig_atomic_t stop_signal = 0;
+
+// When talus started (static initialisation), from which --stop-after counts.
+const std::chrono::steady_clock::time_point process_start = std::chrono::steady_clock::now();
 
 void request_stop(int signal) {
   stop_signal = signal;
@@ -210,7 +215,14 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   settings.output_root = resume ? resume->output_root : args.output_root;
   if (resume) settings.resume = resume->checkpoint;
   settings.overwrite = args.overwrite;
-  settings.stop_requested = [] { return stop_signal != 0; };
+  // Rank 0 alone asks (the serving ranks follow its commands), so every rank stops at one step.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
+  if (args.stop_after_seconds && *args.stop_after_seconds < 1e9)  // beyond 30 years: none
+    deadline = process_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(*args.stop_after_seconds));
+  settings.stop_requested = [deadline] {
+    return stop_signal != 0 || (deadline && std::chrono::steady_clock::now() >= *deadline);
+  };
   if (!args.quiet) settings.progress = print_production_progress;
   if (advice.limited()) {
     settings.instability_hint = fmt::format(
@@ -233,9 +245,10 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   }
   if (report.interrupted) {
     const int signal = stop_signal;
-    std::string message = std::string("run interrupted by ") +
-                          (signal == SIGINT ? "SIGINT" : "SIGTERM") + " at step " +
-                          std::to_string(report.steps) +
+    const std::string cause =
+        signal == 0 ? fmt::format("stopped after --stop-after {} s", *args.stop_after_seconds)
+                    : std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM");
+    std::string message = "run " + cause + " at step " + std::to_string(report.steps) +
                           " (t = " + std::to_string(report.simulated_time) + " s); ";
     if (report.last_checkpoint.empty()) {
       message +=
@@ -245,7 +258,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
       message += "checkpoint " + report.last_checkpoint + "; continue with 'talus run --resume " +
                  std::filesystem::path(report.last_checkpoint).parent_path().string() + "'";
     }
-    throw RunInterrupted(message, signal);
+    throw RunInterrupted(message, signal == 0 ? kExitStopped : 128 + signal);
   }
   Json json;
   json["solver"] = "talus";

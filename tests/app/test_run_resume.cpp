@@ -1,7 +1,8 @@
 // `talus run --resume DIR` through the built binary: a run resumed from the middle checkpoint of
 // a finished run's copy rewrites its later outputs to the same bytes; SIGTERM stops a run at a
 // step boundary with a checkpoint and a message, and resuming it ends where the uninterrupted run
-// ends; the refusals (no checkpoint, a scene path or a fixed option or --end beside --resume).
+// ends; so does --stop-after; the refusals (no checkpoint, a scene path or a fixed option or --end
+// beside --resume).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -125,6 +126,53 @@ TEST(TalusRunResume, SigtermStopsAtAStepWithACheckpointAndResumes) {
     EXPECT_FALSE(a.empty()) << file;
     EXPECT_TRUE(a == b) << file;
   }
+}
+
+TEST(TalusRunResume, StopAfterStopsWithACheckpointAndResumes) {
+  // --stop-after 1e-6: the deadline has passed before the first step, so the run stops at step 0
+  // whatever the machine's speed (the one stop this test can place exactly), writes the
+  // checkpoint of step 0 and exits with 75; resumed with a deadline far off, it ends where the
+  // uninterrupted run ends, to the byte.
+  const std::string dir = resume_directory("stop-after");
+  const std::string scene = write_scene(dir, scene_text(120));
+  const ProcessResult whole =
+      run_talus({"run", "--backend", "cpu", "--quiet", "--output", dir + "/whole", scene});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  const ProcessResult cut = run_talus({"run", "--backend", "cpu", "--quiet", "--stop-after", "1e-6",
+                                       "--output", dir + "/cut", scene});
+  EXPECT_EQ(cut.exit_code, 75) << cut.err;
+  EXPECT_NE(cut.err.find("run stopped after --stop-after 1e-06 s at step 0 "), std::string::npos)
+      << cut.err;
+  EXPECT_NE(cut.err.find("continue with 'talus run --resume " + dir + "/cut/checkpoints'"),
+            std::string::npos)
+      << cut.err;
+  EXPECT_EQ(cut.out, "");
+  const ProcessResult resumed =
+      run_talus({"run", "--resume", dir + "/cut/checkpoints", "--quiet", "--stop-after", "3600"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  Json summary = parse_or_fail(resumed.out);
+  EXPECT_EQ(summary["resumed_from_step"].get<double>(), 0);
+  EXPECT_EQ(summary["steps"].get<double>(), 120);
+  for (const char* file : {"/frames/trajectory_000000120.csv", "/probes.csv"}) {
+    const std::string a = read_file(dir + "/whole" + file), b = read_file(dir + "/cut" + file);
+    EXPECT_FALSE(a.empty()) << file;
+    EXPECT_TRUE(a == b) << file;
+  }
+  // Refused: not a positive number of seconds; with the reference solver, which writes no
+  // checkpoint.
+  for (const char* bad : {"0", "-5", "soon"}) {
+    const ProcessResult run = run_talus({"run", "--stop-after", bad, scene});
+    EXPECT_EQ(run.exit_code, 2) << bad;
+    EXPECT_NE(run.err.find(std::string("--stop-after '") + bad +
+                           "': expected a positive number of seconds"),
+              std::string::npos)
+        << run.err;
+  }
+  const ProcessResult reference =
+      run_talus({"run", "--solver", "reference", "--stop-after", "10", scene});
+  EXPECT_EQ(reference.exit_code, 2);
+  EXPECT_NE(reference.err.find("the reference solver writes none"), std::string::npos)
+      << reference.err;
 }
 
 TEST(TalusRunResume, Refusals) {
