@@ -14,6 +14,7 @@
 #    the boxes were cut again (rebalanced) as the particles gathered at the bottom;
 #  - a restart from 2 ranks into 3: the drum stopped at 0.1 s on 2 ranks and resumed on 3 from
 #    its checkpoint at 0.075 s gives the frames of the uninterrupted one-process run;
+#  - a run stopped by --stop-after on 2 ranks exits with 75 and resumes to those frames too;
 #  - any command but run on several ranks is refused with a message.
 # BACKEND cuda (ctest `parallel_ranks_gpu`, label gpu): the same on the CUDA backend, every rank
 # on the GPU of its local rank (all on one GPU here), against the one-process CUDA run; skipped
@@ -123,6 +124,19 @@ mpi 3 "$talus" run --resume "$work/restart/checkpoints" $opts --quiet \
   fail "the resumed drum on 3 ranks exited with $?: $(cat "$work/restart-3.err")"
 grep -q '"ranks": 3' "$work/restart-3.json" || fail "the resumed run does not say 3 ranks"
 same_frames "$work/drum-1" "$work/restart"
+# --stop-after under mpirun: rank 0 stops every rank at one step with a checkpoint (exit 75; a
+# deadline passed before the first step puts the stop at step 0 on any machine), and the run
+# resumed on 2 ranks gives the one-process frames.
+mpi 2 "$talus" run "$scenes/drum.yaml" $opts --quiet --stop-after 1e-6 --output "$work/stopped" \
+  > "$work/stopped-2.json" 2> "$work/stopped-2.err"
+status=$?
+test $status = 75 || fail "the drum stopped by --stop-after on 2 ranks exited with $status, not 75: $(cat "$work/stopped-2.err")"
+grep -q "run stopped after --stop-after 1e-06 s at step 0 " "$work/stopped-2.err" ||
+  fail "the stopped drum's message: $(cat "$work/stopped-2.err")"
+mpi 2 "$talus" run --resume "$work/stopped/checkpoints" $opts --quiet \
+  > "$work/stopped-resumed.json" 2> "$work/stopped-resumed.err" ||
+  fail "the stopped drum resumed on 2 ranks exited with $?: $(cat "$work/stopped-resumed.err")"
+same_frames "$work/drum-1" "$work/stopped"
 
 mpi 2 "$talus" shape cube:0.01 > "$work/shape.out" 2> "$work/shape.err" &&
   fail "talus shape on 2 ranks was not refused"
