@@ -155,9 +155,6 @@ RunArguments run_arguments(const CLI::App* app, const RunText& t) {
         throw UsageError(std::string("--resume continues the run as it was set up; drop ") + fixed +
                          " (the checkpoint fixes the solver, precision and output " + "directory)");
     }
-    if (parsed.end_time)
-      throw UsageError(
-          "--resume runs to the end time of the scene its checkpoint names; drop --end");
   }
   return parsed;
 }
@@ -328,7 +325,7 @@ ParsedCommand parse_command_line(const std::vector<std::string>& arguments) {
   text_option(run, "--end", r.end, "T", "stop at T seconds instead of the scene's end time");
   text_option(run, "--resume", r.resume, "DIR|FILE",
               "continue the run from the newest checkpoint in DIR (outputs.checkpoint), or from "
-              "the checkpoint FILE, instead of a scene file; takes --backend, --threads, "
+              "the checkpoint FILE, instead of a scene file; takes --backend, --threads, --end, "
               "--stop-after, --quiet and --allow-unstable-step only");
   text_option(run, "--stop-after", r.stop_after, "S",
               "stop after S seconds of wall-clock time, at a step boundary, with a checkpoint "

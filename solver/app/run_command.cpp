@@ -399,8 +399,30 @@ StepFactory production_backend(const RunArguments& args, const Scene& scene) {
   return make_step;
 }
 
+// --end T: the scene's end time becomes T (a whole number of steps, at least one), after
+// `after_step` (a resumed run's checkpoint step) when given.
+void apply_end_time(const RunArguments& args, Scene& scene, long long after_step = -1) {
+  if (!args.end_time) return;
+  if (*args.end_time < scene.time_step)
+    throw RunError(fmt::format(
+        "--end {}: shorter than one time step of the scene (time.step = {} s in {}); expected "
+        "an end time of at least {} s",
+        *args.end_time, scene.time_step, scene.file, scene.time_step));
+  const std::string problem = step_count_problem(*args.end_time, scene.time_step);
+  if (!problem.empty()) throw RunError("--end: " + problem);
+  const auto end_step = static_cast<long long>(std::round(*args.end_time / scene.time_step));
+  if (after_step >= 0 && end_step <= after_step)
+    throw RunError(fmt::format(
+        "--end {}: step {} of {:.6g} s, not after the checkpoint's step {}; expected an end "
+        "time after {:.6g} s",
+        *args.end_time, end_step, scene.time_step, after_step,
+        double(after_step) * scene.time_step));
+  scene.end_time = *args.end_time;
+}
+
 // `talus run --resume DIR`: the newest checkpoint of DIR, the scene it names (unchanged since:
-// its hash), in the checkpoint's precision, on its backend unless --backend says otherwise.
+// its hash), in the checkpoint's precision, on its backend unless --backend says otherwise, to
+// the scene's end time or --end.
 std::string resume_json(const RunArguments& args) {
   ResumePoint point;
   try {
@@ -413,6 +435,7 @@ std::string resume_json(const RunArguments& args) {
   scene.precision = point.precision == "float" ? Precision::float32 : Precision::float64;
   scene.backend =
       args.backend ? *args.backend : (point.backend == "cuda" ? Backend::cuda : Backend::cpu);
+  apply_end_time(args, scene, point.step);
   if (!args.quiet) {
     std::fprintf(stderr, "talus run: resuming %s from step %lld (%s)\n", point.scene_file.c_str(),
                  point.step, point.checkpoint_path.c_str());
@@ -460,16 +483,7 @@ std::string run_json(const RunArguments& given) {
   Scene scene = load_scene(args.scene_path);  // SceneError: file:line:column: key: message
   if (args.backend) scene.backend = *args.backend;
   if (args.precision) scene.precision = *args.precision;
-  if (args.end_time) {
-    if (*args.end_time < scene.time_step)
-      throw RunError(fmt::format(
-          "--end {}: shorter than one time step of the scene (time.step = {} s in {}); expected "
-          "an end time of at least {} s",
-          *args.end_time, scene.time_step, scene.file, scene.time_step));
-    const std::string problem = step_count_problem(*args.end_time, scene.time_step);
-    if (!problem.empty()) throw RunError("--end: " + problem);
-    scene.end_time = *args.end_time;
-  }
+  apply_end_time(args, scene);
   // Before any particle is made: a scene too large for this machine is refused with its numbers.
   check_scene_memory(scene, physical_memory_bytes());
   check_initial_particles(scene);

@@ -335,7 +335,6 @@ TEST(TalusErrors, EachBadArgumentClassExitsTwoNamingTheArgument) {
       {{"run", "a.yaml", "--threads"}, "--threads expects a value"},
       {{"run", "--resume", "d", "a.yaml"}, "drop the scene file 'a.yaml'"},
       {{"run", "--resume", "d", "--precision", "float"}, "drop --precision"},
-      {{"run", "--resume=d", "--end", "1"}, "drop --end"},
       {{"help", "frob"}, "help 'frob'"},
   };
   for (const BadCase& c : cases) {
