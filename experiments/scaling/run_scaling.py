@@ -70,11 +70,16 @@ PAPER = {
                           "approximately 85% at 16 GPUs"},
 }
 
-EXIT_FAILED, EXIT_CANNOT = 1, 3  # and 2, argparse's, for a bad option
+EXIT_FAILED, EXIT_CANNOT, EXIT_UNFINISHED = 1, 3, 4  # and 2, argparse's, for a bad option
+TALUS_STOPPED = 75  # talus run's exit status when --stop-after stopped it (with a checkpoint)
 
 
 class CannotRun(Exception):
     """This machine cannot run the study (exit status 3)."""
+
+
+class SettleUnfinished(Exception):
+    """A settle stopped by --settle-sitting, its checkpoint written: call again to go on."""
 
 
 class RunFailed(Exception):
@@ -341,8 +346,9 @@ def error_lines(text, count):
     return "\n".join((own or lines)[-count:])
 
 
-def run_talus(argv, env_extra, what):
-    """Runs one talus command; returns (its summary JSON, its wall time in s)."""
+def run_talus(argv, env_extra, what, may_stop=False):
+    """Runs one talus command; returns (its summary JSON, its wall time in s). With `may_stop`,
+    a run that --stop-after stopped (exit status 75) returns (None, its wall time)."""
     env = dict(os.environ)
     env.update(env_extra)
     started = time.monotonic()
@@ -351,6 +357,8 @@ def run_talus(argv, env_extra, what):
     except OSError as e:
         raise RunFailed(f"{what}: cannot start {argv[0]}: {e.strerror}")
     seconds = time.monotonic() - started
+    if may_stop and proc.returncode == TALUS_STOPPED:
+        return None, seconds
     if proc.returncode != 0:
         tail = error_lines(proc.stderr or proc.stdout, 15)
         raise RunFailed(f"{what} exited with status {proc.returncode}: "
@@ -419,6 +427,7 @@ class Study:
         yaml = scene_text(count, a.diameter, a.settle_steps, a.measure_steps, "walls.obj")
         run_dir = os.path.join(folder, "settled")
         done = os.path.join(folder, "settle.json")
+        sittings_file = os.path.join(folder, "settle-sittings.json")
         checkpoint = os.path.join(run_dir, "checkpoints", f"checkpoint_{a.settle_steps:09d}.bin")
         binary = binary_identity(a.talus)
         # A count settled by an earlier call into the same --work, with the same scene, walls and
@@ -438,12 +447,37 @@ class Study:
             pass
         if os.path.exists(done):
             os.unlink(done)
-        write_atomically(walls, obj)
-        write_atomically(scene, yaml)
+        # A settle that --settle-sitting stopped in an earlier call (same scene, walls, talus and
+        # backend) goes on from its checkpoint; the resumed run is the uninterrupted one to the
+        # bit (docs/scenes.md, checkpoints), on any rank count.
+        earlier = None
+        try:
+            with open(sittings_file) as f:
+                earlier = json.load(f)
+            with open(scene) as f, open(walls) as g:
+                same = f.read() == yaml and g.read() == obj
+            if not (same and earlier.get("talus_binary") == binary
+                    and earlier.get("backend") == a.backend
+                    and any(n.startswith("checkpoint_") and n.endswith(".bin")
+                            for n in os.listdir(os.path.join(run_dir, "checkpoints")))):
+                earlier = None
+        except (OSError, ValueError):
+            earlier = None
         end = (a.settle_steps + 1) * time_step(a.diameter)
-        argv = [a.talus, "run", scene, "--backend", a.backend, "--threads",
-                str(a.settle_threads), "--quiet", "--output", run_dir, "--overwrite", "--end",
-                repr(end)]
+        if earlier is None:
+            if os.path.exists(sittings_file):
+                os.unlink(sittings_file)
+            write_atomically(walls, obj)
+            write_atomically(scene, yaml)
+            argv = [a.talus, "run", scene, "--backend", a.backend, "--threads",
+                    str(a.settle_threads), "--quiet", "--output", run_dir, "--overwrite",
+                    "--end", repr(end)]
+        else:
+            argv = [a.talus, "run", "--resume", os.path.join(run_dir, "checkpoints"),
+                    "--backend", a.backend, "--threads", str(a.settle_threads), "--quiet",
+                    "--end", repr(end)]
+        if a.settle_sitting:
+            argv += ["--stop-after", repr(a.settle_sitting)]
         # On several ranks (--settle-ranks) the settle gives the same bytes as on one: the
         # decomposed step's trajectories do not depend on the rank count (docs/parallel.md,
         # tests/parallel/run_ranks.sh), so it only saves time.
@@ -451,14 +485,31 @@ class Study:
         if a.settle_ranks > 1:
             env = mpi_environment(a.settle_ranks, self.cores)
             argv = a.mpirun + ["-np", str(a.settle_ranks)] + a.mpirun_args + argv
-        say(f"settling {count} particles: {a.settle_steps} steps on "
+        sittings = earlier["sittings"] if earlier else []
+        say(("going on with" if earlier else "settling") + f" {count} particles: "
+            f"{a.settle_steps} steps on "
             + (f"{a.settle_ranks} ranks" if a.settle_ranks > 1 else "one rank") + ", "
             f"{a.settle_threads} thread{'s' if a.settle_threads > 1 else ''}"
-            + (", CUDA" if a.backend == "cuda" else ""))
-        summary, seconds = run_talus(argv, env, f"the settle of {count} particles")
+            + (", CUDA" if a.backend == "cuda" else "")
+            + (f", sitting {len(sittings) + 1}" if a.settle_sitting or earlier else ""))
+        summary, seconds = run_talus(argv, env, f"the settle of {count} particles",
+                                     may_stop=True)
+        sittings.append({"command": command_text(env, argv), "process_seconds": seconds,
+                         "finished": summary is not None})
+        if summary is None:
+            write_atomically(sittings_file, json.dumps(
+                {"talus_binary": binary, "backend": a.backend, "sittings": sittings},
+                indent=2) + "\n")
+            raise SettleUnfinished(
+                f"the settle of {count} particles stopped after --settle-sitting "
+                f"{a.settle_sitting:g} s (sitting {len(sittings)}), its checkpoint in "
+                f"{os.path.join(run_dir, 'checkpoints')}: run the same command again (the same "
+                "--work) to go on")
         if summary.get("ranks", 1) != a.settle_ranks:
             raise RunFailed(f"the settle of {count} particles ran on {summary.get('ranks', 1)} "
                             f"rank(s); --settle-ranks asked for {a.settle_ranks}")
+        # A resumed settle's summary counts the steps and the contacts from step 1 too (the
+        # checkpoint carries the running sums).
         if summary.get("steps") != a.settle_steps + 1 or summary.get("particles") != count:
             raise RunFailed(f"the settle of {count} particles ran {summary.get('steps')} steps "
                             f"with {summary.get('particles')} particles; expected "
@@ -477,14 +528,19 @@ class Study:
             "threads": a.settle_threads,
             "ranks": a.settle_ranks,
             "backend": a.backend,
-            "wall_seconds": summary["wall_seconds"],
+            "wall_seconds": summary["wall_seconds"],  # the last sitting's
+            "process_seconds": sum(s["process_seconds"] for s in sittings),
+            "sittings": len(sittings),
             "mean_contacts_per_step": summary.get("mean_contacts_per_step"),
             "at_settle_step": probe_row(os.path.join(run_dir, "probes.csv"), a.settle_steps),
-            "command": command_text(env, argv),
+            "command": sittings[0]["command"],
+            "continued_by": [s["command"] for s in sittings[1:]],
             "talus_binary": binary,
             "reused": False,
         }
         write_atomically(done, json.dumps(record, indent=2) + "\n")
+        if os.path.exists(sittings_file):
+            os.unlink(sittings_file)
         record["run_dir"] = run_dir
         self.settles[count] = record
         return record
@@ -858,6 +914,10 @@ def parse_arguments(argv):
     p.add_argument("--settle-ranks", type=positive_int, default=1, metavar="K",
                    help="ranks of the settle, under --mpirun (default 1; the settled bytes are "
                         "the same on any count, so K > 1 only saves time)")
+    p.add_argument("--settle-sitting", type=positive_float, default=None, metavar="S",
+                   help="stop each settle after S seconds (talus run --stop-after) with a "
+                        "checkpoint and exit with status 4; the same command again goes on from "
+                        "it: settles longer than a sitting (default: none)")
     p.add_argument("--diameter", type=positive_float, default=DIAMETER, metavar="M",
                    help=f"the dodecahedra's circumscribed diameter, m (default {DIAMETER}); "
                         "the time step and the wall cells follow it")
@@ -916,6 +976,9 @@ def parse_arguments(argv):
                     f"{box_side(count, a.diameter) / a.diameter:.2g} diameters wide, where random "
                     f"placement runs out of room; ask for at least {smallest_count(a.diameter)} "
                     "(3 diameters)")
+    if a.settle_sitting is not None and a.work is None:
+        p.error("--settle-sitting: give --work too: the next call goes on from the stopped "
+                "settle's checkpoint there")
     if a.settle_threads is None:  # quick: one, which a busy machine slows the least
         a.settle_threads = 1 if a.quick else len(os.sched_getaffinity(0))
     talus = shutil.which(a.talus) if os.sep not in a.talus else a.talus
@@ -958,6 +1021,9 @@ def main(argv):
     except CannotRun as e:
         say(str(e))
         return EXIT_CANNOT
+    except SettleUnfinished as e:
+        say(str(e))
+        return EXIT_UNFINISHED
     except RunFailed as e:
         say(str(e))
         return EXIT_FAILED

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """ctest `scaling_quick` (label parallel): the scaling driver's quick size on 1 and 2 ranks.
 
-Runs run_scaling.py --quick --ranks 1 2 --settle-ranks 2 with the given talus and checks its
-scaling.json: each settle run on 2 ranks, every
+Runs run_scaling.py --quick --ranks 1 2 --settle-ranks 2 with the given talus, first with
+--settle-sitting 1e-6 (the first settle stops at its step 0 with a checkpoint: exit status 4),
+then again without it (that settle goes on from the checkpoint), and checks its
+scaling.json: each settle run on 2 ranks, the first in 2 sittings, every
 (mode, ranks) run present with the particles its mode asks for, measured steps > 0, seconds per
 step > 0, the exchange's share of the step in (0, 1) on 2 ranks and 0 on 1, efficiency =
 speedup / ranks, and the figure and the table written. Skipped (exit 77) where mpirun or
@@ -35,15 +37,20 @@ def main(argv):
         return 77
     shutil.rmtree(work, ignore_errors=True)
     out = os.path.join(work, "out")
-    proc = subprocess.run([sys.executable, os.path.join(HERE, "run_scaling.py"), "--talus", talus,
-                           "--quick", "--ranks", "1", "2", "--settle-ranks", "2",
-                           "--output", out,
-                           "--work", os.path.join(work, "runs")],
-                          capture_output=True, text=True)
+    command = [sys.executable, os.path.join(HERE, "run_scaling.py"), "--talus", talus, "--quick",
+               "--ranks", "1", "2", "--settle-ranks", "2", "--output", out,
+               "--work", os.path.join(work, "runs")]
+    proc = subprocess.run(command + ["--settle-sitting", "1e-6"], capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode == 3:
         print("SKIPPED: the driver cannot run here (above)")
         return 77
+    if proc.returncode != 4 or "run the same command again" not in proc.stderr:
+        print(f"scaling_quick: with --settle-sitting 1e-6, run_scaling.py exited with status "
+              f"{proc.returncode}, not 4 with 'run the same command again'")
+        return 1
+    proc = subprocess.run(command, capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
         print(f"scaling_quick: run_scaling.py exited with status {proc.returncode}")
         return 1
@@ -84,6 +91,18 @@ def main(argv):
         # --settle-ranks 2: the settle ran under mpirun on 2 ranks (talus's summary said so).
         check(s.get("ranks") == 2 and "-np 2" in s["command"],
               f"the settle of {s['particles']}: ranks {s.get('ranks')}, command {s['command']}")
+        check(s["mean_contacts_per_step"] > 0,
+              f"the settle of {s['particles']}: {s['mean_contacts_per_step']} contacts a step")
+    # The first count settled was stopped at step 0 and went on in a second sitting, resumed
+    # to step S + 1 (--end) on 2 ranks; the others settled in one.
+    sittings = sorted(s["sittings"] for s in result["settles"])
+    check(sittings[-1] == 2 and sittings[:-1] == [1] * (len(sittings) - 1),
+          f"settle sittings {sittings}: expected one settle in 2, the others in 1")
+    for s in result["settles"]:
+        if s["sittings"] == 2:
+            check(len(s["continued_by"]) == 1 and "--resume" in s["continued_by"][0]
+                  and "--end" in s["continued_by"][0] and "-np 2" in s["continued_by"][0],
+                  f"the continued settle's commands: {s['continued_by']}")
     check(bool(result["machine"].get("cpu_model")), "no CPU model")
     check(bool(result.get("commit")), "no commit")
     for name in ("scaling.png", "results.md"):
