@@ -346,9 +346,10 @@ def error_lines(text, count):
     return "\n".join((own or lines)[-count:])
 
 
-def run_talus(argv, env_extra, what, may_stop=False):
+def run_talus(argv, env_extra, what, may_stop=False, log=None):
     """Runs one talus command; returns (its summary JSON, its wall time in s). With `may_stop`,
-    a run that --stop-after stopped (exit status 75) returns (None, its wall time)."""
+    a run that --stop-after stopped (exit status 75) returns (None, its wall time). `log`: a file
+    that gets the command and its stderr (talus's messages, e.g. TALUS_EXCHANGE_PROFILE's)."""
     env = dict(os.environ)
     env.update(env_extra)
     started = time.monotonic()
@@ -357,6 +358,8 @@ def run_talus(argv, env_extra, what, may_stop=False):
     except OSError as e:
         raise RunFailed(f"{what}: cannot start {argv[0]}: {e.strerror}")
     seconds = time.monotonic() - started
+    if log:
+        write_atomically(log, (command_text(env_extra, argv) + "\n" + proc.stderr).encode())
     if may_stop and proc.returncode == TALUS_STOPPED:
         return None, seconds
     if proc.returncode != 0:
@@ -564,7 +567,8 @@ class Study:
             f"{a.measure_steps} steps" + (f" (repeat {repeat + 1} of {a.repeats})"
                                           if a.repeats > 1 else ""))
         load = os.getloadavg()[0]
-        summary, seconds = run_talus(argv, env, f"the run of {count} particles on {ranks} ranks")
+        summary, seconds = run_talus(argv, env, f"the run of {count} particles on {ranks} ranks",
+                                     log=run_dir + ".stderr.log")
         if summary.get("ranks", 1) != ranks:
             raise CannotRun(f"talus ran {summary.get('ranks', 1)} rank(s) under "
                             f"`{' '.join(a.mpirun + ['-np', str(ranks)] + a.mpirun_args)}`: "
@@ -653,6 +657,10 @@ class Study:
                 key = (ranks, a.per_rank * ranks if mode == "weak" else a.total)
                 if key not in wanted:
                     wanted.append(key)
+        if a.settle_only:
+            for _, count in wanted:
+                self.settle(count)
+            return None
         samples = {key: [] for key in wanted}
         for repeat in range(a.repeats):
             for ranks, count in wanted:
@@ -918,6 +926,9 @@ def parse_arguments(argv):
                    help="stop each settle after S seconds (talus run --stop-after) with a "
                         "checkpoint and exit with status 4; the same command again goes on from "
                         "it: settles longer than a sitting (default: none)")
+    p.add_argument("--settle-only", action="store_true",
+                   help="settle the counts the study needs and stop (needs --work): settles "
+                        "on a busy machine, the measured runs later on a quiet one")
     p.add_argument("--diameter", type=positive_float, default=DIAMETER, metavar="M",
                    help=f"the dodecahedra's circumscribed diameter, m (default {DIAMETER}); "
                         "the time step and the wall cells follow it")
@@ -976,6 +987,8 @@ def parse_arguments(argv):
                     f"{box_side(count, a.diameter) / a.diameter:.2g} diameters wide, where random "
                     f"placement runs out of room; ask for at least {smallest_count(a.diameter)} "
                     "(3 diameters)")
+    if a.settle_only and a.work is None:
+        p.error("--settle-only: give --work too: the measuring call reuses the settles there")
     if a.settle_sitting is not None and a.work is None:
         p.error("--settle-sitting: give --work too: the next call goes on from the stopped "
                 "settle's checkpoint there")
@@ -1018,6 +1031,10 @@ def main(argv):
         if max(a.ranks) > 1:
             study.check_mpi()
         rows = study.runs()
+        if rows is None:
+            say("settled (--settle-only): "
+                + ", ".join(f"{c} particles" for c in sorted(study.settles)) + f" in {a.work}")
+            return 0
     except CannotRun as e:
         say(str(e))
         return EXIT_CANNOT

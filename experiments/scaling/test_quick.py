@@ -3,8 +3,9 @@
 
 Runs run_scaling.py --quick --ranks 1 2 --settle-ranks 2 with the given talus, first with
 --settle-sitting 1e-6 (the first settle stops at its step 0 with a checkpoint: exit status 4),
-then again without it (that settle goes on from the checkpoint), and checks its
-scaling.json: each settle run on 2 ranks, the first in 2 sittings, every
+then with --settle-only (that settle goes on from the checkpoint, the other is settled, nothing
+measured), then plainly (both settles reused), and checks its
+scaling.json: each settle run on 2 ranks, the first in 2 sittings, both reused, every
 (mode, ranks) run present with the particles its mode asks for, measured steps > 0, seconds per
 step > 0, the exchange's share of the step in (0, 1) on 2 ranks and 0 on 1, efficiency =
 speedup / ranks, and the figure and the table written. Skipped (exit 77) where mpirun or
@@ -49,6 +50,13 @@ def main(argv):
         print(f"scaling_quick: with --settle-sitting 1e-6, run_scaling.py exited with status "
               f"{proc.returncode}, not 4 with 'run the same command again'")
         return 1
+    proc = subprocess.run(command + ["--settle-only"], capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode != 0 or os.path.exists(os.path.join(out, "scaling.json")):
+        print(f"scaling_quick: with --settle-only, run_scaling.py exited with status "
+              f"{proc.returncode} (expected 0) and wrote scaling.json: "
+              f"{os.path.exists(os.path.join(out, 'scaling.json'))} (expected none)")
+        return 1
     proc = subprocess.run(command, capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
@@ -91,6 +99,7 @@ def main(argv):
         # --settle-ranks 2: the settle ran under mpirun on 2 ranks (talus's summary said so).
         check(s.get("ranks") == 2 and "-np 2" in s["command"],
               f"the settle of {s['particles']}: ranks {s.get('ranks')}, command {s['command']}")
+        check(s.get("reused") is True, f"the settle of {s['particles']} was not reused")
         check(s["mean_contacts_per_step"] > 0,
               f"the settle of {s['particles']}: {s['mean_contacts_per_step']} contacts a step")
     # The first count settled was stopped at step 0 and went on in a second sitting, resumed
