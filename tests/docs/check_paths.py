@@ -43,6 +43,8 @@ ALLOWED = {
         "what talus validate writes into its output directory (validation/README.md)",
     r"(drum|fill|errors)\.yaml": "the scene file named in examples of error messages",
     r"mpi\.h": "MPI's header (a system header of Open MPI, docs/parallel.md)",
+    r"sysexits\.h": "the C library's header that names exit status 75 (EX_TEMPFAIL)",
+    r"settle-sittings\.json": "what run_scaling.py writes beside a settle --settle-sitting stopped",
     r"scenes/grains/missing\.stl": "docs/scenes.md: the missing mesh of an error example",
     r"path\.(obj|stl)|SCENE\.yaml|NAME\.cu": "placeholders for a file the user names",
     r"README\.md: free_fall_drag/(frames|probes\.csv)": "the example run's outputs, as printed",
