@@ -195,12 +195,23 @@ void CudaStep<Real>::Impl::flag_outside() {
   const int n = count();
   if (n == 0 || !scene.domain) return;
   const Box box = decomposition ? decomposition->domain().region() : domain->local_box();
-  keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
+  grow_outside_buffers();  // a no-op in a graph's capture (capture_graph grew them before)
   const Vec3d g = scene.effects.gravity ? *scene.effects.gravity : Vec3d();
   outside_kernel<<<blocks_for(n), kBlock, 0, shared.stream>>>(
       view(), bodies.data(), box.min, box.max, g, scene.effects.gravity.has_value(),
       keep_flags.data(), removed_energy.data(), index.data(), shared.flags.at(outside_particles));
   TALUS_CUDA_LAUNCH_CHECK();
+}
+
+// The removal's per-particle buffers, room for every particle: before a graph's capture too, as
+// nothing may be allocated while a stream is captured (the first capture of a scene with a
+// domain box, and the first after a feed, found them short: "operation not permitted when
+// stream is capturing").
+template <class Real>
+void CudaStep<Real>::Impl::grow_outside_buffers() {
+  const int n = count();
+  if (n == 0 || !scene.domain) return;
+  keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
 }
 
 template <class Real>

@@ -151,6 +151,7 @@ struct CudaStep<Real>::Impl {
     list->particles_changed();
   }
   void flag_outside();
+  void grow_outside_buffers();
   void remove_outside(int outside);
 
   // ---- Graph steps ----
@@ -187,6 +188,7 @@ struct CudaStep<Real>::Impl {
 
   bool capture_graph() {
     if (walls && !walls->prepare_graph()) return false;
+    grow_outside_buffers();
     stage_timer.release_graph();
     cudaGraph_t captured = nullptr;
     TALUS_CUDA_CHECK(cudaStreamBeginCapture(shared.stream, cudaStreamCaptureModeThreadLocal));
