@@ -160,13 +160,14 @@ TEST(GpuGraphStep, FedSceneInADomainGivesTheSameBits) {
 }
 
 // Particles leave the domain box under graph steps: group B of tests/support/domain_scenes.hpp's
-// pour (8 dodecahedra thrown down beside the box) falls out of it after about 10 ms and is
+// pour (8 dodecahedra thrown down beside the box) falls out of it between 10 and 18 ms and is
 // removed after the graph step that flagged it, as stage by stage: the same bits at every step,
-// the same 24 particles left, graph steps taken.
+// graph steps taken, and 20 ms on the same 24 particles left (DomainGpu.RemovalMatchesTheHost:
+// the rain is gone by 18 ms; at 15 ms four of it were still falling).
 TEST(GpuGraphStep, RemovalFromADomainGivesTheSameBits) {
   SKIP_WITHOUT_GPU();
   const Scene scene = parse_scene(testing::pour_scene(true, true, false), "pour.yaml", ".");
-  const long long steps = static_cast<long long>(std::ceil(0.015 / scene.time_step));
+  const long long steps = static_cast<long long>(std::ceil(0.02 / scene.time_step));
   const Comparison c = compare(scene, steps);
   EXPECT_EQ(c.differing, 0);
   EXPECT_GT(c.graphs.steps, 0);
