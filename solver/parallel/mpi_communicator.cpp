@@ -21,11 +21,25 @@ void check(int code, const char* call) {
   throw std::runtime_error(std::string(call) + " failed: " + std::string(text, length));
 }
 
-// Byte counts as MPI's int, refused beyond 2 GiB a message (a halo that large is a bug).
+// Byte counts as MPI's int, refused beyond 2 GiB a message (a halo or migration that large is a
+// bug; the gathers and broadcasts of whole states go in rounds).
 int count_of(std::size_t bytes) {
   if (bytes > static_cast<std::size_t>(2147483647))
     throw std::runtime_error("an MPI message of " + std::to_string(bytes) + " bytes (over 2 GiB)");
   return static_cast<int>(bytes);
+}
+
+// The most bytes one collective moves (its counts and displacements are MPI's ints): a larger
+// payload (a gathered step state for a checkpoint: some 125 bytes a particle, 2.5 GB at 2e7
+// particles) travels in rounds of at most this many. 1 GiB, or TALUS_MPI_MESSAGE_BYTES (the
+// tests make it a few kilobytes, so that their small states take several rounds).
+std::size_t message_limit() {
+  static const std::size_t limit = [] {
+    const char* v = std::getenv("TALUS_MPI_MESSAGE_BYTES");
+    const long long n = v && *v ? std::atoll(v) : 0;
+    return n > 0 && n <= (1LL << 30) ? static_cast<std::size_t>(n) : std::size_t(1) << 30;
+  }();
+  return limit;
 }
 
 // How long a wait tests its collective in a loop before it sleeps between tests (MpiCommunicator
@@ -179,25 +193,39 @@ class MpiCommunicator final : public Communicator {
                                  std::to_string(in_sizes[from[k]]));
     }
   }
+  // Every rank's bytes to every rank: the sizes first (64-bit), then rounds in which each rank
+  // sends its next piece of at most message_limit() / size bytes, until the largest is through.
   std::vector<Bytes> all_gather(const Bytes& mine) const override {
-    const int count = count_of(mine.size());
-    std::vector<int> counts(size_), at(size_);
+    const long long size = static_cast<long long>(mine.size());
+    std::vector<long long> sizes(size_);
     MPI_Request request;
-    check(MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request),
+    check(MPI_Iallgather(&size, 1, MPI_LONG_LONG, sizes.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD,
+                         &request),
           "MPI_Iallgather");
     wait(request, "MPI_Iallgather");
-    std::size_t total = 0;
-    for (int r = 0; r < size_; ++r) at[r] = count_of(total), total += counts[r];
-    Bytes all(total + 1);
-    Bytes send(mine);
-    send.push_back(0);
-    check(MPI_Iallgatherv(send.data(), count, MPI_BYTE, all.data(), counts.data(), at.data(),
-                          MPI_BYTE, MPI_COMM_WORLD, &request),
-          "MPI_Iallgatherv");
-    wait(request, "MPI_Iallgatherv");
+    const long long piece = std::max<long long>(1, message_limit() / size_);
+    const long long largest = *std::max_element(sizes.begin(), sizes.end());
     std::vector<Bytes> out(size_);
-    for (int r = 0; r < size_; ++r)
-      out[r].assign(all.begin() + at[r], all.begin() + at[r] + counts[r]);
+    for (int r = 0; r < size_; ++r) out[r].resize(static_cast<std::size_t>(sizes[r]));
+    std::vector<int> counts(size_), at(size_);
+    Bytes round;
+    const char none = 0;  // never a null buffer
+    for (long long offset = 0; offset < largest; offset += piece) {
+      int total = 0;
+      for (int r = 0; r < size_; ++r) {
+        counts[r] = static_cast<int>(std::clamp<long long>(sizes[r] - offset, 0, piece));
+        at[r] = total, total += counts[r];
+      }
+      round.resize(static_cast<std::size_t>(total) + 1);
+      const char* send = counts[rank_] > 0 ? mine.data() + offset : &none;
+      check(MPI_Iallgatherv(send, counts[rank_], MPI_BYTE, round.data(), counts.data(), at.data(),
+                            MPI_BYTE, MPI_COMM_WORLD, &request),
+            "MPI_Iallgatherv");
+      wait(request, "MPI_Iallgatherv");
+      for (int r = 0; r < size_; ++r)
+        std::copy(round.begin() + at[r], round.begin() + at[r] + counts[r],
+                  out[r].begin() + offset);
+    }
     return out;
   }
   void broadcast(Bytes& bytes, int root) const override {
@@ -206,16 +234,18 @@ class MpiCommunicator final : public Communicator {
     check(MPI_Ibcast(&n, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD, &request), "MPI_Ibcast");
     wait(request, "MPI_Ibcast");
     bytes.resize(static_cast<std::size_t>(n) + 1);
-    check(MPI_Ibcast(bytes.data(), count_of(static_cast<std::size_t>(n)), MPI_BYTE, root,
-                     MPI_COMM_WORLD, &request),
-          "MPI_Ibcast");
-    wait(request, "MPI_Ibcast");
+    broadcast(bytes.data(), static_cast<std::size_t>(n), root);
     bytes.resize(static_cast<std::size_t>(n));
   }
+  // In rounds of at most message_limit() bytes (a checkpoint's state for a resume).
   void broadcast(char* data, std::size_t size, int root) const override {
-    MPI_Request request;
-    check(MPI_Ibcast(data, count_of(size), MPI_BYTE, root, MPI_COMM_WORLD, &request), "MPI_Ibcast");
-    wait(request, "MPI_Ibcast");
+    for (std::size_t offset = 0; offset < size; offset += message_limit()) {
+      const std::size_t part = std::min(size - offset, message_limit());
+      MPI_Request request;
+      check(MPI_Ibcast(data + offset, count_of(part), MPI_BYTE, root, MPI_COMM_WORLD, &request),
+            "MPI_Ibcast");
+      wait(request, "MPI_Ibcast");
+    }
   }
   int broadcast(int value, int root) const override {
     MPI_Request request;

@@ -13,7 +13,8 @@
 #    outlet) on 1 and 3 ranks: the frames identical, and the particles and removals counted alike;
 #    the boxes were cut again (rebalanced) as the particles gathered at the bottom;
 #  - a restart from 2 ranks into 3: the drum stopped at 0.1 s on 2 ranks and resumed on 3 from
-#    its checkpoint at 0.075 s gives the frames of the uninterrupted one-process run;
+#    its checkpoint at 0.075 s gives the frames of the uninterrupted one-process run (the states
+#    gathered and broadcast in rounds of 4096 bytes, TALUS_MPI_MESSAGE_BYTES);
 #  - a run stopped by --stop-after on 2 ranks exits with 75 and resumes to those frames too;
 #  - any command but run on several ranks is refused with a message.
 # BACKEND cuda (ctest `parallel_ranks_gpu`, label gpu): the same on the CUDA backend, every rank
@@ -116,10 +117,12 @@ done
 grep -q '"removed_particles": [1-9]' "$work/silo-1.json" || fail "silo: no particle removed"
 # The pour collapses to the bottom: the boxes must have been cut again (Scene::rebalance, 1.25).
 grep -q '"rebalances": [1-9]' "$work/silo-3.json" || fail "silo: the boxes were never cut again"
-mpi 2 "$talus" run "$scenes/drum.yaml" $opts --quiet --end 0.1 \
+# The restart's ranks gather and broadcast whole states in rounds of 4096 bytes (a state over
+# 1 GiB, 2e7 particles, takes several rounds; the drum's 30 kB take a few here).
+TALUS_MPI_MESSAGE_BYTES=4096 mpi 2 "$talus" run "$scenes/drum.yaml" $opts --quiet --end 0.1 \
   --output "$work/restart" > "$work/restart-2.json" 2> "$work/restart-2.err" ||
   fail "the drum to 0.1 s on 2 ranks exited with $?: $(cat "$work/restart-2.err")"
-mpi 3 "$talus" run --resume "$work/restart/checkpoints" $opts --quiet \
+TALUS_MPI_MESSAGE_BYTES=4096 mpi 3 "$talus" run --resume "$work/restart/checkpoints" $opts --quiet \
   > "$work/restart-3.json" 2> "$work/restart-3.err" ||
   fail "the resumed drum on 3 ranks exited with $?: $(cat "$work/restart-3.err")"
 grep -q '"ranks": 3' "$work/restart-3.json" || fail "the resumed run does not say 3 ranks"

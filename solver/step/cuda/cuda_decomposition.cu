@@ -153,7 +153,7 @@ DeviceDecomposition<Real>::DeviceDecomposition(DeviceStepShared<Real>& shared,
       list_(list),
       walls_(walls),
       comm_(std::move(comm)),
-      send_(comm_->size()),
+      send_count_(comm_->size()),
       received_(comm_->size(), 0) {
   TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&packed_, cudaEventDisableTiming));
   const char* profile = std::getenv("TALUS_EXCHANGE_PROFILE");
@@ -427,52 +427,83 @@ void DeviceDecomposition<Real>::reorder_own_by_cell() {
   list_->particles_changed();
 }
 
+// The own particles (no ghosts yet) within each other rank's halo, chosen on the device into
+// send_index_ (rank by rank, in order); only their counts come to the host. Their whole rows are
+// packed on the device (DeviceParticles::pack_rows, one kernel a rank), copied once into pinned
+// memory and sent; the arriving blocks are copied up once and appended as ghosts (one kernel a
+// rank). The counts travel first, so that each rank knows the sizes it receives.
 template <class Real>
 void DeviceDecomposition<Real>::send_ghosts() {
   const int me = comm_->rank(), ranks = comm_->size();
   const double h = rcb_->halo_width(), h2 = h * h;
-  // The own particles (no ghosts yet) within each other rank's halo, chosen on the device; only
-  // their indices (in order) come to the host.
   const int own = shared_.count;
-  std::vector<int> all;
+  const cudaStream_t stream = shared_.stream;
+  std::size_t sending = 0;
   if (own > 0) {
-    index_.grow_to(own), selected_.grow_to(own), flags_.grow_to(own);
-    iota_kernel<<<blocks_for(own), kBlock, 0, shared_.stream>>>(index_.data(), own);
+    index_.grow_to(own), flags_.grow_to(own);
+    send_index_.grow_to(static_cast<std::size_t>(own) * std::max(1, ranks - 1));
+    iota_kernel<<<blocks_for(own), kBlock, 0, stream>>>(index_.data(), own);
     TALUS_CUDA_LAUNCH_CHECK();
   }
   for (int r = 0; r < ranks; ++r) {
-    send_[r].clear();
+    send_count_[r] = 0;
     if (r == me || own == 0) continue;
-    flag_near_box<<<blocks_for(own), kBlock, 0, shared_.stream>>>(
+    flag_near_box<<<blocks_for(own), kBlock, 0, stream>>>(
         shared_.view, own, boxes_.data() + kBoxNumbers * (r + 1), h2, flags_.data());
     TALUS_CUDA_LAUNCH_CHECK();
-    const int near = select_flagged(flags_.data(), own, selected_.data());
-    if (near > 0) send_[r] = download(selected_.data(), near);
-    all.insert(all.end(), send_[r].begin(), send_[r].end());
+    send_count_[r] = select_flagged(flags_.data(), own, send_index_.data() + sending);
+    sending += send_count_[r];
   }
-  const typename DeviceParticles<Real>::Rows rows = particles_.gather_rows(all);
+  // The counts to every rank, theirs from every rank.
   std::vector<Bytes> to(ranks);
-  int at = 0;
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;
-    std::vector<int> which(send_[r].size());
-    for (std::size_t k = 0; k < which.size(); ++k) which[k] = at++;
     ByteWriter w(to[r]);
-    put_rows<Real>(w, rows, which);
+    w.put(static_cast<long long>(send_count_[r]));
   }
   const std::vector<Bytes> from = exchange_bytes(to);
-  const std::size_t arrays = particles_.names().size();
-  typename DeviceParticles<Real>::Rows ghosts;
   for (int r = 0; r < ranks; ++r) {
     received_[r] = 0;
     if (r == me) continue;
     ByteReader in(from[r]);
-    const int before = ghosts.count;
-    get_rows<Real>(in, arrays, ghosts);
-    received_[r] = ghosts.count - before;
+    received_[r] = static_cast<int>(in.get<long long>());
   }
-  particles_.append_rows(ghosts);  // owned stays: these are ghosts
-  send_index_.upload(all);
+  // The rows packed rank by rank (each block 8-aligned), down, across, up, appended.
+  std::vector<std::size_t> out_sizes(ranks, 0), in_sizes(ranks, 0);
+  std::size_t out_bytes = 0, in_bytes = 0;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me) continue;
+    out_sizes[r] = send_count_[r] > 0 ? particles_.packed_bytes(send_count_[r]) : 0;
+    in_sizes[r] = received_[r] > 0 ? particles_.packed_bytes(received_[r]) : 0;
+    out_bytes += out_sizes[r], in_bytes += in_sizes[r];
+    bytes_sent_ += static_cast<double>(out_sizes[r]);
+  }
+  rows_out_.grow_to(out_bytes), rows_in_.grow_to(in_bytes);
+  pinned_room(pinned_out_, pinned_out_size_, (out_bytes + sizeof(Real) - 1) / sizeof(Real));
+  pinned_room(pinned_in_, pinned_in_size_, (in_bytes + sizeof(Real) - 1) / sizeof(Real));
+  std::size_t at = 0, first = 0;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me || send_count_[r] == 0) continue;
+    particles_.pack_rows(send_index_.data() + first, send_count_[r], rows_out_.data() + at, stream);
+    first += send_count_[r], at += out_sizes[r];
+  }
+  if (out_bytes > 0) {
+    TALUS_CUDA_CHECK(
+        cudaMemcpyAsync(pinned_out_, rows_out_.data(), out_bytes, cudaMemcpyDeviceToHost, stream));
+  }
+  TALUS_CUDA_CHECK(cudaStreamSynchronize(stream));
+  comm_->exchange_sized(reinterpret_cast<const char*>(pinned_out_), out_sizes,
+                        reinterpret_cast<char*>(pinned_in_), in_sizes);
+  if (in_bytes > 0) {
+    TALUS_CUDA_CHECK(
+        cudaMemcpyAsync(rows_in_.data(), pinned_in_, in_bytes, cudaMemcpyHostToDevice, stream));
+  }
+  at = 0;
+  for (int r = 0; r < ranks; ++r) {
+    if (r == me || received_[r] == 0) continue;
+    particles_.append_packed(rows_in_.data() + at, received_[r], stream);  // owned stays
+    at += in_sizes[r];
+  }
   list_->particles_changed();
 }
 
@@ -481,7 +512,7 @@ void DeviceDecomposition<Real>::begin_update() {
   const GhostColumns<Real> columns = ghost_columns(shared_.view);
   const std::size_t n = columns.n;
   std::size_t sending = 0, arriving = 0;
-  for (int r = 0; r < comm_->size(); ++r) sending += send_[r].size(), arriving += received_[r];
+  for (int r = 0; r < comm_->size(); ++r) sending += send_count_[r], arriving += received_[r];
   const cudaStream_t stream = shared_.stream;
   // The last step's copies from them are done: its end waited for the stream.
   pinned_room(pinned_out_, pinned_out_size_, sending * n);
@@ -508,7 +539,7 @@ void DeviceDecomposition<Real>::finish_exchange() {
   std::size_t arriving = 0;
   for (int r = 0; r < ranks; ++r) {
     if (r == me) continue;
-    out_sizes[r] = send_[r].size() * n * sizeof(Real);
+    out_sizes[r] = send_count_[r] * n * sizeof(Real);
     in_sizes[r] = received_[r] * n * sizeof(Real);
     bytes_sent_ += static_cast<double>(out_sizes[r]);
     arriving += received_[r];

@@ -90,11 +90,13 @@ class DeviceDecomposition {
   std::shared_ptr<const Communicator> comm_;
   std::unique_ptr<RcbDomain> rcb_;
   bool changed_ = true;
-  // send_[r]: the own indices whose states rank r holds as ghosts, in its order; on the device
-  // concatenated in rank order (send_index_), with the packed states and the arriving ones.
-  std::vector<std::vector<int>> send_;
+  // send_count_[r]: how many own particles rank r holds as ghosts; their indices on the device in
+  // send_index_, rank after rank, each rank's in its order, with the packed states and the
+  // arriving ones.
+  std::vector<std::size_t> send_count_;
   std::vector<int> received_;  // ghosts from each rank
   DeviceBuffer<int> send_index_, order_;
+  DeviceBuffer<char> rows_out_, rows_in_;  // send_ghosts' packed rows (device)
   // The boxes as box_arrays.hpp's numbers (the region, then each rank's), and the scratch of
   // the device's classification (migrate, send_ghosts).
   DeviceBuffer<double> boxes_;

@@ -117,6 +117,54 @@ __global__ void outside_kernel(ParticleView<Real> p, const BodyProperties<Real>*
   energy[i] = particle_energy(p, bodies[p.template_id[i]], gravity ? &g : nullptr, i);
 }
 
+// The own particles' energies summed on the device (CudaStep::energy, every 100 steps for the
+// energy watch and at each energy probe): three numbers come back instead of every particle's
+// state, which at millions of particles cost more than the steps between. Each block of
+// kEnergyBlock threads sums its particles' parts in a fixed tree, then one block sums the blocks'
+// sums, each thread a fixed stride of them, in the same tree: the same particles in the same
+// order give the same bits (a resumed run's probes are the uninterrupted run's).
+constexpr int kEnergyBlock = 256;
+
+__device__ inline void sum_energy_parts(double (&e)[3], double (*s)[kEnergyBlock], double* out) {
+  const int t = threadIdx.x;
+  for (int k = 0; k < 3; ++k) s[k][t] = e[k];
+  __syncthreads();
+  for (int width = kEnergyBlock / 2; width > 0; width /= 2) {
+    if (t < width)
+      for (int k = 0; k < 3; ++k) s[k][t] += s[k][t + width];
+    __syncthreads();
+  }
+  if (t == 0)
+    for (int k = 0; k < 3; ++k) out[k] = s[k][0];
+}
+
+template <class Real>
+__global__ void energy_parts_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                                    Vec3d g, bool gravity, double* block_sums) {
+  __shared__ double s[3][kEnergyBlock];
+  const int i = blockIdx.x * kEnergyBlock + threadIdx.x;
+  double e[3] = {0, 0, 0};  // as particle_energy (particle_kernels.hpp) computes them
+  if (i < p.count) {
+    const BodyProperties<Real>& body = bodies[p.template_id[i]];
+    e[0] = 0.5 * double(body.mass) * norm2(Vec3d(p.velocity.get(i)));
+    if (p.angular_velocity.present()) {
+      const Vec3d w(p.angular_velocity.get(i));  // body frame, with the principal moments
+      const Vec3d inertia(body.inertia);
+      e[1] = 0.5 * (inertia.x * w.x * w.x + inertia.y * w.y * w.y + inertia.z * w.z * w.z);
+    }
+    if (gravity) e[2] = -(double(body.mass) * dot(g, Vec3d(p.position.get(i))));
+  }
+  sum_energy_parts(e, s, block_sums + 3 * blockIdx.x);
+}
+
+__global__ void energy_total_kernel(const double* block_sums, int blocks, double* total) {
+  __shared__ double s[3][kEnergyBlock];
+  double e[3] = {0, 0, 0};
+  for (int b = threadIdx.x; b < blocks; b += kEnergyBlock)
+    for (int k = 0; k < 3; ++k) e[k] += block_sums[3 * b + k];
+  sum_energy_parts(e, s, total);
+}
+
 }  // namespace
 
 }  // namespace talus

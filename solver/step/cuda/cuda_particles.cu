@@ -3,6 +3,7 @@
 #include "solver/step/cuda/cuda_particles.cuh"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace talus {
 
@@ -35,7 +36,102 @@ void gather_in_place(DeviceBuffer<T>& values, const int* order, int n, DeviceBuf
   values.swap(scratch);
 }
 
+// The arrays of a packed block (DeviceParticles::pack_rows): at most kPackedArrays real arrays
+// (the plan's are fewer: particle_array_names).
+constexpr int kPackedArrays = 32;
+
+template <class Real>
+struct PackedColumns {
+  Real* column[kPackedArrays] = {};
+  int arrays = 0;
+  int* template_id = nullptr;
+  int* material_id = nullptr;
+  long long* global_id = nullptr;
+};
+
+// A block of `count` rows: ids (8 bytes each), then `arrays` blocks of reals, then the template
+// and material ids; the offsets of each part.
+template <class Real>
+struct PackedLayout {
+  std::size_t values, templates, materials, bytes;
+  __host__ __device__ PackedLayout(int count, int arrays) {
+    const std::size_t n = static_cast<std::size_t>(count);
+    values = n * sizeof(long long);
+    templates = values + n * arrays * sizeof(Real);
+    materials = templates + n * sizeof(int);
+    bytes = (materials + n * sizeof(int) + 7) / 8 * 8;  // the next block 8-aligned
+  }
+};
+
+template <class Real>
+__global__ void pack_rows_kernel(PackedColumns<Real> c, const int* __restrict__ index, int count,
+                                 char* __restrict__ out) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const int i = index[k];
+  const PackedLayout<Real> at(count, c.arrays);
+  reinterpret_cast<long long*>(out)[k] = c.global_id[i];
+  Real* values = reinterpret_cast<Real*>(out + at.values);
+  for (int a = 0; a < c.arrays; ++a)
+    values[static_cast<std::size_t>(a) * count + k] = c.column[a][i];
+  reinterpret_cast<int*>(out + at.templates)[k] = c.template_id[i];
+  reinterpret_cast<int*>(out + at.materials)[k] = c.material_id[i];
+}
+
+template <class Real>
+__global__ void unpack_rows_kernel(PackedColumns<Real> c, const char* __restrict__ in, int count,
+                                   int first) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const int i = first + k;
+  const PackedLayout<Real> at(count, c.arrays);
+  c.global_id[i] = reinterpret_cast<const long long*>(in)[k];
+  const Real* values = reinterpret_cast<const Real*>(in + at.values);
+  for (int a = 0; a < c.arrays; ++a)
+    c.column[a][i] = values[static_cast<std::size_t>(a) * count + k];
+  c.template_id[i] = reinterpret_cast<const int*>(in + at.templates)[k];
+  c.material_id[i] = reinterpret_cast<const int*>(in + at.materials)[k];
+}
+
 }  // namespace
+
+template <class Real>
+std::size_t DeviceParticles<Real>::packed_bytes(int count) const {
+  return PackedLayout<Real>(count, static_cast<int>(storage_.size())).bytes;
+}
+
+template <class Real>
+void DeviceParticles<Real>::pack_rows(const int* index, int count, char* out,
+                                      cudaStream_t stream) const {
+  if (count == 0) return;
+  PackedColumns<Real> c;
+  if (storage_.size() > static_cast<std::size_t>(kPackedArrays))
+    throw std::logic_error("pack_rows: more particle arrays than kPackedArrays");
+  for (const auto& entry : storage_) c.column[c.arrays++] = const_cast<Real*>(entry.second.data());
+  c.template_id = const_cast<int*>(template_ids_.data());
+  c.material_id = const_cast<int*>(material_ids_.data());
+  c.global_id = const_cast<long long*>(shared_.global_ids.data());
+  pack_rows_kernel<<<blocks_for(count), kBlock, 0, stream>>>(c, index, count, out);
+  TALUS_CUDA_LAUNCH_CHECK();
+}
+
+template <class Real>
+void DeviceParticles<Real>::append_packed(const char* in, int count, cudaStream_t stream) {
+  if (count == 0) return;
+  const int first = shared_.count;
+  reserve(first + count);
+  PackedColumns<Real> c;
+  if (storage_.size() > static_cast<std::size_t>(kPackedArrays))
+    throw std::logic_error("append_packed: more particle arrays than kPackedArrays");
+  for (auto& entry : storage_) c.column[c.arrays++] = entry.second.data();
+  c.template_id = template_ids_.data();
+  c.material_id = material_ids_.data();
+  c.global_id = shared_.global_ids.data();
+  unpack_rows_kernel<<<blocks_for(count), kBlock, 0, stream>>>(c, in, count, first);
+  TALUS_CUDA_LAUNCH_CHECK();
+  shared_.count = first + count;
+  bind();
+}
 
 template <class Real>
 DeviceParticles<Real>::DeviceParticles(DeviceStepShared<Real>& shared, const StepPlan& plan)

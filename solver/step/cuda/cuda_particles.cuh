@@ -49,6 +49,15 @@ class DeviceParticles {
   // the present particles.
   Rows gather_rows(const std::vector<int>& indices);
   void append_rows(const Rows& rows);
+  // Whole particles packed on the device, as a decomposed step sends its ghosts: `count` rows
+  // (the particles at device `index`) into `out` (device, packed_bytes(count) bytes, 8-aligned):
+  // the global ids, then each array's values, then the template and the material ids, each a
+  // block of `count`; one kernel on `stream`. append_packed appends such a block (device) after
+  // the present particles, likewise. The same values as gather_rows/append_rows without a host
+  // copy per array.
+  std::size_t packed_bytes(int count) const;
+  void pack_rows(const int* index, int count, char* out, cudaStream_t stream) const;
+  void append_packed(const char* in, int count, cudaStream_t stream);
   // `count` particles: the arrays grow (or the count shrinks), the particles' contents are left
   // for the caller to set (import_from).
   void resize(int count);

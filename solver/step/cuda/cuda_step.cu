@@ -195,12 +195,23 @@ void CudaStep<Real>::Impl::flag_outside() {
   const int n = count();
   if (n == 0 || !scene.domain) return;
   const Box box = decomposition ? decomposition->domain().region() : domain->local_box();
-  keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
+  grow_outside_buffers();  // a no-op in a graph's capture (capture_graph grew them before)
   const Vec3d g = scene.effects.gravity ? *scene.effects.gravity : Vec3d();
   outside_kernel<<<blocks_for(n), kBlock, 0, shared.stream>>>(
       view(), bodies.data(), box.min, box.max, g, scene.effects.gravity.has_value(),
       keep_flags.data(), removed_energy.data(), index.data(), shared.flags.at(outside_particles));
   TALUS_CUDA_LAUNCH_CHECK();
+}
+
+// The removal's per-particle buffers, room for every particle: before a graph's capture too, as
+// nothing may be allocated while a stream is captured (the first capture of a scene with a
+// domain box, and the first after a feed, found them short: "operation not permitted when
+// stream is capturing").
+template <class Real>
+void CudaStep<Real>::Impl::grow_outside_buffers() {
+  const int n = count();
+  if (n == 0 || !scene.domain) return;
+  keep_flags.grow_to(n), removed_energy.grow_to(n), index.grow_to(n), order.grow_to(n);
 }
 
 template <class Real>
@@ -539,17 +550,41 @@ std::vector<TrajectoryRow> CudaStep<Real>::trajectory_rows() const {
 }
 
 template <class Real>
+std::array<double, 3> CudaStep<Real>::Impl::energy_parts() const {
+  const int n = own_count();
+  if (n == 0) return {0, 0, 0};
+  const int blocks = (n + kEnergyBlock - 1) / kEnergyBlock;
+  energy_sums_by_block.grow_to(3 * std::size_t(blocks));
+  energy_total.grow_to(3);
+  ParticleView<Real> own = shared.view;
+  own.count = n;
+  const bool gravity = scene.effects.gravity.has_value();
+  const Vec3d g = gravity ? *scene.effects.gravity : Vec3d();
+  energy_parts_kernel<<<blocks, kEnergyBlock, 0, shared.stream>>>(own, bodies.data(), g, gravity,
+                                                                  energy_sums_by_block.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  energy_total_kernel<<<1, kEnergyBlock, 0, shared.stream>>>(energy_sums_by_block.data(), blocks,
+                                                             energy_total.data());
+  TALUS_CUDA_LAUNCH_CHECK();
+  TALUS_CUDA_CHECK(cudaStreamSynchronize(shared.stream));
+  const std::vector<double> total = download(energy_total.data(), 3);
+  return {total[0], total[1], total[2]};
+}
+
+template <class Real>
 double CudaStep<Real>::kinetic_energy() const {
-  return particle_kinetic_energy(impl_->particles->host_copy(impl_->own_count()).view,
-                                 impl_->host_bodies);
+  const std::array<double, 3> e = impl_->energy_parts();
+  return e[0] + e[1];
 }
 
 template <class Real>
 EnergyTerms CudaStep<Real>::energy() const {
   const Impl& m = *impl_;
   EnergyTerms terms;
-  particle_energies(m.particles->host_copy(m.own_count()).view, m.host_bodies,
-                    m.scene.effects.gravity ? &*m.scene.effects.gravity : nullptr, terms);
+  const std::array<double, 3> e = m.energy_parts();  // translational, rotational, gravitational
+  terms.kinetic_translational = e[0];
+  terms.kinetic_rotational = e[1];
+  terms.gravitational = e[2];
   terms.elastic_normal = m.energy_sums[sum_normal];
   terms.elastic_tangential = m.energy_sums[sum_tangential];
   terms.ledger = m.ledger;

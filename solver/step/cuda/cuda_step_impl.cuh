@@ -73,6 +73,10 @@ struct CudaStep<Real>::Impl {
   // Graph steps ("Graph steps" below).
   StepReport* report = nullptr;                // pinned
   DeviceBuffer<unsigned long long> predicted;  // the report's predicted move, on the device
+  // The own particles' energy parts (translational, rotational, gravitational), summed on the
+  // device (cuda_step.cu); the blocks' sums, then the three totals.
+  std::array<double, 3> energy_parts() const;
+  mutable DeviceBuffer<double> energy_sums_by_block, energy_total;
   cudaGraphExec_t graph = nullptr;
   bool graphs_on = true;  // the option, the environment and no failed capture
   bool recapture = true;  // a step ran stage by stage since the graph was captured
@@ -147,6 +151,7 @@ struct CudaStep<Real>::Impl {
     list->particles_changed();
   }
   void flag_outside();
+  void grow_outside_buffers();
   void remove_outside(int outside);
 
   // ---- Graph steps ----
@@ -183,6 +188,7 @@ struct CudaStep<Real>::Impl {
 
   bool capture_graph() {
     if (walls && !walls->prepare_graph()) return false;
+    grow_outside_buffers();
     stage_timer.release_graph();
     cudaGraph_t captured = nullptr;
     TALUS_CUDA_CHECK(cudaStreamBeginCapture(shared.stream, cudaStreamCaptureModeThreadLocal));
