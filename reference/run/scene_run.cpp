@@ -71,6 +71,14 @@ RefWallMotion wall_motion(const WallMotion& m) {
       r.kind = RefWallMotion::Kind::kTranslation;
       r.velocity = to_eigen(m.velocity);
       break;
+    case WallMotion::Kind::oscillation:
+      r.kind = RefWallMotion::Kind::kOscillation;
+      r.axis = to_eigen(m.direction).normalized();
+      r.amplitude = m.amplitude;
+      r.frequency = m.frequency;
+      r.start = m.start;
+      r.cycles = m.cycles;
+      break;
   }
   return r;
 }

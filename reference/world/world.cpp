@@ -83,6 +83,12 @@ RefWorld::RefWorld(RefWorldSetup setup) : setup_(std::move(setup)) {
     if (wall.motion.kind == RefWallMotion::Kind::kRotation && wall.motion.axis.norm() == 0) {
       fail("wall '" + wall.name + "': the rotation axis is zero");
     }
+    if (wall.motion.kind == RefWallMotion::Kind::kOscillation &&
+        (wall.motion.axis.norm() == 0 || !(wall.motion.amplitude > 0) ||
+         !(wall.motion.frequency > 0) || wall.motion.cycles < 0)) {
+      fail("wall '" + wall.name +
+           "': an oscillation needs a direction, a positive amplitude and frequency, cycles >= 0");
+    }
   }
   wall_force_.assign(setup_.walls.size(), Eigen::Vector3d::Zero());
   wall_torque_.assign(setup_.walls.size(), Eigen::Vector3d::Zero());

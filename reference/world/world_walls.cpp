@@ -95,7 +95,8 @@ void RefWorld::wall_contact_of(int i, int w, const std::vector<RefTriangle>& tri
   nc.tangential_stiffness = k_t;
   nc.area = area;
   const PairProperties props = pair_properties(p.material, wall.material);
-  const Eigen::Vector3d v_r = point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point);
+  const Eigen::Vector3d v_r =
+      point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point, time_);
   ContactForce f;
   double tangential_energy = 0;  // the tangential spring's and the rocking spring's
   PatchCouple patch;             // zero but for the default law with rotation
@@ -170,7 +171,8 @@ void RefWorld::sphere_wall_contact(int i, int w, const std::vector<RefTriangle>&
   nc.point = 0.5 * (q + (c + p.sphere_radius * nc.normal));
   nc.elastic = setup_.effects.linear.stiffness * depth;
   const PairProperties props = pair_properties(p.material, wall.material);
-  const Eigen::Vector3d v_r = point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point);
+  const Eigen::Vector3d v_r =
+      point_velocity(i, nc.point) - wall.motion.velocity_at(nc.point, time_);
   const ContactForce f = linear_contact_force(nc, linear_law(props), v_r);
   const Eigen::Vector3d force = f.total();
   apply(i, nc.point, force);

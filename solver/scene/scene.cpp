@@ -1,6 +1,7 @@
 #include "solver/scene/scene.hpp"
 
 #include <cmath>
+#include <optional>
 
 namespace talus {
 
@@ -18,6 +19,26 @@ double Region::volume() const {
 
 double WallMotion::angular_speed() const {
   return rpm * 2 * M_PI / 60;
+}
+
+namespace {
+// The oscillation's phase 2 pi f (t - start) while it runs; nullopt before and after.
+std::optional<double> oscillation_phase(const WallMotion& m, double time) {
+  if (m.kind != WallMotion::Kind::oscillation || !(time > m.start)) return std::nullopt;
+  const double elapsed = time - m.start;
+  if (m.cycles > 0 && elapsed * m.frequency >= m.cycles) return std::nullopt;
+  return 2 * M_PI * m.frequency * elapsed;
+}
+}  // namespace
+
+double WallMotion::oscillation_displacement(double time) const {
+  const std::optional<double> phase = oscillation_phase(*this, time);
+  return phase ? amplitude * (1 - std::cos(*phase)) : 0;
+}
+
+double WallMotion::oscillation_speed(double time) const {
+  const std::optional<double> phase = oscillation_phase(*this, time);
+  return phase ? amplitude * 2 * M_PI * frequency * std::sin(*phase) : 0;
 }
 
 int Scene::material_index(const std::string& name) const {

@@ -125,13 +125,27 @@ struct FeedRequest {
 };
 
 struct WallMotion {
-  enum class Kind { none, rotation, translation };
+  enum class Kind { none, rotation, translation, oscillation };
   Kind kind = Kind::none;
   Vec3d axis = Vec3d(0, 0, 1);  // rotation: unit axis through `point`, right-handed
   Vec3d point;
   double rpm = 0;                // revolutions per minute; negative turns the other way
   Vec3d velocity;                // translation, m/s
   double angular_speed() const;  // rad/s
+  // Oscillation (a shaken or tapped container): a translation along the unit `direction` by a
+  // raised cosine, d(t) = amplitude (1 - cos(2 pi frequency (t - start))) for start < t <
+  // start + cycles / frequency (without end when cycles is 0), zero before and after: the wall
+  // leaves its rest position and comes back to it, its speed zero at each cycle's ends (no
+  // impulse at the start or the stop), its peak acceleration amplitude (2 pi frequency)^2 (the
+  // tapping intensity Gamma is that over g).
+  Vec3d direction = Vec3d(0, 0, 1);
+  double amplitude = 0;  // m (the wall's excursion is twice this)
+  double frequency = 0;  // Hz
+  double start = 0;      // s
+  int cycles = 0;        // whole cycles, 0: without end
+  // d(t) and its rate, m and m/s (zero unless an oscillation in progress).
+  double oscillation_displacement(double time) const;
+  double oscillation_speed(double time) const;
 };
 
 // A triangle mesh read from a file; world = translation + R(rotation) (scale * file).

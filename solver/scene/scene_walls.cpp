@@ -58,7 +58,7 @@ Outlet parse_outlet(const SceneNode& body) {
 }
 
 WallMotion parse_motion(const SceneNode& node) {
-  const auto [kind, body] = node.one_of({"rotation", "translation"}, "motion");
+  const auto [kind, body] = node.one_of({"rotation", "translation", "oscillation"}, "motion");
   WallMotion motion;
   if (kind == "rotation") {
     body.keys({"axis", "point", "rpm"}, "a rotation: a map with keys axis, point, rpm");
@@ -67,6 +67,18 @@ WallMotion parse_motion(const SceneNode& node) {
     motion.point = point(body, "point", "a point on the axis");
     motion.rpm = body.at("rpm", "a number in revolutions per minute")
                      .number("a number in revolutions per minute");
+  } else if (kind == "oscillation") {
+    body.keys({"direction", "amplitude", "frequency", "start", "cycles"},
+              "an oscillation: a map with keys direction, amplitude, frequency, start, cycles");
+    motion.kind = WallMotion::Kind::oscillation;
+    motion.direction = body.at("direction", "a direction [x, y, z]").direction("a direction");
+    motion.amplitude = body.at("amplitude", "a positive amplitude in m").positive("m");
+    motion.frequency = body.at("frequency", "a positive frequency in Hz").positive("Hz");
+    if (auto start = body.find("start"))
+      motion.start =
+          start->number("a start time in s, at least 0", [](double v) { return v >= 0; });
+    if (auto cycles = body.find("cycles"))
+      motion.cycles = int(cycles->integer("a whole number of cycles, at least 1", 1, 100000000));
   } else {
     body.keys({"velocity"}, "a translation: a map with key velocity");
     motion.kind = WallMotion::Kind::translation;

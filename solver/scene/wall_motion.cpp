@@ -9,6 +9,8 @@ RigidTransform wall_transform(const WallMotion& motion, double time) {
     transform.translation = motion.point - rotate(transform.rotation, motion.point);
   } else if (motion.kind == WallMotion::Kind::translation) {
     transform.translation = motion.velocity * time;
+  } else if (motion.kind == WallMotion::Kind::oscillation) {
+    transform.translation = motion.direction * motion.oscillation_displacement(time);
   }
   return transform;
 }
@@ -17,12 +19,14 @@ Vec3d wall_angular_velocity(const WallMotion& motion) {
   return motion.kind == WallMotion::Kind::rotation ? motion.axis * motion.angular_speed() : Vec3d();
 }
 
-Vec3d wall_point_velocity(const WallMotion& motion, double /*time*/, const Vec3d& x) {
+Vec3d wall_point_velocity(const WallMotion& motion, double time, const Vec3d& x) {
   switch (motion.kind) {
     case WallMotion::Kind::rotation:
       return cross(wall_angular_velocity(motion), x - motion.point);
     case WallMotion::Kind::translation:
       return motion.velocity;
+    case WallMotion::Kind::oscillation:
+      return motion.direction * motion.oscillation_speed(time);
     case WallMotion::Kind::none:
       break;
   }

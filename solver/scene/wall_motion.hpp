@@ -1,8 +1,10 @@
 // Where a moving wall is at time t, and how fast a point attached to it moves.
 //
 // A wall's mesh is given at t = 0 (wall_meshes.hpp); its motion (WallMotion) is rigid:
-// rotation by angle angular_speed() * t about `axis` through `point` (right-handed), or
-// translation by velocity * t. So a point x0 of the wall at t = 0 is at transform(t).apply(x0).
+// rotation by angle angular_speed() * t about `axis` through `point` (right-handed),
+// translation by velocity * t, or an oscillation: translation by direction * d(t)
+// (WallMotion::oscillation_displacement). So a point x0 of the wall at t = 0 is at
+// transform(t).apply(x0).
 #pragma once
 
 #include "solver/scene/scene.hpp"
@@ -23,7 +25,8 @@ RigidTransform wall_transform(const WallMotion& motion, double time);
 
 // The velocity (m/s) of the point of the wall that is at world position `x` at time t:
 // w axis x (x - point) for a rotation (a constant angular velocity, so it does not depend on t
-// beyond where x is), the constant velocity for a translation, zero without motion.
+// beyond where x is), the constant velocity for a translation, direction * d'(t) for an
+// oscillation, zero without motion.
 Vec3d wall_point_velocity(const WallMotion& motion, double time, const Vec3d& x);
 
 // The wall's angular velocity vector, rad/s (zero unless it rotates).

@@ -490,7 +490,7 @@ TEST(ReferenceWorld, RotatingWallMotionIsARigidRotation) {
   // Exact to round-off: the rotation of a unit vector by a quarter turn, 1e-15 m.
   const Eigen::Vector3d quarter = m.position(x0, M_PI / 4);  // 2 rad/s x pi/4 s = 90 degrees
   EXPECT_NEAR((quarter - Eigen::Vector3d(1, 3, 0.5)).norm(), 0, 1e-15);
-  const Eigen::Vector3d v = m.velocity_at(quarter);  // omega z x (0, 1, 0.5) = (-2, 0, 0)
+  const Eigen::Vector3d v = m.velocity_at(quarter, 0.0);  // omega z x (0, 1, 0.5) = (-2, 0, 0)
   EXPECT_NEAR((v - Eigen::Vector3d(-2, 0, 0)).norm(), 0, 1e-15);
 }
 

@@ -163,6 +163,31 @@ Scene load_wall_example(const std::string& kind) {
       kind + ".yaml", dir);
 }
 
+// A plane shaken up and down (the tapped beds of experiments/platonic_packing): the direction
+// normalised, the amplitude, frequency, start and cycles as given; a moving wall.
+TEST(SceneExample, AnOscillatingWallLoadsWithItsValues) {
+  const std::string dir = scene_data_dir() + "/walls";
+  const Scene scene = parse_scene(read_text_file(dir + "/preamble.yaml") + R"(walls:
+  - plane:
+      point: [0, 0, 0]
+      normal: [0, 0, 1]
+      size: 0.5
+      material: steel
+      motion:
+        oscillation: {direction: [0, 0, 2], amplitude: 0.0015, frequency: 30, start: 0.4,
+                      cycles: 5}
+)",
+                                  "tray.yaml", dir);
+  const WallMotion& m = scene.walls.at(0).motion;
+  EXPECT_EQ(m.kind, WallMotion::Kind::oscillation);
+  expect_vec(m.direction, {0, 0, 1});
+  EXPECT_EQ(m.amplitude, 0.0015);
+  EXPECT_EQ(m.frequency, 30);
+  EXPECT_EQ(m.start, 0.4);
+  EXPECT_EQ(m.cycles, 5);
+  EXPECT_TRUE(scene.effects.moving_walls);
+}
+
 TEST(SceneExample, EachWallKindLoadsWithItsValues) {
   {
     const Scene scene = load_wall_example("plane");

@@ -95,5 +95,63 @@ TEST(WallMotion, MovedMeshKeepsItsWindingAndTurnsItsNormals) {
   expect_point(triangle_normal(moved, 0), {0, -1, 0});
 }
 
+WallMotion oscillation(const Vec3d& direction, double amplitude, double frequency, double start,
+                       int cycles) {
+  WallMotion motion;
+  motion.kind = WallMotion::Kind::oscillation;
+  motion.direction = direction;
+  motion.amplitude = amplitude;
+  motion.frequency = frequency;
+  motion.start = start;
+  motion.cycles = cycles;
+  return motion;
+}
+
+// The raised cosine d(t) = A (1 - cos 2 pi f (t - start)) along the direction for `cycles` whole
+// cycles: still before the start, A up after a quarter cycle (at the peak speed A 2 pi f), 2A up
+// at the half (at rest), back at the rest position with speed zero after each whole cycle and
+// for good after the last.
+TEST(WallMotion, OscillationIsARaisedCosineForItsCycles) {
+  const Vec3d up(0, 0.6, 0.8);
+  const double a = 0.002, f = 25, start = 0.1;  // 40 ms a cycle
+  const WallMotion motion = oscillation(up, a, f, start, 3);
+  const double w = 2 * M_PI * f;
+  const Vec3d x0(0.3, -0.2, 0.1);
+  const auto at = [&](double t) { return wall_transform(motion, t).apply(x0); };
+  expect_point(at(0), x0);
+  expect_point(at(start), x0);
+  expect_point(wall_point_velocity(motion, start, x0), {});
+  expect_point(at(start + 0.01), x0 + up * a);  // a quarter cycle
+  expect_point(wall_point_velocity(motion, start + 0.01, x0), up * (a * w), 1e-12);
+  expect_point(at(start + 0.02), x0 + up * (2 * a));  // half a cycle: the top
+  expect_point(wall_point_velocity(motion, start + 0.02, x0), {}, 1e-15);
+  expect_point(at(start + 0.03), x0 + up * a);  // going down at the peak speed
+  expect_point(wall_point_velocity(motion, start + 0.03, x0), up * (-a * w), 1e-12);
+  expect_point(at(start + 0.04), x0, 1e-15);                // a whole cycle: back
+  expect_point(at(start + 0.1), x0 + up * (2 * a), 1e-15);  // the third cycle's top
+  // After the third cycle (t > start + 0.12) the wall rests where it started.
+  expect_point(at(start + 0.12 + 1e-9), x0);
+  expect_point(wall_point_velocity(motion, start + 0.13, x0), {});
+  expect_point(at(5.0), x0);
+  expect_point(wall_angular_velocity(motion), {});
+  // Without a number of cycles it goes on.
+  expect_point(wall_transform(oscillation(up, a, f, start, 0), start + 4.02).apply(x0),
+               x0 + up * (2 * a), 1e-14);
+}
+
+TEST(WallMotion, OscillationVelocityIsTheRateOfItsDisplacement) {
+  const WallMotion motion = oscillation({0, 0, 1}, 0.001, 40, 0.05, 10);
+  const Vec3d x0(0, 0, 0);
+  const double h = 1e-7;
+  for (const double t : {0.0513, 0.0671, 0.0802, 0.1234, 0.2899}) {
+    // Central difference: error A w^3 h^2 / 6 ~ 2.6e-12 m/s (A = 1 mm, w = 251 rad/s) plus
+    // round-off 1e-19 m / h ~ 1e-12 m/s; the speed is at most A w = 0.25 m/s. 1e-10 bounds both.
+    const Vec3d difference =
+        (wall_transform(motion, t + h).apply(x0) - wall_transform(motion, t - h).apply(x0)) /
+        (2 * h);
+    expect_point(wall_point_velocity(motion, t, x0), difference, 1e-10);
+  }
+}
+
 }  // namespace
 }  // namespace talus

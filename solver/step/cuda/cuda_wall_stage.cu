@@ -31,12 +31,18 @@ DeviceWallStage<Real>::DeviceWallStage(DeviceStepShared<Real>& shared,
   TALUS_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&placements_host_),
                                   std::max<std::size_t>(walls, 1) * sizeof(WallPlacement<Real>)));
   for (std::size_t w = 0; w < walls; ++w) placements_host_[w] = WallPlacement<Real>();
+  if (host_->oscillates()) {  // their velocities change with the time: copied with the placements
+    TALUS_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&motions_host_),
+                                    walls * sizeof(WallMotionData<Real>)));
+    std::copy(host_->motions().begin(), host_->motions().end(), motions_host_);
+  }
   upload(time);
 }
 
 template <class Real>
 DeviceWallStage<Real>::~DeviceWallStage() {
   if (placements_host_) cudaFreeHost(placements_host_);  // no throw from a destructor
+  if (motions_host_) cudaFreeHost(motions_host_);
 }
 
 // Once, at construction: the grids and the static walls' corners (placed on the host at `time`
@@ -114,6 +120,8 @@ void DeviceWallStage<Real>::stage_placement(double time) {
     wall_views_[w].rotation = now.rotation;
     wall_views_[w].translation = now.translation;
   }
+  if (motions_host_)  // an oscillating wall's velocity at `time` (locate set it)
+    std::copy(host_->motions().begin(), host_->motions().end(), motions_host_);
 }
 
 // The walls at `time` on the device: the placements copied over (one copy from pinned memory,
@@ -128,6 +136,11 @@ void DeviceWallStage<Real>::place(double time) {
   TALUS_CUDA_CHECK(cudaMemcpyAsync(placements_.data(), placements_host_,
                                    walls * sizeof(WallPlacement<Real>), cudaMemcpyHostToDevice,
                                    stream));
+  if (motions_host_) {
+    TALUS_CUDA_CHECK(cudaMemcpyAsync(motions_.data(), motions_host_,
+                                     walls * sizeof(WallMotionData<Real>), cudaMemcpyHostToDevice,
+                                     stream));
+  }
   for (int w = 0; w < walls; ++w) {
     if (mesh_corner_at_[w] < 0) continue;
     // All the mesh's corners: those of facets not present yet (a closed outlet) are placed too

@@ -118,6 +118,9 @@ class DeviceWallStage {
   DeviceBuffer<WallMotionData<Real>> motions_;
   DeviceBuffer<WallPlacement<Real>> placements_;    // per wall, copied from placements_host_
   WallPlacement<Real>* placements_host_ = nullptr;  // pinned
+  // An oscillating wall's velocity changes with the time: the motions copied from this pinned
+  // copy with the placements at each place() (null when no wall oscillates: uploaded once).
+  WallMotionData<Real>* motions_host_ = nullptr;
   DeviceBuffer<int> materials_;
   // The touching (particle, wall) records (appended, then in wall-major order) and each pair's
   // place among them (-1: apart): a record per touching pair, not per particle and wall.

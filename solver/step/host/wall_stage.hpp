@@ -65,6 +65,9 @@ class WallContactStage {
       } else if (m.kind == WallMotion::Kind::translation) {
         d.kind = 2;
         d.velocity = Vec3<Real>(m.velocity);
+      } else if (m.kind == WallMotion::Kind::oscillation) {
+        d.kind = 2;  // a translation whose velocity locate() sets at each time
+        oscillates_ = true;
       }
       motion_.push_back(d);
       plate_.push_back(meshes_[w].plate_triangles);
@@ -101,6 +104,9 @@ class WallContactStage {
       f.patch_count = static_cast<int>(patches_[w].size());
       f.rotation = Quat<Real>(transform.rotation);
       f.translation = Vec3<Real>(transform.translation);
+      const WallMotion& m = scene_.walls[w].motion;
+      if (m.kind == WallMotion::Kind::oscillation)
+        motion_[w].velocity = Vec3<Real>(m.direction * m.oscillation_speed(time));
     }
   }
 
@@ -191,7 +197,10 @@ class WallContactStage {
   bool moves(int w) const { return scene_.walls.at(w).motion.kind != WallMotion::Kind::none; }
   // The touching records of the last compute, wall-major (the serial order).
   const std::vector<WallContactRecord<Real>>& contacts() const { return contacts_; }
+  // The walls' motions for the contacts (an oscillating wall's velocity that of the last
+  // locate's time), and whether some wall oscillates (its velocity changes with the time).
   const std::vector<WallMotionData<Real>>& motions() const { return motion_; }
+  bool oscillates() const { return oscillates_; }
   // The history store (the touching contacts of the last evaluation, sorted by key), and setting
   // it (a restart).
   const std::vector<PairKey>& history_keys() const { return keys_; }
@@ -216,6 +225,7 @@ class WallContactStage {
   const Scene& scene_;
   std::vector<WallMesh> meshes_;
   std::vector<WallMotionData<Real>> motion_;
+  bool oscillates_ = false;
   std::vector<int> plate_;  // per wall: its closed plate's triangles while present, else 0
   int threads_;
   std::vector<FacetGrid<Real>> grids_;  // per wall, in its mesh frame; empty: brute force
