@@ -544,59 +544,6 @@ Vec3d CudaStep<Real>::wall_torque(int w) const {
   return impl_->walls->torque(w);
 }
 
-template <class Real>
-std::vector<TrajectoryRow> CudaStep<Real>::trajectory_rows() const {
-  return particle_rows(impl_->particles->host_copy(impl_->own_count()).view);
-}
-
-template <class Real>
-std::array<double, 3> CudaStep<Real>::Impl::energy_parts() const {
-  const int n = own_count();
-  if (n == 0) return {0, 0, 0};
-  const int blocks = (n + kEnergyBlock - 1) / kEnergyBlock;
-  energy_sums_by_block.grow_to(3 * std::size_t(blocks));
-  energy_total.grow_to(3);
-  ParticleView<Real> own = shared.view;
-  own.count = n;
-  const bool gravity = scene.effects.gravity.has_value();
-  const Vec3d g = gravity ? *scene.effects.gravity : Vec3d();
-  energy_parts_kernel<<<blocks, kEnergyBlock, 0, shared.stream>>>(own, bodies.data(), g, gravity,
-                                                                  energy_sums_by_block.data());
-  TALUS_CUDA_LAUNCH_CHECK();
-  energy_total_kernel<<<1, kEnergyBlock, 0, shared.stream>>>(energy_sums_by_block.data(), blocks,
-                                                             energy_total.data());
-  TALUS_CUDA_LAUNCH_CHECK();
-  TALUS_CUDA_CHECK(cudaStreamSynchronize(shared.stream));
-  const std::vector<double> total = download(energy_total.data(), 3);
-  return {total[0], total[1], total[2]};
-}
-
-template <class Real>
-double CudaStep<Real>::kinetic_energy() const {
-  const std::array<double, 3> e = impl_->energy_parts();
-  return e[0] + e[1];
-}
-
-template <class Real>
-EnergyTerms CudaStep<Real>::energy() const {
-  const Impl& m = *impl_;
-  EnergyTerms terms;
-  const std::array<double, 3> e = m.energy_parts();  // translational, rotational, gravitational
-  terms.kinetic_translational = e[0];
-  terms.kinetic_rotational = e[1];
-  terms.gravitational = e[2];
-  terms.elastic_normal = m.energy_sums[sum_normal];
-  terms.elastic_tangential = m.energy_sums[sum_tangential];
-  terms.ledger = m.ledger;
-  return terms;
-}
-
-template <class Real>
-double CudaStep<Real>::bed_height(const Vec3d& gravity) const {
-  return particle_bed_height(impl_->particles->host_copy(impl_->own_count()).view,
-                             impl_->host_bodies, gravity);
-}
-
 std::unique_ptr<AnyStep> make_cuda_step(const Scene& scene) {
   if (scene.precision == Precision::float32) {
     return std::make_unique<StepAdapter<CudaStep<float>>>(scene, "cuda");
