@@ -54,6 +54,9 @@ struct OverlapResult {
   // Decided by the vertex enumeration (vertex_enumeration.hpp) rather than the LP and the dual
   // hull; depth_hint is then a lower bound of the inradius, not the LP's value.
   bool enumerated = false;
+  // The dual hull failed on a slab thinner than its resolution and the pair is reported as
+  // touching (overlap_polyhedra.hpp, below_dual_resolution).
+  bool thin_slab = false;
 };
 
 // Which planes enter the dual hull. Both filters are exact (docs/geometry.md); they are switches

@@ -64,6 +64,60 @@ struct TwinTolerance {
 
 namespace overlap_detail {
 
+// A slab below the dual transform's resolution. When the dual hull cannot be built even from the
+// analytic centre in rounded coordinates (step 4's retry) and the overlap's inradius (the
+// Chebyshev LP's depth) is at most kThinSlab * sqrt(eps) of the smaller bounding radius, the
+// overlap is a face resting on a face within round-off of the planes themselves, and it is
+// reported as touching (no volume, no force) rather than degenerate, which stops a run. Face-to-
+// face pairs of every built-in shape, sampled over depths from 1e-15 to 1e-6 of the radius and
+// tilts from 0 to 1e-2 (tests/geometry/test_overlap_thin_slabs.cpp), failed the hull in 1 to 5 %
+// of the samples, all with an inradius below 6.8e-9 of the radius (under sqrt(eps) = 1.5e-8 in
+// double): 8 sqrt(eps) leaves a factor of 17 above the worst seen. What is left out is at most
+// the slab's volume, its face (within pi R^2) times its thickness (twice the inradius): in double
+// at most 16 pi sqrt(eps) R^3 = 7.5e-7 R^3, under a millionth of the bounding sphere's volume
+// (docs/geometry.md, "Thin slabs"). A failure with a deeper inradius, or a workspace overrun,
+// stays degenerate.
+constexpr int kThinSlab = 8;
+
+template <class Real>
+TALUS_HD inline bool below_dual_resolution(Real inradius, Real radius) {
+  return inradius <= Real(kThinSlab) * SqrtEps<Real>::value * radius;
+}
+
+// The status of an overlap whose hull failed (or gave what no overlap of the two bodies can be,
+// overlap_is_possible): touching for a slab below the dual's resolution, else degenerate.
+template <class Real>
+TALUS_HD inline OverlapStatus failed_hull_status(bool overrun, Real inradius, Real radius) {
+  return !overrun && below_dual_resolution(inradius, radius) ? OverlapStatus::touching
+                                                             : OverlapStatus::degenerate;
+}
+
+// Whether a hull's volume V, centroid c (in the frame of A's centroid) and vector area S can be
+// an overlap of inradius r (the Chebyshev LP's) of bodies of bounding radii R_a, R_b about
+// centres 0 and d: a convex body of inradius r is at most 2 sqrt(3) r wide (Steinhagen's
+// inequality in three dimensions) and its sections lie in the smaller bounding sphere, so
+// V <= 2 sqrt(3) r pi R^2 (R = min(R_a, R_b)); c lies in both spheres; |S| is at most the
+// smaller sphere's area 4 pi R^2. A thin slab (a face resting on a face, ~1e-10 R deep) can fold
+// the dual hull through round-off into any number while every face keeps its sign: two 1 cm
+// cubes face to face 9e-13 m deep gave V = 7.8e9 m^3, a force to throw them out of the scene
+// (tests/geometry/test_overlap_thin_slabs.cpp). A real overlap passes with room: a slab of
+// depth 2 r over a section of at most pi R^2 is sqrt(3) below the bound; 1e-3 of it and the
+// round-off's margins keep the bound from cutting one.
+template <class Real>
+TALUS_HD inline bool overlap_is_possible(Real volume, const Vec3<Real>& centroid,
+                                         const Vec3<Real>& vector_area, Real inradius,
+                                         Real radius_a, Real radius_b, const Vec3<Real>& centre_b,
+                                         Real round_off) {
+  const Real pi = Real(3.14159265358979323846);
+  const Real radius = min_of(radius_a, radius_b);
+  const Real width = Real(2 * 1.7320508075688772) * (max_of(inradius, Real(0)) + round_off);
+  const Real margin = Real(1.001);
+  if (!(volume <= margin * width * pi * radius * radius)) return false;
+  if (!(norm(vector_area) <= margin * Real(4) * pi * radius * radius)) return false;
+  const Real reach_a = margin * radius_a + round_off, reach_b = margin * radius_b + round_off;
+  return norm(centroid) <= reach_a && norm(centroid - centre_b) <= reach_b;
+}
+
 // The vertex of the intersection dual to hull face f. Eq. 8 gives it as n_f / w_f, whose relative
 // error grows like |y|/w ~ L/t (the dual points of a shallow overlap are long, ~1/t, while
 // w ~ 1/L): in float that is 1e-3 of the depth for t = L/100. The same point is the meet of the
@@ -172,6 +226,7 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     return result;
   }
   Vec3<Real> x_o = lp.center;
+  const Real thin_radius = min_of(a.bounding_radius, b.bounding_radius);
   if (options.cull_planes) {
     // The culled planes are redundant only when the intersection has an interior; when it has
     // none the kept planes may still enclose a region, which must not pass as overlap.
@@ -245,7 +300,8 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     if (built) break;
     if (attempt > 0 || hull.overrun || !analytic_centre_shift<Real>(ws, m, x_o)) {
       result.workspace_overrun = hull.overrun;
-      result.status = OverlapStatus::degenerate;
+      result.status = failed_hull_status(hull.overrun, lp.depth, thin_radius);
+      result.thin_slab = result.status == OverlapStatus::touching;
       return result;
     }
     Vec3<Real> g;
@@ -270,7 +326,8 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     if (hull.face_stamp[f] < 0) continue;
     const Real w = hull.face_offset[f];
     if (!(w > Real(0))) {  // the origin left the dual hull: only possible through round-off
-      result.status = OverlapStatus::degenerate;
+      result.status = failed_hull_status(false, lp.depth, thin_radius);
+      result.thin_slab = result.status == OverlapStatus::touching;
       return result;
     }
     // In place of the face's normal, which primal_vertex_of reads first.
@@ -324,6 +381,12 @@ TALUS_HD inline OverlapResult<Real> overlap_finish(const ConvexView<Real>& a,
     volume /= det;
     centroid = upper_solve(rounding, centroid);
     vector_area = lower_times(rounding, vector_area) / det;
+  }
+  if (!overlap_is_possible(volume, x_o + centroid, vector_area, lp.depth, a.bounding_radius,
+                           b.bounding_radius, center[1], round_off)) {
+    result.status = failed_hull_status(false, lp.depth, thin_radius);
+    result.thin_slab = result.status == OverlapStatus::touching;
+    return result;
   }
   result.volume = volume;
   result.vector_area = vector_area;
