@@ -18,7 +18,7 @@ talus, and analyses the bed from its last frame, on the true polyhedra:
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --continue OUTPUT [--time-limit S]
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --analyse OUTPUT [--talus build/talus]
 
---time-limit S stops talus (SIGTERM: it writes a checkpoint at the next step) after S seconds and
+--time-limit S stops talus after S seconds (its --stop-after: a checkpoint at the next step) and
 exits with status 3; --continue OUTPUT resumes that run (with its own --time-limit), and
 analyses it once it has ended.
 
@@ -35,11 +35,9 @@ import math
 import os
 import platform
 import re
-import signal
 import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
@@ -47,6 +45,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "experiments", "beds"))
 import analyze as beds  # noqa: E402  (frame_arrays, shape_data, inside_mask)
+from sittings import run_sitting, write_atomically  # noqa: E402
 
 # §4.2: "cylindrical catalyst particles with an outer diameter of 5.5 mm and a length of 5.5 mm.
 # The reactor tube had an inner diameter of 2.5 cm, a total height of 1.80 m, and a packed bed
@@ -66,14 +65,6 @@ TUBE_SEGMENTS = 96  # the tube's polygon: its sagitta r (1 - cos(pi/96)) = 6.7 u
 # (docs/scenes.md): 0.5 s of the full scene on the host gave the same probes and frames to the
 # byte, 1258 rebuilds instead of 5818 and 9.5 s instead of 13.5.
 SKIN = 0.004
-
-
-def write_atomically(path, data):
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".")
-    with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as f:
-        f.write(data)
-    os.replace(tmp, path)
 
 
 def pellet_spec(sides):
@@ -360,31 +351,12 @@ def markdown(bed):
 
 
 def run_talus(argv, info, info_path, time_limit):
-    """Runs talus (a start or a resume) for at most `time_limit` seconds: past it, SIGTERM, and
-    talus stops at the next step with a checkpoint (exit 143). Records the sitting in run.json;
-    returns whether the run has ended."""
-    started = time.monotonic()
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        stdout, stderr = proc.communicate(timeout=time_limit)
-    except subprocess.TimeoutExpired:
-        proc.send_signal(signal.SIGTERM)
-        stdout, stderr = proc.communicate()
-    info["run_wall_seconds"] += time.monotonic() - started
-    info["sittings"] += 1
-    info.setdefault("commands", []).append(" ".join(argv))
-    if proc.returncode == 128 + signal.SIGTERM:
-        info["finished"] = False
-        write_atomically(info_path, json.dumps(info, indent=2) + "\n")
-        print(f"fixed_bed.py: stopped after {time_limit} s with a checkpoint "
-              f"({stderr.strip().splitlines()[-1] if stderr.strip() else ''}); continue with "
-              f"--continue {os.path.dirname(info_path)}")
+    """Runs talus (a start or a resume) for at most `time_limit` seconds (sittings.py); returns
+    whether the run has ended."""
+    summary = run_sitting(argv, info, info_path, time_limit, "fixed_bed.py")
+    if summary is None:
         return False
-    if proc.returncode != 0:
-        sys.exit(f"fixed_bed.py: the run failed ({proc.returncode}): {' '.join(argv)}\n"
-                 + stderr[-3000:])
-    summary = json.loads(stdout)
-    info.update(finished=True, backend=summary.get("backend"), steps=summary.get("steps"),
+    info.update(backend=summary.get("backend"), steps=summary.get("steps"),
                 particles=summary.get("particles"))
     write_atomically(info_path, json.dumps(info, indent=2) + "\n")
     return True

@@ -10,14 +10,19 @@ Gamma g at --frequency Hz for --cycles cycles) and the bed settles again (the "t
 last frame).
 
     /usr/bin/python3 experiments/platonic_packing/platonic_packing.py --talus build/talus \\
-        --output scratch/platonic [--backend cuda] [--jobs N] [--quick]
+        --output scratch/platonic [--backend cuda] [--jobs N] [--quick] [--time-limit S] \\
+        [--no-analysis]
     /usr/bin/python3 experiments/platonic_packing/platonic_packing.py --analyse scratch/platonic
 
 writes, in OUTPUT: one folder a case (scene.yaml, talus's outputs), study.json (every case's
 packing fractions with their errors, the commands, machine and commit), study.md (the table) and
 study.png (packing fraction against the number of faces, a line a friction, poured and tapped).
---jobs N runs N cases at once (with --backend cuda, case k on GPU k mod N through
-CUDA_VISIBLE_DEVICES: one run a GPU). A case whose folder holds a finished run is not run again.
+--jobs N runs N cases at once (with --backend cuda, each on a GPU of its own through
+CUDA_VISIBLE_DEVICES: one run a GPU), the longest first. A case whose folder holds a finished run
+is not run again. --time-limit S: no case runs past S seconds from the start (talus stops it with
+a checkpoint, ../beds/sittings.py) and the driver exits with status 3; the same command again
+goes on, each unfinished case from its checkpoint. --no-analysis: run the cases and write
+study.json, but leave the analysis to a later --analyse (e.g. on another machine).
 --quick is CI's size: two shapes, one friction, a few dozen particles, short times.
 """
 import argparse
@@ -28,6 +33,7 @@ import platform
 import subprocess
 import sys
 import tempfile
+import queue
 import time
 from concurrent.futures import ThreadPoolExecutor
 
@@ -37,6 +43,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "experiments", "beds"))
 import analyze as beds  # noqa: E402  (shape_data, frames_of, read_frame, inside_mask)
+from sittings import run_sitting, write_atomically  # noqa: E402
 
 # The shapes by their number of faces (the figure's abscissa); spheres drawn apart.
 SHAPES = {"tetrahedron": 4, "cube": 6, "octahedron": 8, "dodecahedron": 12, "icosahedron": 20,
@@ -140,6 +147,8 @@ outputs:
   trajectories: {{every: {frame_every}, directory: frames}}
   probes: {{every: {max(1, frame_every // 50)}, file: probes.csv,
            quantities: [kinetic_energy, energy, contact_count, bed_height]}}
+  # A run that a time limit stops writes its checkpoint there and goes on from it.
+  checkpoint: {{every: {frame_every}, directory: checkpoints, keep: 1}}
 """
 
 
@@ -160,46 +169,49 @@ def advised_step(talus, shape, friction, size):
         return json.loads(out.stdout)["time_step"]
 
 
-def write_atomically(path, text):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
-
-
-def run_case(talus, shape, friction, size, out, backend, device, threads):
+def run_case(talus, shape, friction, size, out, backend, device, threads, deadline):
     """Writes the case's scene (at the advised step, frames at the end of the pour) and runs it
-    unless a finished run is there. Returns the case's record."""
+    unless a finished run is there, for at most until `deadline` (time.monotonic(); None: no
+    limit), going on from the checkpoint of a run that an earlier deadline stopped. Returns the
+    case's record, or None when the deadline stopped it."""
     name = case_name(shape, friction)
     folder = os.path.join(out, name)
     record_path = os.path.join(folder, "case.json")
     if os.path.exists(record_path):
         return json.load(open(record_path))
     os.makedirs(folder, exist_ok=True)
-    dt = advised_step(talus, shape, friction, size)
-    pour_steps = round(size["pour"] / dt)
-    scene = os.path.join(folder, "scene.yaml")
-    write_atomically(scene, scene_text(shape, friction, size, repr(dt), pour_steps))
-    argv = [talus, "run", scene, "--backend", backend, "--quiet", "--output",
-            os.path.join(folder, "run"), "--overwrite"]
+    info_path = os.path.join(folder, "run.json")
+    checkpoints = os.path.join(folder, "run", "checkpoints")
+    if os.path.exists(info_path) and os.path.isdir(checkpoints) and os.listdir(checkpoints):
+        info = json.load(open(info_path))
+        argv = [talus, "run", "--resume", checkpoints, "--backend", backend, "--quiet"]
+    else:
+        dt = advised_step(talus, shape, friction, size)
+        pour_steps = round(size["pour"] / dt)
+        scene = os.path.join(folder, "scene.yaml")
+        write_atomically(scene, scene_text(shape, friction, size, repr(dt), pour_steps))
+        argv = [talus, "run", scene, "--backend", backend, "--quiet", "--output",
+                os.path.join(folder, "run"), "--overwrite"]
+        info = {"time_step_s": dt, "pour_step": pour_steps}
     if backend == "cpu":
         argv += ["--threads", str(threads)]
     env = dict(os.environ)
     if device is not None:
         env["CUDA_VISIBLE_DEVICES"] = str(device)
-    start = time.monotonic()
-    done = subprocess.run(argv, capture_output=True, text=True, env=env)
-    seconds = time.monotonic() - start
-    with open(os.path.join(folder, "talus.stderr"), "w") as f:
-        f.write(done.stderr)
-    if done.returncode != 0:
-        sys.exit(f"platonic_packing.py: {name}: talus exited with {done.returncode}:\n"
-                 f"{done.stderr[-2000:]}")
-    summary = json.loads(done.stdout)
+    limit = None
+    if deadline is not None:
+        limit = deadline - time.monotonic()
+        if limit < 1:
+            return None
+    summary = run_sitting(argv, info, info_path, limit, f"platonic_packing.py: {name}", env=env)
+    if summary is None:
+        return None
     record = {"case": name, "shape": shape, "faces": SHAPES[shape], "friction": friction,
-              "time_step_s": dt, "pour_step": pour_steps, "steps": summary.get("steps"),
-              "particles": summary.get("particles"), "wall_seconds": seconds,
-              "backend": backend, "command": " ".join(argv)}
+              "time_step_s": info["time_step_s"], "pour_step": info["pour_step"],
+              "steps": summary.get("steps"), "particles": summary.get("particles"),
+              "wall_seconds": info["run_wall_seconds"], "sittings": info["sittings"],
+              "backend": backend, "command": info["commands"][0],
+              "continued_by": info["commands"][1:]}
     write_atomically(record_path, json.dumps(record, indent=1) + "\n")
     return record
 
@@ -436,6 +448,13 @@ def main():
     p.add_argument("--quick", action="store_true", help="CI's size")
     p.add_argument("--shapes", nargs="+", choices=list(SHAPES), default=None)
     p.add_argument("--frictions", nargs="+", type=float, default=None)
+    p.add_argument("--time-limit", type=float, default=None, metavar="S",
+                   help="stop every case still running S seconds after the start, with a "
+                        "checkpoint (exit status 3; the same command again goes on)")
+    p.add_argument("--commit", default=None, help="the commit of the talus binary (default: "
+                   "this checkout's)")
+    p.add_argument("--no-analysis", action="store_true",
+                   help="run the cases and write study.json; analyse later with --analyse")
     args = p.parse_args()
     if args.analyse:
         study = analyse(args.analyse, args.talus)
@@ -450,25 +469,46 @@ def main():
         size["frictions"] = args.frictions
     insets = QUICK_INSETS if args.quick else INSETS
     os.makedirs(args.output, exist_ok=True)
-    cases = [(s, mu) for mu in size["frictions"] for s in size["shapes"]]
+    # The longest cases first (the shapes in SHAPES' order take ever fewer steps: tetrahedra
+    # some 780,000, spheres 61,000), so that the last to finish are short.
+    cases = [(s, mu) for s in size["shapes"] for mu in size["frictions"]]
     jobs = max(1, args.jobs)
+    # Each running case holds a GPU of its own (a case takes one from the queue and gives it
+    # back): two runs never share one, whichever finishes first.
+    devices = queue.Queue()
+    for k in range(jobs):
+        devices.put(k if args.backend == "cuda" and jobs > 1 else None)
+    start = time.monotonic()
+    deadline = None if args.time_limit is None else start + args.time_limit
 
     def one(k):
         shape, mu = cases[k]
-        device = k % jobs if args.backend == "cuda" and jobs > 1 else None
-        return run_case(args.talus, shape, mu, size, args.output, args.backend, device,
-                        args.threads)
+        device = devices.get()
+        try:
+            return run_case(args.talus, shape, mu, size, args.output, args.backend, device,
+                            args.threads, deadline)
+        finally:
+            devices.put(device)
 
-    start = time.monotonic()
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         records = list(pool.map(one, range(len(cases))))
+    unfinished = [case_name(*c) for c, r in zip(cases, records) if r is None]
+    if unfinished:
+        print(f"platonic_packing.py: --time-limit {args.time_limit:g} s stopped "
+              f"{len(unfinished)} of {len(cases)} cases ({', '.join(unfinished)}); run the same "
+              "command again to go on")
+        return 3
     study = {"study": "experiments/platonic_packing: poured and tapped beds of the Platonic "
                       "solids and spheres",
-             "commit": git_commit(), "machine": machine(args.backend), "backend": args.backend,
+             "commit": args.commit or git_commit(), "machine": machine(args.backend), "backend": args.backend,
              "command": " ".join([os.path.relpath(sys.argv[0], REPO)] + sys.argv[1:]),
              "size": size, "insets": insets, "wall_seconds": time.monotonic() - start,
              "cases": records}
     write_atomically(os.path.join(args.output, "study.json"), json.dumps(study, indent=1) + "\n")
+    if args.no_analysis:
+        print(f"platonic_packing.py: {len(cases)} cases run; analyse with --analyse "
+              f"{args.output}")
+        return 0
     study = analyse(args.output, args.talus)
     print(markdown(study))
     return 0

@@ -1,12 +1,13 @@
 #!/usr/bin/python3
 """ctest `platonic_packing_quick`: the Platonic study's driver end to end at CI's size
 (platonic_packing.py --quick: 128 cubes and 128 spheres, friction 0.4, poured and shaken two
-cycles, on the host), its study.json checked.
+cycles, on the host; stopped after 3 s and gone on with), its study.json checked.
 
     test_quick.py TALUS WORK_DIR
 
 Checks, each a number that a broken driver, scene, wall motion or analysis gets wrong:
-  - both cases ran, with all 128 particles;
+  - both cases ran, with all 128 particles and every step of the scene's time, the cubes in
+    two sittings (stopped by --time-limit, then gone on with);
   - the random points find the particles' summed volume within 1 % + 4 sampling errors (the
     overlaps are far below 1 % of a particle's volume; a wrong rotation or inside test misses
     tens of percent);
@@ -39,9 +40,17 @@ def main(argv):
             print(f"SKIPPED: {sys.executable} has no {module} (Debian's python3-{module})")
             return 77
     shutil.rmtree(work, ignore_errors=True)
-    proc = subprocess.run([sys.executable, os.path.join(HERE, "platonic_packing.py"), "--talus",
-                           talus, "--quick", "--jobs", "2", "--output", work],
-                          capture_output=True, text=True)
+    # Stopped after 3 s (a case takes 6 s or more here), then the same command again goes on
+    # from the checkpoints: the path of a study longer than one of the GPU machine's calls.
+    driver = [sys.executable, os.path.join(HERE, "platonic_packing.py"), "--talus", talus,
+              "--quick", "--jobs", "2", "--output", work]
+    proc = subprocess.run(driver + ["--time-limit", "3"], capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode != 3:
+        print(f"platonic_packing.py --quick --time-limit 3 exited with {proc.returncode}, "
+              "expected 3 (stopped with checkpoints)")
+        return 1
+    proc = subprocess.run(driver, capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
         print(f"platonic_packing.py --quick exited with {proc.returncode}")
@@ -58,6 +67,13 @@ def main(argv):
     for c in study["cases"]:
         name = c["case"]
         check(c.get("particles") == 128, f"{name}: {c.get('particles')} particles, expected 128")
+        # Every step of the scene's time, over its sittings: a resume from step 0, or one that
+        # stopped early, gives another count.
+        end = (study["size"]["pour"] + study["size"]["cycles"] / study["size"]["frequency"]
+               + study["size"]["rest"])
+        check(abs(c.get("steps", 0) - end / c["time_step_s"]) <= 1,
+              f"{name}: {c.get('steps')} steps in {c.get('sittings')} sittings, expected "
+              f"{end / c['time_step_s']:.0f}")
         v = c.get("volume_check") or {}
         check(v and abs(v["found_over_summed"] - 1) <= 0.01 + 4 * v["error"],
               f"{name}: the sampled solid volume over the summed volume: {v}")
@@ -67,6 +83,10 @@ def main(argv):
             check(phi is not None and 0.35 <= phi <= 0.75,
                   f"{name}, {protocol}: packing fraction {phi} outside [0.35, 0.75] "
                   f"(core height {(c.get(protocol) or {}).get('core_height_d')} d)")
+    # The cubes (the slower case: 6 s or more here) were stopped by the limit and gone on with.
+    sittings = {c["shape"]: c.get("sittings") for c in study["cases"]}
+    check(sittings.get("cube") == 2, f"the cubes ran in {sittings.get('cube')} sittings, "
+          "expected 2 (stopped after 3 s, then gone on with)")
     for name in ("study.md", "study.png"):
         path = os.path.join(work, name)
         check(os.path.isfile(path) and os.path.getsize(path) > 0, f"{name}: not written")

@@ -3,10 +3,16 @@
 cylindrical wall is corrugated, at a stated scale of the paper's silo (README.md).
 
     /usr/bin/python3 experiments/silo/silo.py --talus build/talus --output scratch/silo \\
-        [--scale 0.4] [--backend cuda] [--quick]
+        [--scale 0.4] [--backend cuda] [--quick] [--time-limit S]
+    /usr/bin/python3 experiments/silo/silo.py --continue scratch/silo [--time-limit S]
     /usr/bin/python3 experiments/silo/silo.py --analyse scratch/silo
 
-writes, in OUTPUT: silo.obj (the wall mesh), scene.yaml, talus's outputs (run/), silo.json (the
+--time-limit S stops talus after S seconds with a checkpoint and exits with status 3 (a run
+longer than one of the GPU machine's ten-minute calls); --continue OUTPUT resumes it, and
+analyses the silo once the run has ended (../beds/sittings.py).
+
+writes, in OUTPUT: silo.obj (the wall mesh), scene.yaml, talus's outputs (run/), run.json (the
+step, the sittings and their commands, whether the run has ended), silo.json (the
 mesh's facets, the particles, the wall stage's share of the step, the facets near each particle
 at the wall, how the wall layer follows the corrugation, the cost per step and the full run
 projected from it), silo.md and silo.png (a slice through the axis: the packing against the
@@ -20,7 +26,6 @@ import platform
 import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
@@ -28,6 +33,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "experiments", "beds"))
 import analyze as beds  # noqa: E402  (frames_of, read_frame)
+from sittings import run_sitting, write_atomically  # noqa: E402
 
 # §4.1: "a total height of 10.6 m ... a diameter of 2.1 m ... the hopper outlet, with an opening
 # diameter of 0.67 m ... corrugated sidewalls ... approximately 150,000 triangular facets ... about
@@ -155,6 +161,8 @@ effects:
 outputs:
   trajectories: {{every: {frame_every}, directory: frames, format: csv}}
   probes: {{every: {probe_every}, file: probes.csv, quantities: [kinetic_energy, bed_height]}}
+  # A run longer than a sitting stops with a checkpoint (--time-limit) and goes on from it.
+  checkpoint: {{every: {20 * probe_every}, directory: checkpoints, keep: 1}}
 """
 
 
@@ -232,10 +240,7 @@ def analyse(folder, talus):
                                                 "max": int(counts.max()),
                                                 "particles": int(wall_touching.sum())}
     info["result"] = result
-    tmp = os.path.join(folder, "silo.json.tmp")
-    with open(tmp, "w") as f:
-        json.dump(info, f, indent=1)
-    os.replace(tmp, os.path.join(folder, "silo.json"))
+    write_atomically(os.path.join(folder, "silo.json"), json.dumps(info, indent=1))
     write_report(folder, info, pos, dims)
     return info
 
@@ -253,7 +258,7 @@ def write_report(folder, info, pos, dims):
              f"| particles at the end | {r['particles']} (fed {info['particles_fed']}), "
              f"{r['outside']} outside the wall |",
              f"| time step, steps, wall time | {run['time_step_s']:.3g} s, {run['steps']}, "
-             f"{run['wall_seconds']:.0f} s |",
+             f"{run['wall_seconds']:.0f} s in {run.get('sittings', 1)} sitting(s) |",
              f"| wall stage's share of the step | {100 * run['wall_share']:.1f} % |"]
     if "facets_near_wall_particles" in r:
         f = r["facets_near_wall_particles"]
@@ -268,8 +273,7 @@ def write_report(folder, info, pos, dims):
         lines.append(f"| the paper's run projected (1e6 particles, {PAPER['feed_seconds']:.0f} s "
                      f"fed, {p['steps']:.3g} steps) | {p['hours']:.1f} h on this machine at "
                      f"{1e3 * p['seconds_per_step_full']:.1f} ms a step |")
-    with open(os.path.join(folder, "silo.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_atomically(os.path.join(folder, "silo.md"), "\n".join(lines) + "\n")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -288,7 +292,10 @@ def write_report(folder, info, pos, dims):
     ax.set_ylabel("z, m")
     ax.set_title(f"silo at scale {info['scale']}: {r['particles']} particles")
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "silo.png"), dpi=110)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".silo.", suffix=".png")
+    os.close(fd)
+    fig.savefig(tmp, dpi=110)
+    os.replace(tmp, os.path.join(folder, "silo.png"))
     plt.close(fig)
 
 
@@ -310,13 +317,19 @@ def main():
     p.add_argument("--backend", choices=("cpu", "cuda"), default="cpu")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--quick", action="store_true", help="CI's size")
+    p.add_argument("--time-limit", type=float, default=None, metavar="S",
+                   help="stop talus after S seconds with a checkpoint (exit status 3)")
+    p.add_argument("--continue", dest="resume", metavar="DIR",
+                   help="resume the run in DIR that --time-limit stopped, then analyse it")
     args = p.parse_args()
     if args.analyse:
         analyse(args.analyse, args.talus)
         print(open(os.path.join(args.analyse, "silo.md")).read())
         return 0
+    if args.resume:
+        return go_on(args.resume, args.time_limit)
     if not args.output:
-        p.error("give --output DIR (or --analyse DIR)")
+        p.error("give --output DIR (or --continue DIR, --analyse DIR)")
     scale = QUICK["scale"] if args.quick else args.scale
     particles = QUICK["particles"] if args.quick else round(PAPER["particles"] * scale ** 3)
     feed_seconds = QUICK["feed_seconds"] if args.quick else PAPER["feed_seconds"] * scale
@@ -327,42 +340,69 @@ def main():
     write_obj(os.path.join(args.output, "silo.obj"), vertices, tris)
     dt = advised_step(args.talus, args.output, dims, particles, feed_seconds, settle)
     scene = os.path.join(args.output, "scene.yaml")
-    with open(scene, "w") as f:
-        f.write(scene_text(dims, particles, feed_seconds, settle, dt))
+    write_atomically(scene, scene_text(dims, particles, feed_seconds, settle, dt))
     argv = [args.talus, "run", scene, "--backend", args.backend, "--quiet", "--output",
             os.path.join(args.output, "run"), "--overwrite"]
     if args.backend == "cpu":
         argv += ["--threads", str(args.threads)]
-    start = time.monotonic()
-    done = subprocess.run(argv, capture_output=True, text=True)
-    seconds = time.monotonic() - start
-    if done.returncode != 0:
-        sys.exit(f"silo.py: talus exited with {done.returncode}:\n{done.stderr[-3000:]}")
-    summary = json.loads(done.stdout)
-    stages = summary.get("stage_seconds", {})
-    work = sum(v for k, v in stages.items() if k != "output")
-    run = {"backend": args.backend, "time_step_s": dt, "steps": summary["steps"],
-           "wall_seconds": seconds, "stage_seconds": stages,
-           "wall_share": stages.get("wall_contacts", 0) / work if work > 0 else 0,
-           "seconds_per_step": summary["wall_seconds"] / max(1, summary["steps"])}
     info = {"experiment": "method paper section 4.1, silo deposition", "commit": git_commit(),
             "machine": f"{platform.node()}, {os.cpu_count()} CPUs", "scale": scale,
             "command": " ".join([os.path.relpath(sys.argv[0], REPO)] + sys.argv[1:]),
-            "dimensions": dims, "geometry": GEOMETRY, "facets": int(len(tris)),
-            "particles_fed": particles, "feed_seconds": feed_seconds, "run": run}
+            "talus": args.talus, "backend": args.backend, "time_step_s": dt,
+            "settle_seconds": settle, "dimensions": dims, "geometry": GEOMETRY,
+            "facets": int(len(tris)), "particles_fed": particles, "feed_seconds": feed_seconds,
+            "sittings": 0, "run_wall_seconds": 0.0}
+    return sit(args.output, info, argv, args.time_limit)
+
+
+def go_on(folder, time_limit):
+    """--continue: resumes the run that a time limit stopped, from its newest checkpoint."""
+    info_path = os.path.join(folder, "run.json")
+    if not os.path.exists(info_path):
+        sys.exit(f"silo.py: {info_path} does not exist: --continue takes the --output folder of "
+                 "an earlier call")
+    info = json.load(open(info_path))
+    if info.get("finished"):
+        analyse(folder, info["talus"])
+        print(open(os.path.join(folder, "silo.md")).read())
+        return 0
+    argv = [info["talus"], "run", "--resume", os.path.join(folder, "run", "checkpoints"),
+            "--quiet"]
+    return sit(folder, info, argv, time_limit)
+
+
+def sit(folder, info, argv, time_limit):
+    """One sitting of the run; once the run has ended, its costs, the projection and the
+    analysis."""
+    summary = run_sitting(argv, info, os.path.join(folder, "run.json"), time_limit, "silo.py")
+    if summary is None:
+        return 3
+    # The stage times are the last sitting's (a stopped sitting prints no summary): the bed at
+    # its fullest, what the projection wants. Seconds a step: every sitting's wall seconds
+    # (their setups included) over every step.
+    stages = summary.get("stage_seconds", {})
+    work = sum(v for k, v in stages.items() if k != "output")
+    dt = info["time_step_s"]
+    run = {"backend": info["backend"], "time_step_s": dt, "steps": summary["steps"],
+           "sittings": info["sittings"], "wall_seconds": info["run_wall_seconds"],
+           "stage_seconds": stages,
+           "stage_steps": summary["steps"] - summary.get("resumed_from_step", 0),
+           "wall_share": stages.get("wall_contacts", 0) / work if work > 0 else 0,
+           "seconds_per_step": info["run_wall_seconds"] / max(1, summary["steps"])}
+    info["run"] = run
     # The paper's run projected from this one's cost: the step's cost grows with the particles
     # (the final count here; most of the run has fewer), the steps with the simulated time at the
     # same step.
-    final = summary.get("particles") or particles
-    full_steps = (PAPER["feed_seconds"] + math.sqrt(2 * PAPER["height_m"] / 9.81) + settle) / dt
+    final = summary.get("particles") or info["particles_fed"]
+    full_steps = (PAPER["feed_seconds"] + math.sqrt(2 * PAPER["height_m"] / 9.81)
+                  + info["settle_seconds"]) / dt
     per_step = run["seconds_per_step"] * PAPER["particles"] / max(1, final)
     info["projection"] = {"steps": full_steps, "seconds_per_step_full": per_step,
                           "hours": full_steps * per_step / 3600,
                           "basis": "seconds a step scaled by 1e6 over the final particles"}
-    with open(os.path.join(args.output, "silo.json"), "w") as f:
-        json.dump(info, f, indent=1)
-    analyse(args.output, args.talus)
-    print(open(os.path.join(args.output, "silo.md")).read())
+    write_atomically(os.path.join(folder, "silo.json"), json.dumps(info, indent=1))
+    analyse(folder, info["talus"])
+    print(open(os.path.join(folder, "silo.md")).read())
     return 0
 
 

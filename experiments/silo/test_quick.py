@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """ctest `silo_quick`: the §4.1 silo driver end to end at CI's size (silo.py --quick: the
 corrugated silo at 0.08 of the paper's size, 20 mineral particles fed from its top, on the host),
-its silo.json and wall mesh checked.
+stopped with a checkpoint after 2 s and continued (--time-limit, --continue), its silo.json and
+wall mesh checked.
 
     test_quick.py TALUS WORK_DIR
 
@@ -12,6 +13,7 @@ Checks, each a number that a broken mesh, scene or analysis gets wrong:
     particles out through it);
   - every particle fed is in the silo at the end, none outside the corrugated wall, all in the
     hopper's lower part (20 particles fill less than the hopper);
+  - the run took two sittings and ran every step of the scene's time;
   - the wall stage's share of the step lies in (0, 1) and the particles at the wall have facets
     within reach (at least 10 each on average: a 96-sided wall of 8 rows a pitch puts dozens
     within a bounding diameter);
@@ -40,12 +42,20 @@ def main(argv):
             return 77
     import numpy as np
     shutil.rmtree(work, ignore_errors=True)
-    proc = subprocess.run([sys.executable, os.path.join(HERE, "silo.py"), "--talus", talus,
-                           "--quick", "--threads", "1", "--output", work],
-                          capture_output=True, text=True)
+    # Stopped after 2 s (the run takes 15 s or more here), then continued: the path a GPU run
+    # longer than a call takes.
+    driver = [sys.executable, os.path.join(HERE, "silo.py")]
+    proc = subprocess.run(driver + ["--talus", talus, "--quick", "--threads", "1", "--output",
+                                    work, "--time-limit", "2"], capture_output=True, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode != 3:
+        print(f"silo.py --quick --time-limit 2 exited with {proc.returncode}, expected 3 "
+              "(stopped with a checkpoint)")
+        return 1
+    proc = subprocess.run(driver + ["--continue", work], capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
-        print(f"silo.py --quick exited with {proc.returncode}")
+        print(f"silo.py --continue exited with {proc.returncode}")
         return 1
     info = json.load(open(os.path.join(work, "silo.json")))
     r, dims, geo = info["result"], info["dimensions"], info["geometry"]
@@ -83,7 +93,14 @@ def main(argv):
     check(0 < r["lowest_z_m"] and r["highest_z_m"] < dims["hopper_height"],
           f"particles from z = {r['lowest_z_m']:.4f} to {r['highest_z_m']:.4f} m, expected "
           f"within the hopper (0 to {dims['hopper_height']:.4f} m)")
-    share = info["run"]["wall_share"]
+    # Every step of the scene's time run, over the two sittings: a resume that restarted from
+    # step 0, or stopped early, gives another count.
+    run = info["run"]
+    fall = math.sqrt(2 * dims["height"] / 9.81)
+    steps = (info["feed_seconds"] + fall + info["settle_seconds"]) / run["time_step_s"]
+    check(run["sittings"] == 2 and abs(run["steps"] - steps) <= 1,
+          f"{run['steps']} steps in {run['sittings']} sittings, expected {steps:.0f} in 2")
+    share = run["wall_share"]
     check(0 < share < 1, f"the wall stage's share {share}")
     near = r.get("facets_near_wall_particles", {}).get("mean", 0)
     check(near >= 10, f"{near} facets within reach of a wall particle on average")
