@@ -30,6 +30,7 @@ under /usr/bin/python3) for the figure.
 """
 
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -259,9 +260,14 @@ def probe_row(path, step):
 
 
 def binary_identity(path):
-    """The binary's path, size and modification time: what tells a rebuilt talus."""
-    st = os.stat(path)
-    return f"{path} {st.st_size} {int(st.st_mtime)}"
+    """The binary's size and SHA-256: what tells a rebuilt talus. Its bytes, not its path or
+    modification time: a binary unpacked again on the GPU machine at each call (the same bytes,
+    a new mtime) must find the settle an earlier call wrote; a rebuilt one must not."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return f"{os.path.getsize(path)} sha256:{digest.hexdigest()}"
 
 
 def machine():
