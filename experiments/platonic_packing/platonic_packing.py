@@ -59,12 +59,23 @@ MATERIAL = {"density": 1200, "youngs_modulus": 5.0e6, "poisson_ratio": 0.3, "res
 SPHERE_LAW = "{model: linear, stiffness: 2.0e4, damping: 1.0, tangential_damping: 1.0}"
 FRICTIONS = (0.1, 0.4, 0.8)
 
-# Full size: 10 x 10 columns 1.05 d apart (a box 10.5 d wide), layers enough for a bed several
-# diameters deeper than the core leaves out at its floor (2 d) and surface (3 d), even of
-# tetrahedra (0.064 d^3 each): 30 layers, 3,000 particles; poured 1 s, 20 cycles at 30 Hz of
-# Gamma = 2, then 0.4 s to settle.
-FULL = {"columns": 10, "layers": 30, "pour": 1.0, "frequency": 30.0, "gamma": 2.0, "cycles": 20,
-        "rest": 0.4, "shapes": list(SHAPES), "frictions": list(FRICTIONS), "points": 400000}
+# Each shape's volume over d^3 (d the circumscribed diameter): 8 / (9 sqrt 3), (2 / sqrt 3)^3,
+# 4 / 3, 2.7852, 2.5362 and 4 pi / 3 times (d / 2)^3.
+VOLUME_D3 = {"tetrahedron": 0.064150, "cube": 0.192450, "octahedron": 0.166667,
+             "dodecahedron": 0.348145, "icosahedron": 0.317019, "sphere": 0.523599}
+# Full size: 10 x 10 columns 1.05 d apart (a box 10.5 d wide), and as many layers as a bed
+# `bed_d` diameters deep needs at a packing fraction of about `packing_guess` (a layer of the
+# lattice, columns^2 particles of v d^3 in a box (1.05 columns d)^2 wide, makes v d / (phi 1.05^2)
+# of bed), at least `layers`: the core then leaves out 2 d at the floor and 2 d under the
+# surface and keeps 6.
+# Equal counts do not do: 3,000 tetrahedra (0.064 d^3 each) made a bed 3.3 d deep on the GPU,
+# no core at all, where 3,000 spheres stand 26 d. So 95 layers of tetrahedra (9,500), 32 of
+# cubes, 37 of octahedra, 30 of the rest. Poured until 1 s or until the lattice's top layer has
+# fallen to the floor and 0.6 s more, whichever is later (the tetrahedra's lattice is 1 m tall:
+# 1.05 s); 20 cycles at 30 Hz of Gamma = 2, then 0.4 s to settle.
+FULL = {"columns": 10, "layers": 30, "bed_d": 10.0, "packing_guess": 0.55, "pour": 1.0,
+        "frequency": 30.0, "gamma": 2.0, "cycles": 20, "rest": 0.4, "shapes": list(SHAPES),
+        "frictions": list(FRICTIONS), "points": 400000}
 # CI's size: two shapes, one friction, 4 x 4 x 8, short times (the driver end to end, not
 # numbers to read: the beds are 2 to 6 d deep, the core half a diameter in from everything).
 QUICK = {"columns": 4, "layers": 8, "pour": 0.2, "frequency": 40.0, "gamma": 2.0, "cycles": 2,
@@ -85,13 +96,30 @@ def amplitude(size):
     return size["gamma"] * G / (2 * math.pi * size["frequency"]) ** 2
 
 
-def end_time(size):
-    return size["pour"] + size["cycles"] / size["frequency"] + size["rest"]
+def layers_for(shape, size):
+    """The lattice's layers of `shape`: FULL's bed of bed_d diameters (above), else size's."""
+    if "bed_d" not in size:
+        return size["layers"]
+    need = size["bed_d"] * size["packing_guess"] * 1.05 ** 2 / VOLUME_D3[shape]
+    return max(size["layers"], math.ceil(need))
+
+
+def pour_for(shape, size):
+    """The pour's end, s: size's, or (full size) the top layer's fall and 0.6 s if later."""
+    if "bed_d" not in size:
+        return size["pour"]
+    top = layers_for(shape, size) * 1.05 * D
+    return max(size["pour"], round(math.sqrt(2 * top / G) + 0.6, 2))
+
+
+def end_time(size, shape):
+    return pour_for(shape, size) + size["cycles"] / size["frequency"] + size["rest"]
 
 
 def scene_text(shape, friction, size, dt_text, frame_every, columns=None, layers=None):
     columns = columns or size["columns"]
-    layers = layers or size["layers"]
+    layers = layers or layers_for(shape, size)
+    pour = pour_for(shape, size)
     spacing = 1.05 * D  # no two bounding spheres touch at the start, whatever the orientations
     width, top = columns * spacing, layers * spacing
     slack = 1e-9  # the region a hair larger than the lattice, so no layer is rounded away
@@ -102,9 +130,9 @@ def scene_text(shape, friction, size, dt_text, frame_every, columns=None, layers
     return f"""\
 # The Platonic shape study (experiments/platonic_packing): {columns * columns * layers} {shape}s
 # of {D} m poured from a {columns} x {columns} x {layers} lattice into an open box, friction
-# {friction}; settled until {size['pour']} s, then the box shaken {size['cycles']} cycles at
+# {friction}; settled until {pour} s, then the box shaken {size['cycles']} cycles at
 # {size['frequency']} Hz, peak acceleration {size['gamma']} g, and left to settle.
-time: {{step: {dt_text}, end: {end_time(size)!r}}}
+time: {{step: {dt_text}, end: {end_time(size, shape)!r}}}
 seed: 7
 
 materials:
@@ -134,7 +162,7 @@ walls:
       material: grain
       motion:
         oscillation: {{direction: [0, 0, 1], amplitude: {amplitude(size)!r},
-                      frequency: {size['frequency']!r}, start: {size['pour']!r},
+                      frequency: {size['frequency']!r}, start: {pour!r},
                       cycles: {size['cycles']}}}
 
 effects:
@@ -187,12 +215,13 @@ def run_case(talus, shape, friction, size, out, backend, device, threads, deadli
         argv = [talus, "run", "--resume", checkpoints, "--backend", backend, "--quiet"]
     else:
         dt = advised_step(talus, shape, friction, size)
-        pour_steps = round(size["pour"] / dt)
+        pour_steps = round(pour_for(shape, size) / dt)
         scene = os.path.join(folder, "scene.yaml")
         write_atomically(scene, scene_text(shape, friction, size, repr(dt), pour_steps))
         argv = [talus, "run", scene, "--backend", backend, "--quiet", "--output",
                 os.path.join(folder, "run"), "--overwrite"]
-        info = {"time_step_s": dt, "pour_step": pour_steps}
+        info = {"time_step_s": dt, "pour_step": pour_steps, "pour_s": pour_for(shape, size),
+                "layers": layers_for(shape, size)}
     if backend == "cpu":
         argv += ["--threads", str(threads)]
     env = dict(os.environ)
@@ -208,6 +237,7 @@ def run_case(talus, shape, friction, size, out, backend, device, threads, deadli
         return None
     record = {"case": name, "shape": shape, "faces": SHAPES[shape], "friction": friction,
               "time_step_s": info["time_step_s"], "pour_step": info["pour_step"],
+              "pour_s": info.get("pour_s"), "layers": info.get("layers"),
               "steps": summary.get("steps"), "particles": summary.get("particles"),
               "wall_seconds": info["run_wall_seconds"], "sittings": info["sittings"],
               "backend": backend, "command": info["commands"][0],
@@ -363,24 +393,28 @@ def markdown(study):
     lines = [
         "# The Platonic shape study: packing fractions", "",
         f"talus commit `{study['commit']}`, {study['machine']}, backend `{study['backend']}`. "
-        f"Command: `{study['command']}`. Beds of {size['columns']} x {size['columns']} x "
-        f"{size['layers']} particles of {D} m circumscribed diameter; poured until "
-        f"{size['pour']} s, then {size['cycles']} cycles at {size['frequency']} Hz of peak "
+        f"Command: `{study['command']}`. Beds of {size['columns']} x {size['columns']} columns "
+        f"of particles of {D} m circumscribed diameter, "
+        + (f"as many layers as a bed {size['bed_d']:g} d deep needs (at least {size['layers']}: "
+           "the particles column)" if "bed_d" in size else f"{size['layers']} layers")
+        + f"; poured until {size['pour']} s (or the top layer's fall and 0.6 s, if later: "
+        f"the pour column), then {size['cycles']} cycles at {size['frequency']} Hz of peak "
         f"acceleration {size['gamma']} g (amplitude {amplitude(size) * 1e3:.3f} mm), settled "
         f"{size['rest']} s. The core: {study['insets']['wall']} d from the side walls, "
         f"{study['insets']['floor']} d above the floor, {study['insets']['surface']} d below the "
         "free surface; the error the larger of the points' binomial one and the spread of the "
         "core's octants.", "",
         "| shape | faces | friction | poured | tapped | core height, d (poured, tapped) | "
-        "particles | time step, s | run, s |",
-        "|---|---|---|---|---|---|---|---|---|"]
+        "particles | pour, s | time step, s | run, s |",
+        "|---|---|---|---|---|---|---|---|---|---|"]
     for c in study["cases"]:
         p, t = c.get("poured", {}), c.get("tapped", {})
         lines.append(
             f"| {c['shape']} | {c['faces'] or '—'} | {c['friction']:g} | "
             f"{fmt(p.get('phi'), p.get('phi_error'))} | {fmt(t.get('phi'), t.get('phi_error'))} "
             f"| {p.get('core_height_d', math.nan):.1f}, {t.get('core_height_d', math.nan):.1f}"
-            f" | {c.get('particles')} | {c['time_step_s']:.3g} | {c['wall_seconds']:.0f} |")
+            f" | {c.get('particles')} | {c.get('pour_s') or study['size']['pour']:g} | "
+            f"{c['time_step_s']:.3g} | {c['wall_seconds']:.0f} |")
     return "\n".join(lines) + "\n"
 
 
