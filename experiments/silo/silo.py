@@ -348,7 +348,8 @@ def main():
     info = {"experiment": "method paper section 4.1, silo deposition", "commit": git_commit(),
             "machine": f"{platform.node()}, {os.cpu_count()} CPUs", "scale": scale,
             "command": " ".join([os.path.relpath(sys.argv[0], REPO)] + sys.argv[1:]),
-            "talus": args.talus, "backend": args.backend, "time_step_s": dt,
+            "talus": args.talus, "backend": args.backend, "threads": args.threads,
+            "time_step_s": dt,
             "settle_seconds": settle, "dimensions": dims, "geometry": GEOMETRY,
             "facets": int(len(tris)), "particles_fed": particles, "feed_seconds": feed_seconds,
             "sittings": 0, "run_wall_seconds": 0.0}
@@ -367,7 +368,9 @@ def go_on(folder, time_limit):
         print(open(os.path.join(folder, "silo.md")).read())
         return 0
     argv = [info["talus"], "run", "--resume", os.path.join(folder, "run", "checkpoints"),
-            "--quiet"]
+            "--backend", info["backend"], "--quiet"]
+    if info["backend"] == "cpu":
+        argv += ["--threads", str(info["threads"])]
     return sit(folder, info, argv, time_limit)
 
 
