@@ -1,4 +1,5 @@
-"""Runs of talus longer than one sitting, for the experiment drivers (fixed_bed.py, silo.py).
+"""Runs of talus longer than one sitting, for the experiment drivers (fixed_bed.py, silo.py,
+platonic_packing.py).
 
 The GPU machine's calls last at most ten minutes, so a driver gives `talus run` a time limit
 (`--stop-after S`: at the first step boundary after S seconds talus writes a checkpoint and exits
@@ -31,8 +32,9 @@ def write_atomically(path, data):
 def run_sitting(argv, info, info_path, time_limit, driver, env=None):
     """Runs talus (a start or a resume: `argv`) for at most `time_limit` seconds (None: to the
     end). Adds the sitting to `info` (`sittings`, `run_wall_seconds`, `commands`) and writes it
-    to `info_path`; `env` is the process's environment (None: this one's). Returns talus's summary (a dict) once the run has ended, None when the time
-    limit stopped it with a checkpoint; exits with the error for any other outcome."""
+    to `info_path`; `env` is the process's environment (None: this one's). Returns talus's
+    summary (a dict) once the run has ended, None when the time limit stopped it with a
+    checkpoint (the caller says how to go on); exits with the error for any other outcome."""
     if time_limit is not None:
         argv = argv + ["--stop-after", repr(float(time_limit))]
     started = time.monotonic()
@@ -44,8 +46,7 @@ def run_sitting(argv, info, info_path, time_limit, driver, env=None):
         info["finished"] = False
         write_atomically(info_path, json.dumps(info, indent=2) + "\n")
         last = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ""
-        print(f"{driver}: stopped after {time_limit} s with a checkpoint ({last}); continue with "
-              f"--continue {os.path.dirname(os.path.abspath(info_path))}")
+        print(f"{driver}: stopped after {time_limit} s with a checkpoint ({last})")
         return None
     if proc.returncode != 0:
         sys.exit(f"{driver}: the run failed ({proc.returncode}): {' '.join(argv)}\n"

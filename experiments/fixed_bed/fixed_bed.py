@@ -355,6 +355,7 @@ def run_talus(argv, info, info_path, time_limit):
     whether the run has ended."""
     summary = run_sitting(argv, info, info_path, time_limit, "fixed_bed.py")
     if summary is None:
+        print(f"fixed_bed.py: continue with --continue {os.path.dirname(info_path)}")
         return False
     info.update(backend=summary.get("backend"), steps=summary.get("steps"),
                 particles=summary.get("particles"))

@@ -379,6 +379,7 @@ def sit(folder, info, argv, time_limit):
     analysis."""
     summary = run_sitting(argv, info, os.path.join(folder, "run.json"), time_limit, "silo.py")
     if summary is None:
+        print(f"silo.py: continue with --continue {folder}")
         return 3
     # The stage times are the last sitting's (a stopped sitting prints no summary): the bed at
     # its fullest, what the projection wants. Seconds a step: every sitting's wall seconds
