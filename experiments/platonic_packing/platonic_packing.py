@@ -20,8 +20,8 @@ study.png (packing fraction against the number of faces, a line a friction, pour
 --jobs N runs N cases at once (with --backend cuda, each on a GPU of its own through
 CUDA_VISIBLE_DEVICES: one run a GPU), the longest first. A case whose folder holds a finished run
 is not run again. --time-limit S: no case runs past S seconds from the start (talus stops it with
-a checkpoint, ../beds/sittings.py) and the driver exits with status 3; the same command again
-goes on, each unfinished case from its checkpoint. --no-analysis: run the cases and write
+a checkpoint, ../beds/sittings.py; a case not begun with a second left waits) and the driver
+exits with status 3; the same command again goes on, each unfinished case from its checkpoint. --no-analysis: run the cases and write
 study.json, but leave the analysis to a later --analyse (e.g. on another machine).
 --quick is CI's size: two shapes, one friction, a few dozen particles, short times.
 """
@@ -207,6 +207,10 @@ def run_case(talus, shape, friction, size, out, backend, device, threads, deadli
     record_path = os.path.join(folder, "case.json")
     if os.path.exists(record_path):
         return json.load(open(record_path))
+    # No sitting starts with less than a second left; one that does start runs until the
+    # deadline even when its setup (the advised step, the scene) used some of that second.
+    if deadline is not None and deadline - time.monotonic() < 1:
+        return None
     os.makedirs(folder, exist_ok=True)
     info_path = os.path.join(folder, "run.json")
     checkpoints = os.path.join(folder, "run", "checkpoints")
@@ -227,11 +231,8 @@ def run_case(talus, shape, friction, size, out, backend, device, threads, deadli
     env = dict(os.environ)
     if device is not None:
         env["CUDA_VISIBLE_DEVICES"] = str(device)
-    limit = None
-    if deadline is not None:
-        limit = deadline - time.monotonic()
-        if limit < 1:
-            return None
+    # talus stops at the first step boundary after the limit, with a checkpoint, however small.
+    limit = None if deadline is None else max(deadline - time.monotonic(), 0.05)
     summary = run_sitting(argv, info, info_path, limit, f"platonic_packing.py: {name}", env=env)
     if summary is None:
         return None
