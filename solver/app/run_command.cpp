@@ -139,11 +139,15 @@ TimeStepAdvice check_time_step(const RunArguments& args, const Scene& scene) {
 }
 
 // The initial particles, made once here and checked (scene/initial_state_checks.hpp): what cannot
-// run right is a SceneError, the rest a warning line each on stderr (also with --quiet). The
-// solvers make them again; the list is freed before they do, so the peak memory is not doubled.
+// run right is a SceneError, the rest a warning line each on stderr (also with --quiet). Then they
+// are handed on to the solver that the run builds next (keep_initial_particles), which takes the
+// list instead of placing a random fill again: the peak memory is that of the list and the
+// solver's arrays, as when the solver made its own.
 void check_initial_particles(const Scene& scene) {
-  for (const std::string& warning : check_initial_state(scene, initial_particles(scene)))
+  std::vector<ParticleState> particles = initial_particles(scene);
+  for (const std::string& warning : check_initial_state(scene, particles))
     std::fprintf(stderr, "talus run: %s\n", warning.c_str());
+  keep_initial_particles(scene, std::move(particles));
 }
 
 // The advisor's numbers in a run's summary: dt_crit (null when nothing limits it) and dt / dt_crit.
@@ -456,6 +460,9 @@ void print_progress(const reference::SceneRunProgress& p) {
 std::string run_json(const RunArguments& given) {
   if (!given.resume_directory.empty()) return resume_json(given);
   RunArguments args = given;
+  // Each rank of a decomposed run makes and checks the initial particles (a random fill on every
+  // thread) on its share of the cores, as its step will run, not on all of them at once.
+  if (world()->size() > 1) set_default_host_threads(decomposed_threads(args));
   const bool builtin = args.scene_path.empty();
   // Before the built-in scene is written out: a refused run leaves no file behind.
   if (builtin && args.solver == SolverKind::reference)

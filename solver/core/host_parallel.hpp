@@ -31,6 +31,17 @@ inline int host_thread_count(int requested = 0) {
 #endif
 }
 
+// Makes `threads` what host_thread_count(0) gives from now on (OpenMP's default for this
+// process): a rank of a decomposed run sets its share of the cores, so that the loops that take
+// the default (making and checking the initial particles) do not each start a thread a core.
+inline void set_default_host_threads(int threads) {
+#ifdef _OPENMP
+  if (threads > 0) omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+}
+
 // The calling thread's index within the running loop: 0 .. threads - 1 (per-thread scratch).
 inline int host_thread_index() {
 #ifdef _OPENMP

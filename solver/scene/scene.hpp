@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -289,6 +290,12 @@ struct Outputs {
 enum class Backend { automatic, cpu, cuda };
 enum class Precision { float32, float64 };
 
+// Scene::made_particles: a list of initial particles waiting to be taken (`full`), or none.
+struct MadeParticles {
+  bool full = false;
+  std::vector<ParticleState> list;
+};
+
 struct Scene {
   std::string file;             // the scene file as given to load_scene
   std::string directory;        // relative mesh paths resolve against it
@@ -336,6 +343,11 @@ struct Scene {
   // (without_initial_particles, initial_particles.hpp): a resumed run's step is built without
   // them, and its checkpoint's count is checked against this many (step_state.hpp). 0 otherwise.
   std::size_t left_out_particles = 0;
+  // The initial particles once made from the lists above, handed on (initial_particles.hpp,
+  // keep_initial_particles): `talus run` makes them to check them, and the solver it builds next
+  // takes them instead of placing a random fill a second time. Copies of the scene share it; the
+  // first initial_particles() call takes the list, a later one makes it again.
+  std::shared_ptr<MadeParticles> made_particles = std::make_shared<MadeParticles>();
   std::vector<FeedRequest> feeds;
   std::vector<WallSpec> walls;
   Effects effects;

@@ -213,6 +213,99 @@ TEST(InitialParticles, SameSceneSameBitsAndTheSeedMatters) {
   EXPECT_EQ(same, 0);
 }
 
+// The fill tried one candidate at a time, written here apart from random_fill_particles: the
+// k-th centre from the fill's seed, kept when is_free says so (then added), orientations from
+// the second generator in the order the particles are kept.
+std::vector<ParticleState> one_at_a_time(const Scene& scene, const RandomFillRequest& fill,
+                                         std::vector<ParticleState> particles) {
+  const double radius = scene.templates[fill.template_index].bounding_radius;
+  const CentreSampler sampler(fill.region, radius);
+  PlacementGrid grid(sampler.low(), sampler.high(), radius, particles.size() + fill.count);
+  for (const ParticleState& p : particles) grid.add_sphere(p.position, bounding_radius(scene, p));
+  for (const WallMesh& wall : make_wall_meshes(scene)) grid.add_mesh(wall.mesh);
+  PlacementRandom centres(fill.seed), turns(fill_orientation_seed(fill.seed));
+  for (long long placed = 0; placed < fill.count;) {
+    const Vec3d c = sampler.sample(centres);
+    if (!grid.is_free(c)) continue;
+    grid.add_sphere(c, radius);
+    ParticleState p;
+    p.template_index = fill.template_index;
+    p.position = c;
+    if (fill.random_orientation) p.orientation = turns.orientation();
+    particles.push_back(p);
+    ++placed;
+  }
+  return particles;
+}
+
+TEST(InitialParticles, BatchesOnThreadsPlaceTheOneAtATimeFill) {
+  // Two fills after a lattice, among walls, dense enough (bounding spheres 0.21 and 0.24 of the
+  // regions) that most candidates are refused and, with batches of hundreds, many are
+  // refused only for a candidate kept earlier in their own batch: every thread count and batch
+  // must give the one-at-a-time fill's bits.
+  const Scene scene = scene_of(R"(particles:
+  - lattice:
+      template: grain
+      region: {box: {min: [0, 0, 0], max: [0.04, 0.04, 0.02]}}
+      spacing: [0.012, 0.012, 0.012]
+  - random:
+      template: ball
+      region: {box: {min: [0, 0, 0], max: [0.04, 0.04, 0.04]}}
+      count: 400
+      random_orientation: true
+  - random:
+      template: grain
+      region: {cylinder: {base: [0.1, 0, 0], radius: 0.03, height: 0.06}}
+      count: 80
+      random_orientation: true
+walls:
+  - plane: {point: [0.02, 0.02, 0.0], normal: [0, 0, 1], size: 0.05, material: glass}
+  - drum: {center: [0.1, 0, 0.03], radius: 0.0305, length: 0.06, segments: 24, material: glass}
+)");
+  ASSERT_EQ(scene.random_fills.size(), 2u);
+  std::vector<ParticleState> lattice = lattice_particles(scene.lattices.at(0));
+  const std::vector<ParticleState> after_first =
+      one_at_a_time(scene, scene.random_fills[0], lattice);
+  const std::vector<ParticleState> expected =
+      one_at_a_time(scene, scene.random_fills[1], after_first);
+  ASSERT_EQ(expected.size(), lattice.size() + 400 + 80);
+  const std::vector<WallMesh> walls = make_wall_meshes(scene);
+  for (const FillWork work : {FillWork{1, 1}, FillWork{1, 64}, FillWork{2, 7}, FillWork{3, 500},
+                              FillWork{4, 4096}, FillWork{}}) {
+    std::vector<ParticleState> particles = lattice;
+    for (const RandomFillRequest& fill : scene.random_fills)
+      random_fill_particles(scene, fill, walls, particles, work);
+    ASSERT_EQ(particles.size(), expected.size());
+    int differ = 0;
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      differ += !same_bits(particles[i], expected[i]);
+    EXPECT_EQ(differ, 0) << work.threads << " threads, batches of " << work.batch;
+  }
+  expect_no_overlaps(scene, expected);
+}
+
+TEST(InitialParticles, AListHandedOnIsTakenOnceThenMadeAgain) {
+  const Scene scene = scene_of(R"(particles:
+  - random:
+      template: grain
+      region: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}}
+      count: 50
+)");
+  const std::vector<ParticleState> made = initial_particles(scene);
+  std::vector<ParticleState> marked = made;
+  marked[7].position.x = 42;  // not what a fill places: shows which list came back
+  keep_initial_particles(scene, marked);
+  const Scene copy = scene;  // the solver is built from a copy
+  EXPECT_EQ(initial_particles(copy).at(7).position.x, 42);
+  EXPECT_TRUE(same_bits(initial_particles(scene).at(7), made[7]));  // taken: made again
+  // A list whose count is not the scene's (a stale one) is not taken.
+  keep_initial_particles(scene, std::vector<ParticleState>(made.begin(), made.begin() + 10));
+  EXPECT_EQ(initial_particles(scene).size(), 50u);
+  // A resumed run's scene has no initial particles, and takes none.
+  keep_initial_particles(scene, marked);
+  EXPECT_TRUE(initial_particles(without_initial_particles(scene)).empty());
+}
+
 TEST(InitialParticles, FirstDrawsOfTheGeneratorAreTheStandardOnes) {
   // The standard fixes mt19937_64: its 10000th output from the default seed 5489 is
   // 9981545732273789042 ([rand.predef]). Our doubles are its top 53 bits over 2^53.
