@@ -30,6 +30,7 @@ const char* const kPoses =
 const char* const kOverlapPrints =
     "overlap prints: status, volume (m^3), normal (S/|S|, from A to B), area (|S|, m^2),\n"
     "vector_area (S), point (overlap centroid), chebyshev_depth (inradius of the overlap),\n"
+    "thin_slab (touching because the overlap is a slab too thin to measure: no force),\n"
     "depth, simple_normal, simple_point (BLAZE-DEM simple contact), gjk_intersecting.\n";
 
 // The synopsis of each command, for the top-level help and the usage line of an error.

@@ -89,6 +89,7 @@ std::string overlap_json(const std::string& spec_a, const std::string& pose_a_te
   json["vector_area"] = exact.vector_area;
   json["point"] = exact.centroid;
   json["chebyshev_depth"] = chebyshev_depth;
+  json["thin_slab"] = exact.thin_slab;
   json["hull_points"] = exact.hull_points;
   json["enumerated"] = exact.enumerated;
   json["workspace_overrun"] = exact.workspace_overrun;

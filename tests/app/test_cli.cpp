@@ -156,6 +156,26 @@ TEST(TalusOverlap, TranslationOfBothCubesChangesNothing) {
   expect_vec(r["point"], origin[0] + actual_d / 2, origin[1], origin[2], 1e-12, "point");
 }
 
+// A face-to-face slab 2.8e-11 m deep with a tilt of 9.4e-9 rad (found by sampling such pairs as
+// tests/geometry/test_overlap_thin_slabs.cpp does): its dual hull fails at an inradius of 2.9e-13
+// m, far below the thin-slab limit 8 sqrt(eps) R = 6e-10 m, so the pair is touching with no
+// volume and says why; before the rule such pairs stopped a run as degenerate or, where the hull
+// "succeeded", gave volumes of cubic metres. A plain overlap is no thin slab.
+TEST(TalusOverlap, AThinFaceToFaceSlabIsTouchingAndSaysSo) {
+  Json r = overlap(kAtOrigin,
+                   "0.0057735026637938383,5.0912288945520467e-05,4.5066892802697513e-05,"
+                   "-0.86909302021217538,0.49464868565324149,4.6724713684524375e-09,"
+                   "3.8010973285262983e-10");
+  EXPECT_EQ(r["status"].get<std::string>(), "touching");
+  EXPECT_TRUE(r["thin_slab"].get<bool>());
+  EXPECT_EQ(r["volume"].get<double>(), 0);
+  EXPECT_LT(r["chebyshev_depth"].get<double>(), 6e-10);
+  EXPECT_TRUE(r["gjk_intersecting"].get<bool>());
+  Json plain = overlap(kAtOrigin, pose_text(0.3 * kSide, 0, 0));
+  EXPECT_EQ(plain["status"].get<std::string>(), "overlapping");
+  EXPECT_FALSE(plain["thin_slab"].get<bool>());
+}
+
 TEST(TalusOverlap, SeparateCubesReportNothing) {
   // Along x beyond contact, and a diagonal placement where the bounding spheres overlap
   // (1.16 s < 2 * 0.866 s) so that only the polyhedra can say "separate".
