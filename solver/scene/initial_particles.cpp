@@ -101,16 +101,17 @@ void random_fill_particles(const Scene& scene, const RandomFillRequest& fill,
 }
 
 void keep_initial_particles(const Scene& scene, std::vector<ParticleState> particles) {
+  if (!scene.made_particles) return;  // a moved-from scene: nothing to hand on through
   MadeParticles& made = *scene.made_particles;
   made.list = std::move(particles);
   made.full = true;
 }
 
 std::vector<ParticleState> initial_particles(const Scene& scene) {
-  MadeParticles& made = *scene.made_particles;
-  if (made.full && made.list.size() == initial_particle_count(scene)) {
-    made.full = false;  // taken once: the list moves out, the scene's copies see none either
-    return std::move(made.list);
+  MadeParticles* made = scene.made_particles.get();
+  if (made && made->full && made->list.size() == initial_particle_count(scene)) {
+    made->full = false;  // taken once: the list moves out, the scene's copies see none either
+    return std::move(made->list);
   }
   std::vector<ParticleState> particles = scene.particles;
   for (const LatticeRequest& lattice : scene.lattices) {
