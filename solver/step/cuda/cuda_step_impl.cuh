@@ -78,7 +78,8 @@ struct CudaStep<Real>::Impl {
   std::array<double, 3> energy_parts() const;
   mutable DeviceBuffer<double> energy_sums_by_block, energy_total;
   cudaGraphExec_t graph = nullptr;
-  bool graphs_on = true;  // the option, the environment and no failed capture
+  std::vector<unsigned long long> graph_nodes;  // graph_node_signature of the executable graph's
+  bool graphs_on = true;                        // the option, the environment and no failed capture
   bool recapture = true;  // a step ran stage by stage since the graph was captured
   CudaGraphCounts graph_counts;
   double time = 0;
@@ -210,21 +211,70 @@ struct CudaStep<Real>::Impl {
     shared.abort = AbortCheck{};
     TALUS_CUDA_CHECK(cudaStreamEndCapture(shared.stream, &captured));
     ++graph_counts.captures;
+    std::vector<unsigned long long> nodes;
+    cudaError_t made = graph_node_signature(captured, nodes);
     bool updated = false;
-    if (graph) {
+    // An update is offered only for the same nodes: one the driver must refuse (a kernel more or
+    // less after a feed, another copy) would be an API error that compute-sanitizer reports.
+    if (made == cudaSuccess && graph && nodes == graph_nodes) {
       cudaGraphExecUpdateResultInfo info;
       updated = cudaGraphExecUpdate(graph, captured, &info) == cudaSuccess;
       if (!updated) {
         cudaGetLastError();  // not sticky: a new executable graph instead
-        TALUS_CUDA_CHECK(cudaGraphExecDestroy(graph));
-        graph = nullptr;
+        ++graph_counts.refused_updates;
       }
     }
-    cudaError_t made = cudaSuccess;
-    if (!updated) made = cudaGraphInstantiate(&graph, captured, 0);
+    if (made == cudaSuccess && !updated) {
+      if (graph) made = cudaGraphExecDestroy(graph);
+      graph = nullptr;
+      graph_nodes.clear();
+      if (made == cudaSuccess) made = cudaGraphInstantiate(&graph, captured, 0);
+      if (made == cudaSuccess) {
+        graph_nodes = std::move(nodes);
+        ++graph_counts.instantiations;
+      }
+    }
     cudaGraphDestroy(captured);
     TALUS_CUDA_CHECK(made);
     return true;
+  }
+
+  // What cudaGraphExecUpdate requires to be unchanged, node by node in the order of capture: the
+  // node's type and its number of dependencies; a kernel's function; a memset's element size and
+  // height (a 1-D memset's width may change); a copy's kind; and the number of edges.
+  static cudaError_t graph_node_signature(cudaGraph_t g, std::vector<unsigned long long>& out) {
+    out.clear();
+    std::size_t count = 0, edges = 0;
+    cudaError_t e = cudaGraphGetNodes(g, nullptr, &count);
+    if (e != cudaSuccess) return e;
+    std::vector<cudaGraphNode_t> nodes(count);
+    if (count > 0 && (e = cudaGraphGetNodes(g, nodes.data(), &count)) != cudaSuccess) return e;
+    if ((e = cudaGraphGetEdges(g, nullptr, nullptr, nullptr, &edges)) != cudaSuccess) return e;
+    out.push_back(edges);
+    for (cudaGraphNode_t node : nodes) {
+      cudaGraphNodeType type{};
+      std::size_t deps = 0;
+      if ((e = cudaGraphNodeGetType(node, &type)) != cudaSuccess) return e;
+      if ((e = cudaGraphNodeGetDependencies(node, nullptr, nullptr, &deps)) != cudaSuccess) {
+        return e;
+      }
+      out.push_back(static_cast<unsigned long long>(type));
+      out.push_back(deps);
+      if (type == cudaGraphNodeTypeKernel) {
+        cudaKernelNodeParams k{};
+        if ((e = cudaGraphKernelNodeGetParams(node, &k)) != cudaSuccess) return e;
+        out.push_back(reinterpret_cast<unsigned long long>(k.func));
+      } else if (type == cudaGraphNodeTypeMemset) {
+        cudaMemsetParams m{};
+        if ((e = cudaGraphMemsetNodeGetParams(node, &m)) != cudaSuccess) return e;
+        out.insert(out.end(), {m.elementSize, m.height});
+      } else if (type == cudaGraphNodeTypeMemcpy) {
+        cudaMemcpy3DParms c{};
+        if ((e = cudaGraphMemcpyNodeGetParams(node, &c)) != cudaSuccess) return e;
+        out.push_back(static_cast<unsigned long long>(c.kind));
+      }
+    }
+    return cudaSuccess;
   }
 
   // The step's work after the feeds, in order, on the step's stream: everything a graph holds.
