@@ -11,6 +11,7 @@
 // step above dt_crit unless --allow-unstable-step.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -73,6 +74,33 @@ void print_production_progress(const ProductionProgress& p) {
 
 // Members a caller adds to the summary after the run (the built-in scene's bed height).
 using ExtraMembers = std::function<void(const ProductionReport&, Json&)>;
+
+// The parts of a run's setup, timed in order: this command's (the scene and its walls read, the
+// initial particles made and checked) and the runner's (ProductionSettings::setup_done). Each
+// is told on stderr as it ends (rank 0, unless --quiet), so that a run of millions of particles
+// that takes minutes before its first step says where they go, and a run killed in its setup
+// leaves that behind in its log; the summary has them as setup_seconds.
+class SetupTimes {
+ public:
+  explicit SetupTimes(bool quiet) : tell_(!quiet && world()->rank() == 0), mark_(now()) {}
+  // `part` ended now (its seconds: since the last part ended); `what` says it on stderr.
+  void done(const std::string& part, const std::string& what) { add(part, what, now() - mark_); }
+  void add(const std::string& part, const std::string& what, double seconds) {
+    parts_.emplace_back(part, seconds);
+    mark_ = now();
+    if (tell_) std::fprintf(stderr, "talus run: setup: %s in %.1f s\n", what.c_str(), seconds);
+  }
+  const std::vector<std::pair<std::string, double>>& parts() const { return parts_; }
+
+ private:
+  static double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+  bool tell_;
+  double mark_;
+  std::vector<std::pair<std::string, double>> parts_;
+};
 
 // The signal that asked the run to stop (0: none). The handler only records it and puts the
 // default action back, so that a second Ctrl-C ends the process at once.
@@ -198,7 +226,8 @@ bool decomposed_on_cuda(const Scene& scene) {
 // memory (and what `extra` adds). A stop signal ends it with RunInterrupted.
 std::string run_production_json(const RunArguments& args, const Scene& scene,
                                 const TimeStepAdvice& advice, StepFactory make_step,
-                                const ResumePoint* resume, const ExtraMembers& extra = {}) {
+                                const ResumePoint* resume, SetupTimes& setup,
+                                const ExtraMembers& extra = {}) {
   if (world()->rank() != 0) {
     // Rank 0 runs the runner; this rank serves its step's commands (parallel/decomposed_step.hpp).
     // Resumed, its step starts empty as rank 0's does (production_run.cpp): the checkpoint's
@@ -228,6 +257,15 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
     return stop_signal != 0 || (deadline && std::chrono::steady_clock::now() >= *deadline);
   };
   if (!args.quiet) settings.progress = print_production_progress;
+  settings.setup_done = [&setup](const char* part, double seconds) {
+    const std::string name(part);
+    const std::string what = name == "step"      ? "the step built"
+                             : name == "restore" ? "the checkpoint restored"
+                                                 : "step 0's contacts and outputs";
+    std::string key = name;
+    std::replace(key.begin(), key.end(), ' ', '_');
+    setup.add(key, what, seconds);
+  };
   if (advice.limited()) {
     settings.instability_hint = fmt::format(
         "The likely cause is a time step too large for the contact law: time.step = {:.3g} s is "
@@ -276,6 +314,10 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   json["simulated_time"] = report.simulated_time;
   time_step_members(scene, advice, json);
   json["wall_seconds"] = report.wall_seconds;
+  // Before the first step: the scene's reading and its particles' making, then the runner's
+  // parts (these within wall_seconds).
+  Json& setup_json = json["setup_seconds"] = Json::object();
+  for (const auto& [part, seconds] : setup.parts()) setup_json[part] = seconds;
   json["particles"] = report.particles;
   if (scene.domain) json["removed_particles"] = report.removed_particles;
   json["mean_contacts_per_step"] = report.mean_contacts;
@@ -434,7 +476,9 @@ std::string resume_json(const RunArguments& args) {
   } catch (const CheckpointError& e) {
     throw RunError(e.what());
   }
+  SetupTimes setup(args.quiet);
   Scene scene = load_scene(point.scene_file);
+  setup.done("scene", "the scene and its walls read");
   check_scene_memory(scene, physical_memory_bytes());
   scene.precision = point.precision == "float" ? Precision::float32 : Precision::float64;
   scene.backend =
@@ -445,7 +489,7 @@ std::string resume_json(const RunArguments& args) {
                  point.step, point.checkpoint_path.c_str());
   }
   const TimeStepAdvice advice = check_time_step(args, scene);
-  return run_production_json(args, scene, advice, production_backend(args, scene), &point);
+  return run_production_json(args, scene, advice, production_backend(args, scene), &point, setup);
 }
 
 #if TALUS_HAVE_REFERENCE
@@ -487,13 +531,17 @@ std::string run_json(const RunArguments& given) {
                    "into a 10 cm cylinder, paper section 3.3), written to %s, outputs in %s/\n",
                    args.scene_path.c_str(), args.output_root.c_str());
   }
+  SetupTimes setup(args.quiet);
   Scene scene = load_scene(args.scene_path);  // SceneError: file:line:column: key: message
+  setup.done("scene", "the scene and its walls read");
   if (args.backend) scene.backend = *args.backend;
   if (args.precision) scene.precision = *args.precision;
   apply_end_time(args, scene);
   // Before any particle is made: a scene too large for this machine is refused with its numbers.
   check_scene_memory(scene, physical_memory_bytes());
   check_initial_particles(scene);
+  setup.done("initial_particles",
+             std::to_string(initial_particle_count(scene)) + " initial particles made and checked");
   const TimeStepAdvice advice = check_time_step(args, scene);
 
   if (args.solver == SolverKind::production) {
@@ -502,7 +550,7 @@ std::string run_json(const RunArguments& given) {
       extra = [&args](const ProductionReport& report, Json& json) {
         finish_builtin_run(args, report, json);
       };
-    return run_production_json(args, scene, advice, production_backend(args, scene), nullptr,
+    return run_production_json(args, scene, advice, production_backend(args, scene), nullptr, setup,
                                extra);
   }
   if (world()->size() > 1)

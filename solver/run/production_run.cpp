@@ -97,6 +97,15 @@ struct ProductionRunner::Impl {
   double steady_clock = 0, steady_exchange = 0, steady_bytes = 0, steady_vote = 0,
          steady_rebuild = 0;
   StageSeconds steady_stages{};
+  // ProductionReport::setup_seconds; setup_mark: the clock at the end of the last part.
+  std::vector<std::pair<std::string, double>> setup_seconds;
+  double setup_mark = 0;
+  void setup_part_done(const char* part) {
+    const double now = clock_seconds();
+    setup_seconds.emplace_back(part, now - setup_mark);
+    if (settings.setup_done) settings.setup_done(part, now - setup_mark);
+    setup_mark = now;
+  }
 
   Impl(const Scene& s, ProductionSettings set) : scene(s), settings(std::move(set)) {}
 
@@ -243,7 +252,7 @@ struct ProductionRunner::Impl {
 ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settings)
     : impl_(std::make_unique<Impl>(scene, std::move(settings))) {
   Impl& m = *impl_;
-  m.started = m.last_progress = clock_seconds();
+  m.started = m.last_progress = m.setup_mark = clock_seconds();
   if (scene.outputs.probes) {
     for (const Probe probe : scene.outputs.probes->quantities) {
       if (probe == Probe::bed_height && !scene.effects.gravity) {
@@ -263,6 +272,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.host_threads = host_thread_count(m.settings.host_threads);
     m.step = make_host_step(step_scene, m.host_threads);
   }
+  m.setup_part_done("step");
   m.total_steps = scene_step_count(scene);  // at most kMaxSteps (the loader refused more)
   m.initial_particles = resume ? initial_particle_count(scene) : m.step->particles();
   if (resume) {
@@ -274,6 +284,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
     m.step_index = resume->get_value<long long>("step.steps");
     m.contacts_sum = resume->get_value<double>("run.contacts_sum");
     m.resumed_from = m.step_index;
+    m.setup_part_done("restore");
   }
   if (scene.outputs.checkpoint) {
     m.checkpoint_dir = joined_path(m.settings.output_root, scene.outputs.checkpoint->directory);
@@ -300,6 +311,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   m.step->evaluate_forces();  // step 0's contacts
   m.watch_energy();
   m.write_outputs(done());
+  m.setup_part_done("first forces");
 }
 
 ProductionRunner::~ProductionRunner() = default;
@@ -392,6 +404,7 @@ ProductionReport ProductionRunner::report() const {
                                  m.step->stage_seconds()[static_cast<int>(stage)]);
   }
   r.output_seconds = m.output_seconds;
+  r.setup_seconds = m.setup_seconds;
   r.particle_bytes = m.step->bytes();
   r.exchange_seconds = m.step->exchange_seconds();
   r.exchange_vote_seconds = m.step->exchange_vote_seconds();

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "solver/io/trajectory.hpp"
 #include "tests/app/run_talus.hpp"
 #include "tests/support/json_test_util.hpp"
@@ -207,6 +209,62 @@ TEST(TalusRunProduction, HostStepRunsFeeds) {
   ASSERT_EQ(fed.exit_code, 0) << fed.err;
   // 100 per second from 0 until the last step's start, 0.01999 s: floor(1.999) = 1 more.
   EXPECT_EQ(parse_or_fail(fed.out)["particles"].get<double>(), 3);
+}
+
+// The setup's parts, each told on stderr as it ends and summarised in order as setup_seconds: a
+// new run's (the scene read, the initial particles made and checked, the step built, step 0),
+// a resumed run's (the scene, the step, the checkpoint restored); --quiet tells none. The
+// runner's parts lie within wall_seconds (which starts with the runner), so their sum cannot
+// exceed it; the command's own parts come before it.
+TEST(TalusRunProduction, SetupPartsAreToldAndSummarised) {
+  const std::string dir = production_directory("setup");
+  std::string text = kTwoBalls;
+  text += "  checkpoint: {every: 1000, directory: checkpoints}\n";
+  const std::string scene = write_scene(dir, text);
+  const ProcessResult run = run_talus({"run", "--backend", "cpu", "--output", dir + "/out", scene});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // In the order written (nlohmann::json would sort the keys).
+  const auto summary = nlohmann::ordered_json::parse(run.out);
+  const auto& setup = summary["setup_seconds"];
+  std::vector<std::string> parts;
+  for (auto it = setup.begin(); it != setup.end(); ++it) {
+    parts.push_back(it.key());
+    EXPECT_GE(it.value().get<double>(), 0) << it.key();
+  }
+  EXPECT_EQ(parts,
+            (std::vector<std::string>{"scene", "initial_particles", "step", "first_forces"}));
+  EXPECT_LE(setup["step"].get<double>() + setup["first_forces"].get<double>(),
+            summary["wall_seconds"].get<double>());
+  // Told in order, each before the first progress line.
+  const std::size_t read = run.err.find("talus run: setup: the scene and its walls read in ");
+  const std::size_t made =
+      run.err.find("talus run: setup: 2 initial particles made and checked in ");
+  const std::size_t built = run.err.find("talus run: setup: the step built in ");
+  const std::size_t first = run.err.find("talus run: setup: step 0's contacts and outputs in ");
+  const std::size_t progress = run.err.find("talus run: 100.0%");
+  ASSERT_NE(read, std::string::npos) << run.err;
+  ASSERT_NE(progress, std::string::npos) << run.err;
+  EXPECT_LT(read, made) << run.err;
+  EXPECT_LT(made, built) << run.err;
+  EXPECT_LT(built, first) << run.err;
+  EXPECT_LT(first, progress) << run.err;
+
+  const ProcessResult resumed =
+      run_talus({"run", "--resume", dir + "/out/checkpoints", "--backend", "cpu", "--end", "0.03"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const auto again = nlohmann::ordered_json::parse(resumed.out);
+  parts.clear();
+  for (auto it = again["setup_seconds"].begin(); it != again["setup_seconds"].end(); ++it)
+    parts.push_back(it.key());
+  EXPECT_EQ(parts, (std::vector<std::string>{"scene", "step", "restore"}));
+  EXPECT_NE(resumed.err.find("talus run: setup: the checkpoint restored in "), std::string::npos)
+      << resumed.err;
+
+  const ProcessResult quiet = run_talus(
+      {"run", "--backend", "cpu", "--quiet", "--overwrite", "--output", dir + "/out", scene});
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("talus run: setup:"), std::string::npos) << quiet.err;
+  EXPECT_TRUE(parse_or_fail(quiet.out)["setup_seconds"].contains("initial_particles"));
 }
 
 }  // namespace
