@@ -355,17 +355,25 @@ def error_lines(text, count):
 def run_talus(argv, env_extra, what, may_stop=False, log=None):
     """Runs one talus command; returns (its summary JSON, its wall time in s). With `may_stop`,
     a run that --stop-after stopped (exit status 75) returns (None, its wall time). `log`: a file
-    that gets the command and its stderr (talus's messages, e.g. TALUS_EXCHANGE_PROFILE's)."""
+    that gets the command and then talus's stderr as it is written (its setup's parts, progress
+    and messages, e.g. TALUS_EXCHANGE_PROFILE's), so that a run killed from outside (a call's
+    time running out) leaves what it said; without, stderr is kept for the error message."""
     env = dict(os.environ)
     env.update(env_extra)
     started = time.monotonic()
     try:
-        proc = subprocess.run(argv, capture_output=True, text=True, env=env)
+        if log:
+            with open(log, "w") as f:
+                f.write(command_text(env_extra, argv) + "\n")
+                f.flush()
+                proc = subprocess.run(argv, stdout=subprocess.PIPE, stderr=f, text=True, env=env)
+            with open(log) as f:
+                proc.stderr = f.read().split("\n", 1)[-1]
+        else:
+            proc = subprocess.run(argv, capture_output=True, text=True, env=env)
     except OSError as e:
         raise RunFailed(f"{what}: cannot start {argv[0]}: {e.strerror}")
     seconds = time.monotonic() - started
-    if log:
-        write_atomically(log, (command_text(env_extra, argv) + "\n" + proc.stderr).encode())
     if may_stop and proc.returncode == TALUS_STOPPED:
         return None, seconds
     if proc.returncode != 0:
@@ -479,11 +487,11 @@ class Study:
             write_atomically(walls, obj)
             write_atomically(scene, yaml)
             argv = [a.talus, "run", scene, "--backend", a.backend, "--threads",
-                    str(a.settle_threads), "--quiet", "--output", run_dir, "--overwrite",
+                    str(a.settle_threads), "--output", run_dir, "--overwrite",
                     "--end", repr(end)]
         else:
             argv = [a.talus, "run", "--resume", os.path.join(run_dir, "checkpoints"),
-                    "--backend", a.backend, "--threads", str(a.settle_threads), "--quiet",
+                    "--backend", a.backend, "--threads", str(a.settle_threads),
                     "--end", repr(end)]
         if a.settle_sitting:
             argv += ["--stop-after", repr(a.settle_sitting)]
@@ -501,8 +509,11 @@ class Study:
             f"{a.settle_threads} thread{'s' if a.settle_threads > 1 else ''}"
             + (", CUDA" if a.backend == "cuda" else "")
             + (f", sitting {len(sittings) + 1}" if a.settle_sitting or earlier else ""))
+        # Not --quiet: its log (settle-<sitting>.log beside the scene) has the setup's parts as
+        # they end and a progress line a second.
         summary, seconds = run_talus(argv, env, f"the settle of {count} particles",
-                                     may_stop=True)
+                                     may_stop=True, log=os.path.join(
+                                         folder, f"settle-{len(sittings) + 1}.log"))
         sittings.append({"command": command_text(env, argv), "process_seconds": seconds,
                          "finished": summary is not None})
         if summary is None:
@@ -538,6 +549,9 @@ class Study:
             "ranks": a.settle_ranks,
             "backend": a.backend,
             "wall_seconds": summary["wall_seconds"],  # the last sitting's
+            # talus's setup parts of the last sitting: the scene and walls read, the particles
+            # made and checked, the step built, step 0 (or the checkpoint restored)
+            "setup_seconds": summary.get("setup_seconds"),
             "process_seconds": sum(s["process_seconds"] for s in sittings),
             "sittings": len(sittings),
             "mean_contacts_per_step": summary.get("mean_contacts_per_step"),
@@ -923,8 +937,8 @@ def parse_arguments(argv):
     p.add_argument("--threads", type=positive_int, default=1, metavar="N",
                    help="each rank's --threads (default 1)")
     p.add_argument("--settle-threads", type=positive_int, default=None, metavar="N",
-                   help="threads of the one-rank settle (default: the usable cores; "
-                        "--quick 1)")
+                   help="threads of each rank of the settle (default: the usable cores shared "
+                        "among the --settle-ranks; --quick 1)")
     p.add_argument("--settle-ranks", type=positive_int, default=1, metavar="K",
                    help="ranks of the settle, under --mpirun (default 1; the settled bytes are "
                         "the same on any count, so K > 1 only saves time)")
@@ -999,7 +1013,9 @@ def parse_arguments(argv):
         p.error("--settle-sitting: give --work too: the next call goes on from the stopped "
                 "settle's checkpoint there")
     if a.settle_threads is None:  # quick: one, which a busy machine slows the least
-        a.settle_threads = 1 if a.quick else len(os.sched_getaffinity(0))
+        # Each rank its share of the cores: K ranks of all the cores each would start K threads
+        # a core (the random fill's batches wait at a barrier for every thread).
+        a.settle_threads = 1 if a.quick else max(1, len(os.sched_getaffinity(0)) // a.settle_ranks)
     talus = shutil.which(a.talus) if os.sep not in a.talus else a.talus
     if not talus or not os.path.isfile(talus):
         p.error(f"--talus: no such file: {a.talus}")
