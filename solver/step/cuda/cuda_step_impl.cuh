@@ -212,11 +212,17 @@ struct CudaStep<Real>::Impl {
     TALUS_CUDA_CHECK(cudaStreamEndCapture(shared.stream, &captured));
     ++graph_counts.captures;
     std::vector<unsigned long long> nodes;
-    cudaError_t made = graph_node_signature(captured, nodes);
+    // A signature the runtime would not give (not expected) only costs the update: the capture
+    // is then made into a new executable graph, as one whose nodes changed.
+    const bool known = graph_node_signature(captured, nodes) == cudaSuccess;
+    if (!known) {
+      cudaGetLastError();  // not sticky
+      nodes.clear();
+    }
     bool updated = false;
     // An update is offered only for the same nodes: one the driver must refuse (a kernel more or
     // less after a feed, another copy) would be an API error that compute-sanitizer reports.
-    if (made == cudaSuccess && graph && nodes == graph_nodes) {
+    if (known && graph && nodes == graph_nodes) {
       cudaGraphExecUpdateResultInfo info;
       updated = cudaGraphExecUpdate(graph, captured, &info) == cudaSuccess;
       if (!updated) {
@@ -224,13 +230,14 @@ struct CudaStep<Real>::Impl {
         ++graph_counts.refused_updates;
       }
     }
-    if (made == cudaSuccess && !updated) {
+    cudaError_t made = cudaSuccess;
+    if (!updated) {
       if (graph) made = cudaGraphExecDestroy(graph);
       graph = nullptr;
       graph_nodes.clear();
       if (made == cudaSuccess) made = cudaGraphInstantiate(&graph, captured, 0);
       if (made == cudaSuccess) {
-        graph_nodes = std::move(nodes);
+        if (known) graph_nodes = std::move(nodes);
         ++graph_counts.instantiations;
       }
     }
