@@ -21,6 +21,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "solver/app/commands.hpp"
@@ -189,6 +190,25 @@ void time_step_members(const Scene& scene, const TimeStepAdvice& advice, Json& j
 int decomposed_threads(const RunArguments& args) {
   if (args.threads > 0) return args.threads;
   return std::max(1, host_thread_count(0) / world()->size());
+}
+
+// A decomposed run whose ranks on one node, with --threads T > 1 each, start more threads than the
+// node has cores: each rank's OpenMP loops then wait at their barriers for threads that have no
+// core (the random fill waits for every thread after each batch). Said once, by rank 0, also
+// with --quiet; the run goes on.
+void warn_oversubscribed_threads(const RunArguments& args) {
+  const Communicator& w = *world();
+  if (w.size() <= 1 || args.threads <= 1 || w.rank() != 0) return;
+  const unsigned cores = std::thread::hardware_concurrency();
+  const long long threads = static_cast<long long>(w.node_size()) * args.threads;
+  if (cores == 0 || threads <= static_cast<long long>(cores)) return;
+  std::fprintf(stderr,
+               "talus run: warning: %d ranks on this node with --threads %d each start %lld "
+               "threads on its %u cores: each rank's loops then wait for threads that have no "
+               "core; drop --threads (each rank then takes its share, %d) or give at most %d\n",
+               w.node_size(), args.threads, threads, cores,
+               std::max(1, static_cast<int>(cores) / w.node_size()),
+               std::max(1, static_cast<int>(cores) / w.node_size()));
 }
 
 // `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
@@ -476,6 +496,7 @@ std::string resume_json(const RunArguments& args) {
   } catch (const CheckpointError& e) {
     throw RunError(e.what());
   }
+  warn_oversubscribed_threads(args);
   SetupTimes setup(args.quiet);
   Scene scene = load_scene(point.scene_file);
   setup.done("scene", "the scene and its walls read");
@@ -507,6 +528,7 @@ std::string run_json(const RunArguments& given) {
   // Each rank of a decomposed run makes and checks the initial particles (a random fill on every
   // thread) on its share of the cores, as its step will run, not on all of them at once.
   if (world()->size() > 1) set_default_host_threads(decomposed_threads(args));
+  warn_oversubscribed_threads(args);
   const bool builtin = args.scene_path.empty();
   // Before the built-in scene is written out: a refused run leaves no file behind.
   if (builtin && args.solver == SolverKind::reference)

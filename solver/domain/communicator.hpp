@@ -21,6 +21,9 @@ class Communicator {
   virtual ~Communicator() = default;
   virtual int rank() const = 0;
   virtual int size() const = 0;
+  // The ranks on this rank's node (sharing its cores and memory): size() for ranks of one
+  // process or one machine.
+  virtual int node_size() const { return size(); }
   virtual double sum(double local) const = 0;
   virtual double max(double local) const = 0;
   virtual long long sum(long long local) const = 0;

@@ -100,12 +100,11 @@ class MpiCommunicator final : public Communicator {
     MPI_Comm node;
     check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node),
           "MPI_Comm_split_type");
-    int local = 1;
-    check(MPI_Comm_size(node, &local), "MPI_Comm_size");
+    check(MPI_Comm_size(node, &node_size_), "MPI_Comm_size");
     MPI_Comm_free(&node);
     const unsigned cores = std::thread::hardware_concurrency();
-    spin_budget =
-        std::chrono::microseconds(cores > 0 && static_cast<unsigned>(local) <= cores ? 2000 : 20);
+    spin_budget = std::chrono::microseconds(
+        cores > 0 && static_cast<unsigned>(node_size_) <= cores ? 2000 : 20);
     if (const char* v = std::getenv("TALUS_MPI_SPIN_US"); v && *v) {
       const long long us = std::atoll(v);
       if (us >= 0) spin_budget = std::chrono::microseconds(us);
@@ -113,6 +112,7 @@ class MpiCommunicator final : public Communicator {
   }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
+  int node_size() const override { return node_size_; }
   double sum(double local) const override { return reduce(local, MPI_DOUBLE, MPI_SUM); }
   double max(double local) const override { return reduce(local, MPI_DOUBLE, MPI_MAX); }
   long long sum(long long local) const override { return reduce(local, MPI_LONG_LONG, MPI_SUM); }
@@ -264,7 +264,7 @@ class MpiCommunicator final : public Communicator {
     return out;
   }
 
-  int rank_ = 0, size_ = 1;
+  int rank_ = 0, size_ = 1, node_size_ = 1;  // node_size_: ranks on this node
 };
 
 }  // namespace

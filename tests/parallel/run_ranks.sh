@@ -141,6 +141,25 @@ mpi 2 "$talus" run --resume "$work/stopped/checkpoints" $opts --quiet \
   fail "the stopped drum resumed on 2 ranks exited with $?: $(cat "$work/stopped-resumed.err")"
 same_frames "$work/drum-1" "$work/stopped"
 
+# Threads: 2 ranks of --threads C each (C this machine's cores) start 2C threads on C cores, which
+# rank 0 says once (also with --quiet) naming the share to give; --threads C/2 (or none) is not
+# oversubscribed and says nothing. The host backend: the warning is the command's, not the step's.
+cores=$(nproc)
+if test "$cores" -ge 2; then  # --threads 1 is never told (ranks beyond the cores are not threads)
+  mpi 2 "$talus" run "$scenes/drum.yaml" --backend cpu --threads "$cores" --quiet --end 0.0001 \
+    --output "$work/threads-over" > /dev/null 2> "$work/threads-over.err" ||
+    fail "the drum on 2 ranks of $cores threads exited with $?: $(cat "$work/threads-over.err")"
+  test "$(grep -c "2 ranks on this node with --threads $cores each start $((2 * cores)) threads on its $cores cores.*give at most $((cores / 2))\$" "$work/threads-over.err")" = 1 ||
+    fail "2 ranks of $cores threads on $cores cores, not one warning: $(cat "$work/threads-over.err")"
+fi
+share=$((cores / 2)); test "$share" -ge 1 || share=1
+mpi 2 "$talus" run "$scenes/drum.yaml" --backend cpu --threads "$share" --quiet --end 0.0001 \
+  --output "$work/threads-share" > /dev/null 2> "$work/threads-share.err" ||
+  fail "the drum on 2 ranks of $share threads exited with $?: $(cat "$work/threads-share.err")"
+if test $((2 * share)) -le "$cores" && grep -q "threads on its" "$work/threads-share.err"; then
+  fail "2 ranks of $share threads on $cores cores warned: $(cat "$work/threads-share.err")"
+fi
+
 mpi 2 "$talus" shape cube:0.01 > "$work/shape.out" 2> "$work/shape.err" &&
   fail "talus shape on 2 ranks was not refused"
 grep -q "only 'talus run' runs on several ranks" "$work/shape.err" ||
