@@ -20,7 +20,10 @@ talus, and analyses the bed from its last frame, on the true polyhedra:
 
 --time-limit S stops talus after S seconds (its --stop-after: a checkpoint at the next step) and
 exits with status 3; --continue OUTPUT resumes that run (with its own --time-limit), and
-analyses it once it has ended.
+analyses it once it has ended. After each sitting every frame's line of the filling (step,
+pellets, pellets at rest, surface) goes into OUTPUT/filling.json; --prune-frames then removes
+every frame but the newest, so that a run of thousands of pellets can be carried between
+machines as its checkpoint, filling.json and one frame.
 
 Into OUTPUT (each through a temporary file and a rename): scene.yaml, the run (run/: frames,
 probes, vtk, summary.json), bed.json (every number below, the command, the machine), bed.md,
@@ -196,8 +199,49 @@ def read_frame_full(path):
     return tids, pos, rot, np.stack([data["vx"], data["vy"], data["vz"]], axis=1)
 
 
-def analyse(run_dir, talus, sides, points, seed, rings=25):
-    """Every number of the bed from the run's frames (module docstring)."""
+def filling_record(path, vertices):
+    """A frame's line of the filling: its step, pellets, pellets at rest and bed surface; and
+    the frame's arrays."""
+    tids, pos, rot, vel = read_frame_full(path)
+    step = int(re.search(r"trajectory_(\d+)\.csv$", path).group(1))
+    resting = int((np.linalg.norm(vel, axis=1) < 0.05).sum()) if len(pos) else 0
+    record = {"step": step, "pellets": int(len(pos)), "resting": resting,
+              "bed_height_m": bed_surface(pos, rot, vel, vertices) if len(pos) else 0.0}
+    return record, (tids, pos, rot, vel)
+
+
+def read_digest(out):
+    """OUTPUT/filling.json's lines by step (digest_frames); empty where there is none."""
+    path = os.path.join(out, "filling.json")
+    return {r["step"]: r for r in json.load(open(path))} if os.path.exists(path) else {}
+
+
+def digest_frames(out, talus, sides, prune):
+    """Adds the filling's line of every frame in OUTPUT/run/frames to OUTPUT/filling.json (by
+    step; a frame written again by a resumed run gives the same line); with `prune`, then
+    removes every frame but the newest. A run that outgrows the disk or a call's transfer thus
+    keeps its height curve in a few kilobytes, and OUTPUT (its checkpoint, filling.json, the
+    newest frame) can go on on another machine."""
+    run_dir = os.path.join(out, "run")
+    files = frame_files(run_dir)
+    digest = read_digest(out)
+    if not files:
+        return digest
+    shape = beds.shape_data(talus, pellet_spec(sides), os.path.join(run_dir, "shapes"))
+    for f in files:
+        record, _ = filling_record(f, shape["vertices"])
+        digest[record["step"]] = record
+    write_atomically(os.path.join(out, "filling.json"),
+                     json.dumps([digest[k] for k in sorted(digest)], indent=1) + "\n")
+    if prune:
+        for f in files[:-1]:
+            os.unlink(f)
+    return digest
+
+
+def analyse(run_dir, talus, sides, points, seed, rings=25, digest=None):
+    """Every number of the bed from the run's frames (module docstring); `digest`: the filling's
+    lines of frames no longer there (digest_frames), by step."""
     spec = pellet_spec(sides)
     shape = beds.shape_data(talus, spec, os.path.join(run_dir, "shapes"))
     shape_json = json.load(open(glob.glob(os.path.join(run_dir, "shapes", "*.json"))[0]))
@@ -207,16 +251,14 @@ def analyse(run_dir, talus, sides, points, seed, rings=25):
     files = frame_files(run_dir)
     if not files:
         sys.exit(f"fixed_bed.py: no frames in {run_dir}/frames")
-    # The bed height as the pellets land: each frame's count, pellets at rest and surface.
-    filling = []
+    # The bed height as the pellets land: each frame's count, pellets at rest and surface (the
+    # frames present, and the digest's lines of those pruned).
+    lines = dict(digest or {})
     for path in files:
-        tids, pos, rot, vel = read_frame_full(path)
-        step = int(re.search(r"trajectory_(\d+)\.csv$", path).group(1))
-        resting = int((np.linalg.norm(vel, axis=1) < 0.05).sum()) if len(pos) else 0
-        filling.append({"step": step, "pellets": int(len(pos)), "resting": resting,
-                        "bed_height_m": bed_surface(pos, rot, vel, shape["vertices"])
-                        if len(pos) else 0.0})
-    # tids, pos, rot, vel: the last frame's, from the loop.
+        record, arrays = filling_record(path, shape["vertices"])
+        lines[record["step"]] = record
+    filling = [lines[k] for k in sorted(lines)]
+    tids, pos, rot, vel = arrays  # the last frame's
     shapes = {t: shape for t in set(tids)}
     surface = filling[-1]["bed_height_m"]
     rng = np.random.default_rng(seed)
@@ -390,6 +432,9 @@ def main(argv=None):
     p.add_argument("--time-limit", type=float, default=None, metavar="S",
                    help="stop talus after S seconds with a checkpoint (exit status 3)")
     p.add_argument("--commit", default=None)
+    p.add_argument("--prune-frames", action="store_true",
+                   help="after each sitting, keep each frame's filling line in filling.json and "
+                        "remove every frame but the newest (a run carried between machines)")
     a = p.parse_args(argv)
     if a.sides < 3 or a.points < 1000:
         p.error("--sides must be at least 3 and --points at least 1000")
@@ -399,6 +444,7 @@ def main(argv=None):
     os.makedirs(out, exist_ok=True)
     run_dir = os.path.join(out, "run")
     info_path = os.path.join(out, "run.json")
+    digest = None  # the filling's lines of pruned frames (digest_frames)
     if a.analyse:
         info = json.load(open(info_path))
         if not info.get("finished"):
@@ -414,16 +460,23 @@ def main(argv=None):
         info = {"time_step_s": dt, "critical_time_step_s": crit, "run_wall_seconds": 0.0,
                 "run_command": " ".join(argv_run), "sides": a.sides, "seed": a.seed,
                 "pellets_fed": pellets, "quick": a.quick, "sittings": 0}
-        if not run_talus(argv_run, info, info_path, a.time_limit):
+        ended = run_talus(argv_run, info, info_path, a.time_limit)
+        digest = digest_frames(out, a.talus, info["sides"], a.prune_frames)
+        if not ended:
             return 3
     elif a.resume:
         info = json.load(open(info_path))
         if not info.get("finished"):
             argv_run = [a.talus, "run", "--resume", os.path.join(run_dir, "checkpoints"),
                         "--quiet"] + (["--threads", str(a.threads)] if a.threads else [])
-            if not run_talus(argv_run, info, info_path, a.time_limit):
+            ended = run_talus(argv_run, info, info_path, a.time_limit)
+            digest = digest_frames(out, a.talus, info["sides"], a.prune_frames)
+            if not ended:
                 return 3
-    result, filling = analyse(run_dir, a.talus, info["sides"], a.points, info["seed"])
+    if digest is None:  # --analyse, or --continue of a run that had ended
+        digest = read_digest(out)
+    result, filling = analyse(run_dir, a.talus, info["sides"], a.points, info["seed"],
+                              digest=digest)
     bed = dict(info, result=result, filling=filling, paper=PAPER,
                pellet=pellet_spec(info["sides"]), commit=a.commit or git_commit(),
                machine=f"{platform.node()} ({platform.machine()}, {os.cpu_count()} CPUs)",

@@ -4,9 +4,12 @@
 
     test_quick.py TALUS WORK_DIR
 
-The run is stopped after 5 s (--time-limit: SIGTERM, a checkpoint) and continued (--continue).
-Checks, each a number that a broken driver, scene or analysis gets wrong:
-  - the run ended in two sittings;
+The run is stopped after 5 s (--time-limit: SIGTERM, a checkpoint) and continued (--continue),
+both with --prune-frames. Checks, each a number that a broken driver, scene or analysis gets
+wrong:
+  - the run ended in two sittings; after each, one frame left, and filling.json holds the first
+    sitting's frames; the filling in bed.json has a line for every frame the run wrote, from
+    step 0 to its last at one interval (none lost to the pruning);
   - every pellet fed is in the tube at the end (none lost through the wall or the floor);
   - the random points find the pellets' summed volume within 1 % + 4 sampling errors (the
     contacts' overlaps are well below 1 % of a pellet's volume at this stiffness; a wrong
@@ -43,13 +46,24 @@ def main(argv):
               "--threads", "2", "--points", "60000"]
     # Stopped after 5 s (the run takes 30 s or more here), then continued: the path a GPU run
     # longer than one sitting takes.
+    # --prune-frames: each sitting's frames digested into filling.json, all but the newest
+    # removed (a GPU run carried between machines).
     proc = subprocess.run(driver + ["--quick", "--backend", "cpu", "--output", work,
-                                    "--time-limit", "5"], capture_output=True, text=True)
+                                    "--time-limit", "5", "--prune-frames"],
+                          capture_output=True, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 3:
         print(f"fixed_bed.py --time-limit 5 exited with {proc.returncode}, expected 3 (stopped)")
         return 1
-    proc = subprocess.run(driver + ["--continue", work], capture_output=True, text=True)
+    frames = os.listdir(os.path.join(work, "run", "frames"))
+    frames = [f for f in frames if f.startswith("trajectory_")]
+    digested = json.load(open(os.path.join(work, "filling.json")))
+    if len(frames) != 1 or len(digested) < 2:
+        print(f"after the pruned first sitting: {len(frames)} frames (expected 1), "
+              f"{len(digested)} lines in filling.json (expected the sitting's frames, > 1)")
+        return 1
+    proc = subprocess.run(driver + ["--continue", work, "--prune-frames"], capture_output=True,
+                          text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
         print(f"fixed_bed.py --continue exited with {proc.returncode}")
@@ -77,6 +91,16 @@ def main(argv):
           "the ring at the wall is not the most porous (> 0.7): "
           + str([round(p["porosity"], 3) for p in profile]))
     check(0 < r.get("orientation", {}).get("mean_abs_cos", -1) < 1, "no orientations")
+    # The height curve over both pruned sittings: a line for every frame the run wrote, from
+    # step 0 to its last, at one interval (a sitting's frames lost to the pruning leave a gap).
+    steps = [f["step"] for f in bed["filling"]]
+    gaps = {b - a for a, b in zip(steps, steps[1:])}
+    check(len(steps) > 2 and steps[0] == 0 and len(gaps) == 1 and steps[-1] == bed["steps"],
+          f"the filling's frames: steps {steps[:3]} ... {steps[-2:]} (intervals {sorted(gaps)}), "
+          f"the run's last step {bed.get('steps')}")
+    left = [f for f in os.listdir(os.path.join(work, "run", "frames"))
+            if f.startswith("trajectory_")]
+    check(len(left) == 1, f"{len(left)} frames left after the pruned run; expected 1")
     for name in ("bed.md", "bed.png"):
         path = os.path.join(work, name)
         check(os.path.isfile(path) and os.path.getsize(path) > 0, f"{name}: not written")
