@@ -64,9 +64,9 @@ struct CudaStepOptions {
 // What the graph steps did: steps launched as a graph, captures of the graph (after each step
 // launched stage by stage), graph steps that overran the wall stage's room and finished stage by
 // stage; of the captures, those made into a new executable graph (the first, and each whose
-// nodes differ from the executable one's: a kernel, a copy's kind, a memset's size, the edges),
-// the others updating it in place; updates the driver refused all the same (each then made anew:
-// none is expected, since a capture whose nodes differ is never offered as an update).
+// nodes differ from the executable one's: a kernel, a copy's kind, a memset's element size, the
+// edges), the others updating it in place; updates the driver refused all the same (each then made
+// anew: none is expected, since a capture whose nodes differ is never offered as an update).
 struct CudaGraphCounts {
   long long steps = 0, captures = 0, aborted = 0, instantiations = 0, refused_updates = 0;
 };
