@@ -21,11 +21,11 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <utility>
 
 #include "solver/app/commands.hpp"
 #include "solver/app/run_arguments.hpp"
+#include "solver/app/run_messages.hpp"
 #include "solver/contact/time_step_advisor.hpp"
 #include "solver/core/host_parallel.hpp"
 #include "solver/io/checkpoint.hpp"
@@ -56,52 +56,8 @@ namespace talus {
 
 namespace {
 
-// One progress line on stderr, the same for both solvers.
-void print_progress_line(long long step, long long total_steps, double time, double end_time,
-                         std::size_t particles, std::size_t contacts, double wall_seconds) {
-  const double fraction = total_steps > 0 ? double(step) / double(total_steps) : 1.0;
-  const double left = fraction > 0 ? wall_seconds * (1 - fraction) / fraction : 0;
-  std::fprintf(stderr,
-               "talus run: %5.1f%%  t = %.6g of %.6g s  step %lld of %lld  %.3g steps/s  "
-               "%zu particles  %zu contacts  about %.0f s left\n",
-               100 * fraction, time, end_time, step, total_steps,
-               wall_seconds > 0 ? double(step) / wall_seconds : 0.0, particles, contacts, left);
-}
-
-void print_production_progress(const ProductionProgress& p) {
-  print_progress_line(p.step, p.total_steps, p.time, p.end_time, p.particles, p.contacts,
-                      p.wall_seconds);
-}
-
 // Members a caller adds to the summary after the run (the built-in scene's bed height).
 using ExtraMembers = std::function<void(const ProductionReport&, Json&)>;
-
-// The parts of a run's setup, timed in order: this command's (the scene and its walls read, the
-// initial particles made and checked) and the runner's (ProductionSettings::setup_done). Each
-// is told on stderr as it ends (rank 0, unless --quiet), so that a run of millions of particles
-// that takes minutes before its first step says where they go, and a run killed in its setup
-// leaves that behind in its log; the summary has them as setup_seconds.
-class SetupTimes {
- public:
-  explicit SetupTimes(bool quiet) : tell_(!quiet && world()->rank() == 0), mark_(now()) {}
-  // `part` ended now (its seconds: since the last part ended); `what` says it on stderr.
-  void done(const std::string& part, const std::string& what) { add(part, what, now() - mark_); }
-  void add(const std::string& part, const std::string& what, double seconds) {
-    parts_.emplace_back(part, seconds);
-    mark_ = now();
-    if (tell_) std::fprintf(stderr, "talus run: setup: %s in %.1f s\n", what.c_str(), seconds);
-  }
-  const std::vector<std::pair<std::string, double>>& parts() const { return parts_; }
-
- private:
-  static double now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-  }
-  bool tell_;
-  double mark_;
-  std::vector<std::pair<std::string, double>> parts_;
-};
 
 // The signal that asked the run to stop (0: none). The handler only records it and puts the
 // default action back, so that a second Ctrl-C ends the process at once.
@@ -192,25 +148,6 @@ int decomposed_threads(const RunArguments& args) {
   return std::max(1, host_thread_count(0) / world()->size());
 }
 
-// A decomposed run whose ranks on one node, with --threads T > 1 each, start more threads than the
-// node has cores: each rank's OpenMP loops then wait at their barriers for threads that have no
-// core (the random fill waits for every thread after each batch). Said once, by rank 0, also
-// with --quiet; the run goes on.
-void warn_oversubscribed_threads(const RunArguments& args) {
-  const Communicator& w = *world();
-  if (w.size() <= 1 || args.threads <= 1 || w.rank() != 0) return;
-  const unsigned cores = std::thread::hardware_concurrency();
-  const long long threads = static_cast<long long>(w.node_size()) * args.threads;
-  if (cores == 0 || threads <= static_cast<long long>(cores)) return;
-  std::fprintf(stderr,
-               "talus run: warning: %d ranks on this node with --threads %d each start %lld "
-               "threads on its %u cores: each rank's loops then wait for threads that have no "
-               "core; drop --threads (each rank then takes its share, %d) or give at most %d\n",
-               w.node_size(), args.threads, threads, cores,
-               std::max(1, static_cast<int>(cores) / w.node_size()),
-               std::max(1, static_cast<int>(cores) / w.node_size()));
-}
-
 // `--backend auto` takes the GPU for scenes of at least this many particles (all a scene
 // creates, feeds included: scene_particle_count) and the host below. Measured (benchmarks/
 // README.md, session 19): the built-in scene with 8, 16, 32 and 63 of its dodecahedra, 12,500
@@ -278,13 +215,7 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   };
   if (!args.quiet) settings.progress = print_production_progress;
   settings.setup_done = [&setup](const char* part, double seconds) {
-    const std::string name(part);
-    const std::string what = name == "step"      ? "the step built"
-                             : name == "restore" ? "the checkpoint restored"
-                                                 : "step 0's contacts and outputs";
-    std::string key = name;
-    std::replace(key.begin(), key.end(), ' ', '_');
-    setup.add(key, what, seconds);
+    setup.runner_part(part, seconds);
   };
   if (advice.limited()) {
     settings.instability_hint = fmt::format(

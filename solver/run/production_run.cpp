@@ -97,12 +97,9 @@ struct ProductionRunner::Impl {
   double steady_clock = 0, steady_exchange = 0, steady_bytes = 0, steady_vote = 0,
          steady_rebuild = 0;
   StageSeconds steady_stages{};
-  // ProductionReport::setup_seconds; setup_mark: the clock at the end of the last part.
-  std::vector<std::pair<std::string, double>> setup_seconds;
-  double setup_mark = 0;
+  double setup_mark = 0;  // the clock at the end of the setup's last part (setup_done)
   void setup_part_done(const char* part) {
     const double now = clock_seconds();
-    setup_seconds.emplace_back(part, now - setup_mark);
     if (settings.setup_done) settings.setup_done(part, now - setup_mark);
     setup_mark = now;
   }
@@ -311,7 +308,7 @@ ProductionRunner::ProductionRunner(const Scene& scene, ProductionSettings settin
   m.step->evaluate_forces();  // step 0's contacts
   m.watch_energy();
   m.write_outputs(done());
-  m.setup_part_done("first forces");
+  m.setup_part_done("first_forces");
 }
 
 ProductionRunner::~ProductionRunner() = default;
@@ -404,7 +401,6 @@ ProductionReport ProductionRunner::report() const {
                                  m.step->stage_seconds()[static_cast<int>(stage)]);
   }
   r.output_seconds = m.output_seconds;
-  r.setup_seconds = m.setup_seconds;
   r.particle_bytes = m.step->bytes();
   r.exchange_seconds = m.step->exchange_seconds();
   r.exchange_vote_seconds = m.step->exchange_vote_seconds();

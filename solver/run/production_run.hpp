@@ -41,7 +41,7 @@ struct ProductionSettings {
   double progress_interval = 1.0;  // s of wall time
   // Told each part of the runner's setup as it ends, with its wall-clock seconds: "step" (the
   // step built: the particles on the backend, the walls' grids), "restore" (a resumed run's
-  // checkpoint read into it), "first forces" (a new run's step-0 contacts and outputs).
+  // checkpoint read into it), "first_forces" (a new run's step-0 contacts and outputs).
   std::function<void(const char* part, double seconds)> setup_done;
   // Continue from this checkpoint (read_resume_point) instead of the scene's initial state: the
   // step's state set back, the outputs continued (probe rows after its step dropped, then
@@ -113,9 +113,6 @@ struct ProductionReport {
   // without gravity.
   double bed_height = std::numeric_limits<double>::quiet_NaN();
   long long resumed_from_step = -1;  // the checkpoint's step; -1: a new run
-  // The runner's setup (included in wall_seconds), in order: ProductionSettings::setup_done's
-  // parts, each with its seconds.
-  std::vector<std::pair<std::string, double>> setup_seconds;
   // The run after its first step, for timing the steps alone: a run's setup (reading a
   // checkpoint, building the walls' grid) and its first step (the first list, the boxes cut and
   // the first ghosts on several ranks) take seconds at a million particles, which a short run's
