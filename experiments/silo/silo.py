@@ -381,8 +381,8 @@ def sit(folder, info, argv, time_limit):
     if summary is None:
         print(f"silo.py: continue with --continue {folder}")
         return 3
-    # The stage times are the last sitting's (a stopped sitting prints no summary): the bed at
-    # its fullest, what the projection wants. Seconds a step: every sitting's wall seconds
+    # The stage times are the last sitting's (each sitting's are in run.json's sitting_steps):
+    # the bed at its fullest, what the projection wants. Seconds a step: every sitting's wall seconds
     # (their setups included) over every step.
     stages = summary.get("stage_seconds", {})
     work = sum(v for k, v in stages.items() if k != "output")

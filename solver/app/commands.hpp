@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "solver/app/render_arguments.hpp"
 #include "solver/app/run_arguments.hpp"
@@ -32,17 +33,20 @@ class RunError : public std::runtime_error {
 constexpr int kExitStopped = 75;
 
 // A run stopped at a step boundary by a signal (Ctrl-C: SIGINT, or SIGTERM) or by --stop-after,
-// after writing its checkpoint when the scene asks for checkpoints. main prints the message
-// (where the run stopped, the checkpoint, how to resume) and exits with `exit_status`: 128 + the
-// signal's number, or kExitStopped.
+// after writing its checkpoint when the scene asks for checkpoints. main writes `summary` (the
+// run's JSON summary of the steps made, with "stopped": the message; empty: none) to stdout,
+// prints the message (where the run stopped, the checkpoint, how to resume) and exits with
+// `exit_status`: 128 + the signal's number, or kExitStopped.
 class RunInterrupted : public std::runtime_error {
  public:
-  RunInterrupted(const std::string& message, int exit_status)
-      : std::runtime_error(message), exit_status_(exit_status) {}
+  RunInterrupted(const std::string& message, int exit_status, std::string summary = {})
+      : std::runtime_error(message), exit_status_(exit_status), summary_(std::move(summary)) {}
   int exit_status() const { return exit_status_; }
+  const std::string& summary() const { return summary_; }
 
  private:
   int exit_status_;
+  std::string summary_;
 };
 
 // `talus run [options] scene.yaml`: runs the scene, writing its outputs as it goes and progress

@@ -102,6 +102,10 @@ int run_and_report(const std::vector<std::string>& args) {
     std::fprintf(stderr, "talus: error: %s\n", talus::printable_message(error.what()).c_str());
     return kExitUsage;
   } catch (const talus::RunInterrupted& error) {
+    if (!error.summary().empty()) {
+      std::fputs(error.summary().c_str(), stdout);
+      std::fflush(stdout);
+    }
     std::fprintf(stderr, "talus: %s\n", talus::printable_message(error.what()).c_str());
     return error.exit_status();
   } catch (const talus::validation::ValidationError& error) {

@@ -236,23 +236,6 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   } catch (const OutputConflict& e) {
     throw RunError(e.what());  // an output directory in use or holding another run's outputs
   }
-  if (report.interrupted) {
-    const int signal = stop_signal;
-    const std::string cause =
-        signal == 0 ? fmt::format("stopped after --stop-after {} s", *args.stop_after_seconds)
-                    : std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM");
-    std::string message = "run " + cause + " at step " + std::to_string(report.steps) +
-                          " (t = " + std::to_string(report.simulated_time) + " s); ";
-    if (report.last_checkpoint.empty()) {
-      message +=
-          "no checkpoint (the scene has no outputs.checkpoint); the outputs up to this "
-          "step are complete";
-    } else {
-      message += "checkpoint " + report.last_checkpoint + "; continue with 'talus run --resume " +
-                 std::filesystem::path(report.last_checkpoint).parent_path().string() + "'";
-    }
-    throw RunInterrupted(message, signal == 0 ? kExitStopped : 128 + signal);
-  }
   Json json;
   json["solver"] = "talus";
   json["backend"] = report.backend;
@@ -299,6 +282,27 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   json["particle_array_bytes"] = report.particle_bytes;
   json["peak_memory_bytes"] = report.peak_memory_bytes;
   json["outputs"] = report.outputs;
+  if (report.interrupted) {
+    const int signal = stop_signal;
+    const std::string cause =
+        signal == 0 ? fmt::format("stopped after --stop-after {} s", *args.stop_after_seconds)
+                    : std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM");
+    std::string message = "run " + cause + " at step " + std::to_string(report.steps) +
+                          " (t = " + std::to_string(report.simulated_time) + " s); ";
+    if (report.last_checkpoint.empty()) {
+      message +=
+          "no checkpoint (the scene has no outputs.checkpoint); the outputs up to this "
+          "step are complete";
+    } else {
+      message += "checkpoint " + report.last_checkpoint + "; continue with 'talus run --resume " +
+                 std::filesystem::path(report.last_checkpoint).parent_path().string() + "'";
+    }
+    // The summary of the steps made so far (this sitting's, when resumed) goes to stdout as an
+    // ended run's does, marked "stopped", so that a driver of many sittings keeps each one's
+    // stage times.
+    json["stopped"] = message;
+    throw RunInterrupted(message, signal == 0 ? kExitStopped : 128 + signal, json_text(json));
+  }
   if (extra) extra(report, json);
   return json_text(json);
 }

@@ -116,7 +116,12 @@ TEST(TalusRunResume, SigtermStopsAtAStepWithACheckpointAndResumes) {
   EXPECT_NE(err.find("continue with 'talus run --resume " + dir + "/cut/checkpoints'"),
             std::string::npos)
       << err;
-  EXPECT_EQ(read_file(dir + "/stdout"), "");
+  // The summary of the steps made, on stdout as an ended run's, names the same stop.
+  const Json summary = parse_or_fail(read_file(dir + "/stdout"));
+  const std::string at = " at step " + std::to_string(summary["steps"].get<long long>()) + " ";
+  EXPECT_NE(err.find("run interrupted by SIGTERM" + at), std::string::npos) << err;
+  EXPECT_NE(summary["stopped"].get<std::string>().find("interrupted by SIGTERM" + at),
+            std::string::npos);
 
   const ProcessResult resumed = run_talus({"run", "--resume", dir + "/cut/checkpoints", "--quiet"});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
@@ -146,7 +151,12 @@ TEST(TalusRunResume, StopAfterStopsWithACheckpointAndResumes) {
   EXPECT_NE(cut.err.find("continue with 'talus run --resume " + dir + "/cut/checkpoints'"),
             std::string::npos)
       << cut.err;
-  EXPECT_EQ(cut.out, "");
+  // The stopped run's summary on stdout: its steps (none) and the stop's message, so that a
+  // driver of sittings keeps each one's numbers.
+  const Json stopped = parse_or_fail(cut.out);
+  EXPECT_EQ(stopped["steps"].get<double>(), 0);
+  EXPECT_NE(stopped["stopped"].get<std::string>().find("at step 0 (t = 0"), std::string::npos)
+      << cut.out;
   // Resumed to --end (step 50; a run writes no checkpoint at its last step, so the scene's own
   // of step 40 is the newest), then from step 40 to the scene's end with a deadline far off. An
   // --end not after the checkpoint's step is refused.
