@@ -13,7 +13,7 @@ talus, and analyses the bed from its last frame, on the true polyhedra:
   - the bed height as the pellets land (from the frames written while it fills).
 
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --talus build/talus \\
-        [--sides 16] [--seed 1] [--pellets 10000] [--backend auto|cpu|cuda] \\
+        [--sides 16] [--seed 1] [--pellets N] [--youngs-modulus PA] [--backend auto|cpu|cuda] \\
         [--output scratch/fixed_bed] [--quick] [--points 400000]
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --continue OUTPUT [--time-limit S]
     /usr/bin/python3 experiments/fixed_bed/fixed_bed.py --analyse OUTPUT [--talus build/talus]
@@ -55,12 +55,25 @@ from sittings import run_sitting, write_atomically  # noqa: E402
 # height of 1.26 m ... approximately 10,000 cylindrical catalyst particles."
 PAPER = {"pellet_diameter_m": 0.0055, "pellet_length_m": 0.0055, "tube_diameter_m": 0.025,
          "tube_height_m": 1.80, "bed_height_m": 1.26, "pellets": 10000}
+# The pellets' and the tube's Young's modulus ("youngs", Pa; --youngs-modulus): the pellets land
+# at up to 6 m/s and a softer pellet sinks deeper into those it hits, so the bed's porosity rose
+# from 0.34 at 1e6 to 0.38 at 1e7 and 0.41 at 1e8 (README, "Stiffness"); the step falls as
+# 1/sqrt(E).
 # The feed's rate: below what its region can hold as the pellets clear it (FULL: a region 0.5 m
 # tall holds about 100 pellets and clears in about 0.17 s at 2 m/s and g: about 600 a second), so
 # that every pellet asked for goes in by `stop` and the end time holds the last one's fall.
-FULL = {"tube_height": 1.80, "pellets": 10000, "feed_height": 0.50, "settle": 0.6, "rate": 400}
+FULL = {"tube_height": 1.80, "pellets": None, "feed_height": 0.50, "settle": 0.6, "rate": 400,
+        "youngs": 1.0e8}
 # CI's size: the same tube and pellets, 0.12 m tall, 60 pellets (about 0.03 m of bed).
-QUICK = {"tube_height": 0.12, "pellets": 60, "feed_height": 0.04, "settle": 0.10, "rate": 600}
+# Its pellets fall at most 0.12 m and land below 2.5 m/s, and CI affords its steps at E = 1e6.
+QUICK = {"tube_height": 0.12, "pellets": 60, "feed_height": 0.04, "settle": 0.10, "rate": 600,
+         "youngs": 1.0e6}
+# The paper's "approximately 10,000" pellets cannot make its 1.26 m bed: 10,000 pellets of
+# 5.5 x 5.5 mm hold 1.31e-3 m^3, 2.1 times the tube's 6.19e-4 m^3 up to 1.26 m. The feed's count
+# (FULL) is the one that fills the tube to 1.26 m at the solid fraction these beds reach at the
+# default stiffness (README, "Stiffness": 0.59 at E = 1e8 Pa; 0.62 at 1e7, 0.66 at 1e6); the
+# report gives the height it reached.
+BED_SOLID_FRACTION = 0.59
 TUBE_SEGMENTS = 96  # the tube's polygon: its sagitta r (1 - cos(pi/96)) = 6.7 um, 0.1 % of d_p
 # The pair list's Verlet skin, m: pellets fall at up to 6 m/s, 0.08 mm a step, so the default
 # (a tenth of the bounding diameter, 0.78 mm) rebuilds the list every 5 steps; 4 mm every 25 or
@@ -70,11 +83,23 @@ TUBE_SEGMENTS = 96  # the tube's polygon: its sagitta r (1 - cos(pi/96)) = 6.7 u
 SKIN = 0.004
 
 
+def pellet_volume(sides):
+    """The N-sided prism's volume, m^3: its rim on the pellet's circle, (N/2) r^2 sin(2 pi/N) L."""
+    r = PAPER["pellet_diameter_m"] / 2
+    return sides / 2 * r * r * math.sin(2 * math.pi / sides) * PAPER["pellet_length_m"]
+
+
+def paper_bed_pellets(sides):
+    """The pellets that fill the tube to the paper's bed height at BED_SOLID_FRACTION."""
+    tube = math.pi * (PAPER["tube_diameter_m"] / 2) ** 2 * PAPER["bed_height_m"]
+    return round(BED_SOLID_FRACTION * tube / pellet_volume(sides))
+
+
 def pellet_spec(sides):
     return f"cylinder:{PAPER['pellet_diameter_m']},{PAPER['pellet_length_m']},{sides}"
 
 
-def scene_text(sides, seed, pellets, size, dt):
+def scene_text(sides, seed, pellets, size, dt, youngs):
     """The scene at time step `dt` (a number, or "auto" for the advice run): the tube, the
     pellets' feed near its top, the outputs the analysis reads."""
     d, length = PAPER["pellet_diameter_m"], PAPER["pellet_length_m"]
@@ -102,11 +127,11 @@ skin: {SKIN}
 
 materials:
   # The paper gives no material. A ceramic catalyst's density; a stiffness softened for DEM
-  # (the volume law's step grows as 1/sqrt(E)), as the paper's own packing (§3.3) uses; friction
-  # and restitution of a rough ceramic.
-  catalyst: {{density: 1800, youngs_modulus: 1.0e6, poisson_ratio: 0.3, friction: 0.5,
+  # (the volume law's step grows as 1/sqrt(E)) but stiff enough for landings at 6 m/s
+  # (experiments/fixed_bed/README.md, "Stiffness"); friction and restitution of a rough ceramic.
+  catalyst: {{density: 1800, youngs_modulus: {youngs:.6g}, poisson_ratio: 0.3, friction: 0.5,
               restitution: 0.3}}
-  tube: {{density: 7800, youngs_modulus: 1.0e6, poisson_ratio: 0.3, friction: 0.3,
+  tube: {{density: 7800, youngs_modulus: {youngs:.6g}, poisson_ratio: 0.3, friction: 0.3,
           restitution: 0.3}}
 
 templates:
@@ -142,14 +167,14 @@ outputs:
 """
 
 
-def advised_step(talus, sides, seed, pellets, size):
+def advised_step(talus, sides, seed, pellets, size, youngs):
     """What `step: auto` takes for this scene (0.2 of the critical step talus estimates), from a
     run of one step of it on the host: the advisor depends on the templates, materials, walls,
     gravity and the feed's speed, so the step is the full run's."""
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "advice.yaml")
         with open(path, "w") as f:
-            f.write(scene_text(sides, seed, pellets, size, "auto"))
+            f.write(scene_text(sides, seed, pellets, size, "auto", youngs))
         out = subprocess.run([talus, "run", path, "--backend", "cpu", "--threads", "1", "--quiet",
                               "--end", "1e-4", "--output", os.path.join(tmp, "run")],
                              capture_output=True, text=True)
@@ -239,6 +264,22 @@ def digest_frames(out, talus, sides, prune):
     return digest
 
 
+def binned_porosity(inside, coordinate, edges):
+    """The porosity of the points in each bin of `coordinate` between consecutive `edges`
+    (`inside`: whether each point lies in a pellet): per bin its middle (`mid`), porosity, binomial
+    error (one sigma) and points."""
+    bins = len(edges) - 1
+    index = np.minimum(np.searchsorted(edges, coordinate, side="right") - 1, bins - 1)
+    out = []
+    for k in range(bins):
+        mine = index == k
+        n = int(mine.sum())
+        f = float(inside[mine].mean()) if n else float("nan")
+        out.append({"mid": 0.5 * (edges[k] + edges[k + 1]), "porosity": 1 - f,
+                    "error": math.sqrt(f * (1 - f) / n) if n else float("nan"), "points": n})
+    return out
+
+
 def analyse(run_dir, talus, sides, points, seed, rings=25, digest=None):
     """Every number of the bed from the run's frames (module docstring); `digest`: the filling's
     lines of frames no longer there (digest_frames), by step."""
@@ -295,17 +336,10 @@ def analyse(run_dir, talus, sides, points, seed, rings=25, digest=None):
     result["porosity"] = 1 - solid
     result["porosity_error"] = math.sqrt(solid * (1 - solid) / points)  # binomial, one sigma
     # Rings of equal area from the axis to the wall: each holds points / rings on average.
-    edges = radius * np.sqrt(np.linspace(0, 1, rings + 1))
-    ring = np.minimum(np.searchsorted(edges, r, side="right") - 1, rings - 1)
-    profile = []
-    for k in range(rings):
-        mine = ring == k
-        n = int(mine.sum())
-        f = float(inside[mine].mean()) if n else float("nan")
-        mid = 0.5 * (edges[k] + edges[k + 1])
-        profile.append({"r_m": mid, "from_wall_d": (radius - mid) / d, "porosity": 1 - f,
-                        "error": math.sqrt(f * (1 - f) / n) if n else float("nan"),
-                        "points": n})
+    profile = binned_porosity(inside, r, radius * np.sqrt(np.linspace(0, 1, rings + 1)))
+    for ring in profile:
+        ring["r_m"] = ring.pop("mid")
+        ring["from_wall_d"] = (radius - ring["r_m"]) / d
     result["radial_profile"] = profile
     # Orientations of the pellets in the core: |cos| of the angle between each pellet's axis and
     # the tube's; random orientations give |cos| uniform on [0, 1] (mean 0.5).
@@ -315,6 +349,14 @@ def analyse(run_dir, talus, sides, points, seed, rings=25, digest=None):
     hist, bins = np.histogram(cos, bins=10, range=(0, 1))
     result["orientation"] = {"pellets": int(core.sum()), "mean_abs_cos": float(cos.mean()),
                              "histogram": hist.tolist(), "bins": bins.tolist()}
+    # Along the bed: the core's points in slabs of at least 2 pellet diameters (at most 20). The
+    # pellets at the bottom fell 1.8 m, those at the top about 0.5 m, and a landing's speed
+    # compacts the bed (README, "Stiffness"), so the porosity may change with the height.
+    slabs = max(1, min(20, int((z_hi - z_lo) / (2 * d))))
+    axial = binned_porosity(inside, z, np.linspace(z_lo, z_hi, slabs + 1))
+    for slab in axial:
+        slab["z_m"] = slab.pop("mid")
+    result["axial_profile"] = axial
     return result, filling
 
 
@@ -326,7 +368,7 @@ def figure(result, filling, path, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.6))
     ax = axes[0]
     prof = result.get("radial_profile", [])
     if prof:
@@ -356,6 +398,14 @@ def figure(result, filling, path, title):
     ax.set_xlabel("pellets at rest in the tube (each frame)")
     ax.set_ylabel("bed height, m (pellets at rest)")
     ax.set_title("(c) bed height as the pellets land")
+    ax = axes[3]
+    ax_prof = result.get("axial_profile", [])
+    if ax_prof:
+        ax.errorbar([p["porosity"] for p in ax_prof], [p["z_m"] for p in ax_prof],
+                    xerr=[p["error"] for p in ax_prof], fmt="o-", ms=3)
+    ax.set_xlabel("porosity of the slab")
+    ax.set_ylabel("height in the tube, m")
+    ax.set_title("(d) porosity along the bed")
     fig.suptitle(title)
     fig.tight_layout()
     folder = os.path.dirname(os.path.abspath(path))
@@ -370,7 +420,8 @@ def markdown(bed):
     r = bed["result"]
     lines = ["# Fixed bed (method paper §4.2): results", "",
              f"talus commit `{bed['commit']}`, {bed['machine']}; pellets `{bed['pellet']}`, "
-             f"seed {bed['seed']}, time step {bed['time_step_s']:.3g} s "
+             f"seed {bed['seed']}, E = {bed.get('youngs_modulus_pa', 1e6):.0e} Pa, "
+             f"time step {bed['time_step_s']:.3g} s "
              f"({bed['time_step_s'] / bed['critical_time_step_s']:.2f} of the critical step); "
              f"run {bed['run_wall_seconds']:.0f} s. Command:", "", "    " + bed["command"], "",
              "| quantity | value |", "|---|---|",
@@ -387,6 +438,10 @@ def markdown(bed):
                   "| r, mm | from the wall, d_p | porosity | ± |", "|---|---|---|---|"]
         lines += [f"| {1e3 * p['r_m']:.2f} | {p['from_wall_d']:.3f} | {p['porosity']:.4f} | "
                   f"{p['error']:.4f} |" for p in r["radial_profile"]]
+        lines += ["", "Along the bed (slabs of the core, from the bottom):", "",
+                  "| z, m | porosity | ± |", "|---|---|---|"]
+        lines += [f"| {p['z_m']:.4f} | {p['porosity']:.4f} | {p['error']:.4f} |"
+                  for p in r.get("axial_profile", [])]
     else:
         lines += ["", r.get("note", "")]
     return "\n".join(lines) + "\n"
@@ -419,7 +474,10 @@ def main(argv=None):
     p.add_argument("--sides", type=int, default=16, help="the pellets' prism sides (default 16)")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--pellets", type=int, default=None,
-                   help="pellets fed (default 10000, the paper's; --quick 60)")
+                   help="pellets fed (default: those that fill the tube to the paper's 1.26 m "
+                        "at a solid fraction of 0.59, 2866 of 16 sides; --quick 60)")
+    p.add_argument("--youngs-modulus", type=float, default=None, metavar="PA",
+                   help="the pellets' and the tube's Young's modulus (default 1e8; --quick 1e6)")
     p.add_argument("--backend", choices=("auto", "cpu", "cuda"), default="auto")
     p.add_argument("--threads", type=int, default=0, help="host threads (default: OpenMP's)")
     p.add_argument("--points", type=int, default=400000, help="random points of the analysis")
@@ -438,8 +496,11 @@ def main(argv=None):
     a = p.parse_args(argv)
     if a.sides < 3 or a.points < 1000:
         p.error("--sides must be at least 3 and --points at least 1000")
+    if a.youngs_modulus is not None and not a.youngs_modulus > 0:
+        p.error(f"--youngs-modulus {a.youngs_modulus}: expected a positive modulus in Pa")
     size = QUICK if a.quick else FULL
-    pellets = a.pellets or size["pellets"]
+    pellets = a.pellets or size["pellets"] or paper_bed_pellets(a.sides)
+    youngs = a.youngs_modulus or size["youngs"]
     out = a.analyse or a.resume or a.output
     os.makedirs(out, exist_ok=True)
     run_dir = os.path.join(out, "run")
@@ -450,16 +511,17 @@ def main(argv=None):
         if not info.get("finished"):
             sys.exit(f"fixed_bed.py: the run in {run_dir} has not ended; --continue it first")
     elif not a.resume:
-        dt, crit = advised_step(a.talus, a.sides, a.seed, pellets, size)
+        dt, crit = advised_step(a.talus, a.sides, a.seed, pellets, size, youngs)
         scene = os.path.join(out, "scene.yaml")
-        write_atomically(scene, scene_text(a.sides, a.seed, pellets, size, dt))
+        write_atomically(scene, scene_text(a.sides, a.seed, pellets, size, dt, youngs))
         argv_run = [a.talus, "run", scene, "--backend", a.backend, "--quiet", "--output",
                     run_dir, "--overwrite"]
         if a.threads:
             argv_run += ["--threads", str(a.threads)]
         info = {"time_step_s": dt, "critical_time_step_s": crit, "run_wall_seconds": 0.0,
                 "run_command": " ".join(argv_run), "sides": a.sides, "seed": a.seed,
-                "pellets_fed": pellets, "quick": a.quick, "sittings": 0}
+                "pellets_fed": pellets, "quick": a.quick,
+                "youngs_modulus_pa": youngs, "sittings": 0}
         ended = run_talus(argv_run, info, info_path, a.time_limit)
         digest = digest_frames(out, a.talus, info["sides"], a.prune_frames)
         if not ended:

@@ -19,7 +19,8 @@ wrong:
     looser; a bed that did not form or pellets overlapping deeply fall outside;
   - the ring at the wall is the most porous of the profile (a wall admits no pellet's interior
     beyond its contact points: > 0.7), the mean |cos| of the axes lies in (0, 1);
-  - bed.md and bed.png are written.
+  - bed.md and bed.png are written; stiffness_study.py --collect, given this run as its case at
+    1e6 Pa, tabulates it alone with this bed's porosity.
 Skipped (77) without /usr/bin/python3's numpy and matplotlib.
 """
 import importlib.util
@@ -91,6 +92,13 @@ def main(argv):
           "the ring at the wall is not the most porous (> 0.7): "
           + str([round(p["porosity"], 3) for p in profile]))
     check(0 < r.get("orientation", {}).get("mean_abs_cos", -1) < 1, "no orientations")
+    # The slabs along the bed split the core's points: their point-weighted porosity is the
+    # core's (to rounding, 1e-9), and every point lies in one.
+    axial = r.get("axial_profile", [])
+    n = sum(p["points"] for p in axial)
+    check(n == r["points"] and abs(sum(p["porosity"] * p["points"] for p in axial) / n
+                                   - r["porosity"]) < 1e-9,
+          f"the axial slabs: {n} points of {r['points']}, {axial}")
     # The height curve over both pruned sittings: a line for every frame the run wrote, from
     # step 0 to its last, at one interval (a sitting's frames lost to the pruning leave a gap).
     steps = [f["step"] for f in bed["filling"]]
@@ -104,6 +112,25 @@ def main(argv):
     for name in ("bed.md", "bed.png"):
         path = os.path.join(work, name)
         check(os.path.isfile(path) and os.path.getsize(path) > 0, f"{name}: not written")
+    # stiffness_study.py --collect over this run, placed as its case E1e6-s1: one case, whose
+    # porosity is this bed's, and the table and figure written.
+    study_dir = os.path.abspath(work).rstrip("/") + "-study"
+    shutil.rmtree(study_dir, ignore_errors=True)
+    os.makedirs(study_dir)
+    os.symlink(os.path.abspath(work), os.path.join(study_dir, "E1e6-s1"))
+    proc = subprocess.run([sys.executable, os.path.join(HERE, "stiffness_study.py"), "--collect",
+                           "--output", study_dir, "--moduli", "1e6", "1e7", "--seeds", "1"],
+                          capture_output=True, text=True)
+    check(proc.returncode == 0, f"stiffness_study.py --collect: {proc.stderr[-2000:]}")
+    if proc.returncode == 0:
+        study = json.load(open(os.path.join(study_dir, "stiffness.json")))
+        got = [(c["youngs_modulus_pa"], c["porosity"]) for c in study["cases"]]
+        check(got == [(1e6, r["porosity"])] and bed["youngs_modulus_pa"] == 1e6,
+              f"stiffness_study.py collected {got}; expected this bed's "
+              f"({bed.get('youngs_modulus_pa')}, {r['porosity']})")
+        for name in ("stiffness.md", "stiffness.png"):
+            path = os.path.join(study_dir, name)
+            check(os.path.isfile(path) and os.path.getsize(path) > 0, f"{name}: not written")
     for f in failures:
         print("FAILED:", f)
     if not failures:

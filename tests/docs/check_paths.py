@@ -36,6 +36,7 @@ ALLOWED = {
     r"runs\.csv|cases\.txt": "experiments/beds: what run_beds.sh and make_scenes.py write",
     r"bed\.(json|md|png)": "experiments/fixed_bed: what fixed_bed.py writes into its output",
     r"filling\.json": "experiments/fixed_bed: the height curve fixed_bed.py digests per sitting",
+    r"stiffness\.(json|md|png)": "experiments/fixed_bed: what stiffness_study.py writes",
     r"silo\.(json|md|png|obj)": "experiments/silo: what silo.py writes into its output",
     r"(study|case)\.(json|md|png)":
         "experiments/platonic_packing: what platonic_packing.py writes into its output",
