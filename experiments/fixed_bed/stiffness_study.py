@@ -29,6 +29,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "beds"))
+from fixed_bed import pellet_spec  # noqa: E402
 from sittings import write_atomically  # noqa: E402
 
 
@@ -63,7 +64,7 @@ def run_case(a, modulus, seed):
 
 def markdown(study):
     lines = ["# Fixed bed: porosity against contact stiffness", "",
-             f"{study['pellets']} pellets (`cylinder:0.0055,0.0055,16`) fed into the full 1.80 m "
+             f"{study['pellets']} pellets (`{pellet_spec(16)}`) fed into the full 1.80 m "
              "tube, so each falls as far as the full bed's first pellets; step 0.2 of the "
              f"critical one. talus `{study['commit']}`, {study['machine']}. Command:", "",
              "    " + study["command"], "",
@@ -104,7 +105,7 @@ def figure(study, path):
     ax = axes[1]
     for c in study["cases"]:
         prof = c["radial_profile"] or []
-        ax.plot([p["from_wall_d"] for p in prof], [p["porosity"] for p in prof], "o-", ms=2,
+        ax.plot([p["from_wall_d"] for p in prof], [p["porosity"] for p in prof], marker="o", ms=2,
                 color=f"C{es.index(c['youngs_modulus_pa']) + 2}",
                 ls="-" if c["seed"] == 1 else "--",
                 label=f"E {c['youngs_modulus_pa']:.0e}, seed {c['seed']}")

@@ -382,8 +382,8 @@ def sit(folder, info, argv, time_limit):
         print(f"silo.py: continue with --continue {folder}")
         return 3
     # The stage times are the last sitting's (each sitting's are in run.json's sitting_steps):
-    # the bed at its fullest, what the projection wants. Seconds a step: every sitting's wall seconds
-    # (their setups included) over every step.
+    # the bed at its fullest, what the projection wants. Seconds a step: every sitting's wall
+    # seconds (their setups included) over every step.
     stages = summary.get("stage_seconds", {})
     work = sum(v for k, v in stages.items() if k != "output")
     dt = info["time_step_s"]
