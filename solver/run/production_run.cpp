@@ -92,8 +92,10 @@ struct ProductionRunner::Impl {
   double lowest_gravitational = 0;
   long long next_watch = 0;
   // The steady part (ProductionReport::steady): the clock and the step's counters at the end of
-  // this run's first step (steady_step -1: not reached yet).
+  // this run's first step (steady_step -1: not reached yet), and the clock at the end of its
+  // latest step (what report() computes for itself, e.g. the bed height, is not a step's).
   long long steady_step = -1;
+  double last_step_clock = 0;
   double steady_clock = 0, steady_exchange = 0, steady_bytes = 0, steady_vote = 0,
          steady_rebuild = 0;
   StageSeconds steady_stages{};
@@ -343,6 +345,7 @@ void ProductionRunner::advance() {
   if (!m.checkpoint_dir.empty() && m.step_index % m.scene.outputs.checkpoint->every == 0 && !done())
     m.write_checkpoint_now();
   const double now = clock_seconds();
+  m.last_step_clock = now;
   if (m.steady_step < 0) {  // the first step of this run: what follows is steady
     m.steady_step = m.step_index;
     m.steady_clock = now;
@@ -413,7 +416,7 @@ ProductionReport ProductionRunner::report() const {
   if (m.steady_step >= 0 && m.step_index > m.steady_step) {
     ProductionReport::Steady& s = r.steady;
     s.steps = m.step_index - m.steady_step;
-    s.seconds = clock_seconds() - m.steady_clock;
+    s.seconds = m.last_step_clock - m.steady_clock;
     for (const Stage stage : m.step->plan().stages) {
       const int k = static_cast<int>(stage);
       s.stage_seconds.emplace_back(to_string(stage),

@@ -4,6 +4,8 @@
 // stages of the scene's effects, and each stage reads only the arrays they allocate.
 #pragma once
 
+#include <cmath>
+
 #include "solver/dynamics/body_forces.hpp"
 #include "solver/dynamics/integrator.hpp"
 #include "solver/geometry/convex.hpp"
@@ -107,6 +109,23 @@ TALUS_HD inline double particle_energy(const ParticleView<Real>& p,
   }
   if (gravity) energy -= double(body.mass) * dot(*gravity, Vec3d(p.position.get(i)));
   return energy;
+}
+
+// The highest point of particle i along the unit vector `up`, m, in double: its bounding
+// sphere's top for a sphere, its highest vertex for a polyhedron (the bed_height probe's term;
+// the host loop and the CUDA kernel both call this).
+template <class Real>
+TALUS_HD inline double particle_top(const ParticleView<Real>& p, const BodyProperties<Real>& body,
+                                    int i, const Vec3d& up) {
+  const Vec3d x(p.position.get(i));
+  if (body.sphere) return dot(up, x) + double(body.sphere_radius);
+  const Quatd q(p.orientation.get(i));
+  double top = -HUGE_VAL;
+  for (int v = 0; v < body.shape.n_vertices; ++v) {
+    const double h = dot(up, x + rotate(q, Vec3d(body.shape.vertices[v])));
+    top = h > top ? h : top;
+  }
+  return top;
 }
 
 }  // namespace talus

@@ -165,6 +165,38 @@ __global__ void energy_total_kernel(const double* block_sums, int blocks, double
   sum_energy_parts(e, s, total);
 }
 
+// The bed_height probe on the device (CudaStep::bed_height): each block of kEnergyBlock threads
+// takes the highest of its particles' tops (particle_top, as the host loop), one block the
+// highest of the blocks'; one number comes back. A maximum does not depend on the order it is
+// taken in, so the result is the host loop's for the same tops.
+__device__ inline void highest_in_block(double top, double* s, double* out) {
+  const int t = threadIdx.x;
+  s[t] = top;
+  __syncthreads();
+  for (int width = kEnergyBlock / 2; width > 0; width /= 2) {
+    if (t < width && s[t + width] > s[t]) s[t] = s[t + width];
+    __syncthreads();
+  }
+  if (t == 0) *out = s[0];
+}
+
+template <class Real>
+__global__ void top_by_block_kernel(ParticleView<Real> p, const BodyProperties<Real>* bodies,
+                                    Vec3d up, double* block_tops) {
+  __shared__ double s[kEnergyBlock];
+  const int i = blockIdx.x * kEnergyBlock + threadIdx.x;
+  const double top = i < p.count ? particle_top(p, bodies[p.template_id[i]], i, up) : -HUGE_VAL;
+  highest_in_block(top, s, block_tops + blockIdx.x);
+}
+
+__global__ void highest_top_kernel(const double* block_tops, int blocks, double* highest) {
+  __shared__ double s[kEnergyBlock];
+  double top = -HUGE_VAL;
+  for (int b = threadIdx.x; b < blocks; b += kEnergyBlock)
+    top = block_tops[b] > top ? block_tops[b] : top;
+  highest_in_block(top, s, highest);
+}
+
 }  // namespace
 
 }  // namespace talus

@@ -74,7 +74,8 @@ struct CudaStep<Real>::Impl {
   StepReport* report = nullptr;                // pinned
   DeviceBuffer<unsigned long long> predicted;  // the report's predicted move, on the device
   // The own particles' energy parts (translational, rotational, gravitational), summed on the
-  // device (cuda_step.cu); the blocks' sums, then the three totals.
+  // device (cuda_step_outputs.cu); the blocks' sums, then the three totals. bed_height uses the
+  // same two buffers for the blocks' highest points and the highest.
   std::array<double, 3> energy_parts() const;
   mutable DeviceBuffer<double> energy_sums_by_block, energy_total;
   cudaGraphExec_t graph = nullptr;

@@ -81,18 +81,7 @@ double particle_bed_height(const ParticleView<Real>& view,
   const Vec3d up = gravity * (-1 / g);
   double highest = 0;
   for (int i = 0; i < view.count; ++i) {
-    const BodyProperties<Real>& body = bodies[view.template_id[i]];
-    const Vec3d x(view.position.get(i));
-    double top;
-    if (body.sphere) {
-      top = dot(up, x) + double(body.sphere_radius);
-    } else {
-      const Quatd q(view.orientation.get(i));
-      top = -HUGE_VAL;
-      for (int v = 0; v < body.shape.n_vertices; ++v) {
-        top = std::max(top, dot(up, x + rotate(q, Vec3d(body.shape.vertices[v]))));
-      }
-    }
+    const double top = particle_top(view, bodies[view.template_id[i]], i, up);
     highest = i == 0 ? top : std::max(highest, top);
   }
   return highest;
