@@ -108,6 +108,9 @@ CudaStep<Real>::Impl::~Impl() {
   if (graph) cudaGraphExecDestroy(graph);  // no throw from a destructor
   if (report) cudaFreeHost(report);
   if (shared.stream) cudaStreamDestroy(shared.stream);
+  if (walls_stream) cudaStreamDestroy(walls_stream);
+  if (walls_fork) cudaEventDestroy(walls_fork);
+  if (walls_join) cudaEventDestroy(walls_join);
   release_template_region(shared.constant_region);
 }
 
@@ -292,6 +295,7 @@ CudaStep<Real>::CudaStep(const Scene& scene, CudaStepOptions options,
   if (host_walls) {
     m.walls = std::make_unique<DeviceWallStage<Real>>(m.shared, std::move(host_walls), m.time);
   }
+  m.create_walls_stream();
   if (decomposed) {
     // Every rank made every initial particle (the same ids); each keeps those its box owns. A
     // decomposed step exchanges ghosts in the middle of each step: no graph steps.

@@ -418,6 +418,58 @@ struct CudaStep<Real>::Impl {
     TALUS_CUDA_LAUNCH_CHECK();
   }
 
+  void wall_stage(Real spring_dt) {
+    const OwnParticlesOnly<Real> own(shared);  // a ghost's walls are its owner's
+    if (count() > 0) {
+      walls->compute(spring_dt, time);
+    } else {
+      walls->import_histories({}, {});  // ghosts only: no wall history is this rank's
+    }
+  }
+
+  // ---- The walls beside the pairs ----
+  // The wall stage reads the particles' poses and velocities and writes only its own records;
+  // the pair stage likewise its slots (or, under atomics, adds to the forces the walls' atomics
+  // also add to): neither waits for the other, and only the accumulation needs both. In a
+  // small scene each is a few latency-bound kernels on a mostly idle GPU (a 4,651-pellet fixed
+  // bed: about 0.55 ms each a step on an H200), so the wall stage runs on a stream of its own,
+  // forked from the step's stream before the pair stage and joined after it: in a graph step
+  // the two run side by side. A step launched stage by stage waits for each stage's counts on
+  // the host, so there they mostly still take turns. TALUS_WALLS_BESIDE_PAIRS=0 in the
+  // environment: the wall stage after the pair stage on the step's stream (to measure the gain).
+  cudaStream_t walls_stream = nullptr;
+  cudaEvent_t walls_fork = nullptr, walls_join = nullptr;
+  static bool walls_beside_allowed() {
+    static const bool on = [] {
+      const char* v = std::getenv("TALUS_WALLS_BESIDE_PAIRS");
+      return v == nullptr || std::string(v) != "0";
+    }();
+    return on;
+  }
+  void create_walls_stream() {
+    if (!walls || !plan.contacts || !walls_beside_allowed()) return;
+    TALUS_CUDA_CHECK(cudaStreamCreate(&walls_stream));
+    TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&walls_fork, cudaEventDisableTiming));
+    TALUS_CUDA_CHECK(cudaEventCreateWithFlags(&walls_join, cudaEventDisableTiming));
+  }
+  // The wall stage enqueued on walls_stream after what the step's stream holds so far (the
+  // wall stage uses shared.stream for all its work, so shared.stream is that stream meanwhile;
+  // its CUB scratch is its own, DeviceWallStage::temp_), its end recorded in walls_join.
+  void enqueue_walls_beside(Real spring_dt) {
+    const cudaStream_t step_stream = shared.stream;
+    TALUS_CUDA_CHECK(cudaEventRecord(walls_fork, step_stream));
+    TALUS_CUDA_CHECK(cudaStreamWaitEvent(walls_stream, walls_fork, 0));
+    shared.stream = walls_stream;
+    try {
+      timed(Stage::wall_contacts, [&] { wall_stage(spring_dt); });
+    } catch (...) {
+      shared.stream = step_stream;
+      throw;
+    }
+    shared.stream = step_stream;
+    TALUS_CUDA_CHECK(cudaEventRecord(walls_join, walls_stream));
+  }
+
   void run_force_stages(Real spring_dt, ForcePart part = ForcePart::whole) {
     const bool inner = part != ForcePart::outer, outer = part != ForcePart::inner;
     if (count() == 0) {
@@ -429,6 +481,7 @@ struct CudaStep<Real>::Impl {
     }
     const BodyProperties<Real>* b = bodies.data();
     const cudaStream_t stream = shared.stream;
+    const bool walls_beside = outer && walls && plan.contacts && walls_stream != nullptr;
     for (const Stage stage : plan.stages) {
       switch (stage) {
         case Stage::clear_forces:
@@ -473,6 +526,7 @@ struct CudaStep<Real>::Impl {
           });
           break;
         case Stage::pair_contacts:
+          if (walls_beside) enqueue_walls_beside(spring_dt);
           timed(stage, [&] {
             const int inner_slots = list->inner_candidates();
             if (part == ForcePart::whole) {
@@ -483,17 +537,12 @@ struct CudaStep<Real>::Impl {
               pairs->compute(spring_dt, inner_slots, list->candidates() - inner_slots, true);
             }
           });
+          // The step's stream goes on once the walls' stream is done too.
+          if (walls_beside) TALUS_CUDA_CHECK(cudaStreamWaitEvent(stream, walls_join, 0));
           break;
         case Stage::wall_contacts:
-          if (!outer) break;
-          timed(stage, [&] {
-            const OwnParticlesOnly<Real> own(shared);  // a ghost's walls are its owner's
-            if (count() > 0) {
-              walls->compute(spring_dt, time);
-            } else {
-              walls->import_histories({}, {});  // ghosts only: no wall history is this rank's
-            }
-          });
+          if (!outer || walls_beside) break;
+          timed(stage, [&] { wall_stage(spring_dt); });
           break;
         case Stage::accumulate:
           if (!outer) break;

@@ -292,13 +292,13 @@ bool DeviceWallStage<Real>::prepare_graph() {
   TALUS_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_.data(),
                                                    sorted_keys_.data(), index_.data(),
                                                    sorted_index_.data(), capacity, 0, 63));
-  shared_.temp.grow_to(bytes);
+  temp_.grow_to(bytes);
   if (tangential_history()) {
     bytes = 0;
     TALUS_CUDA_CHECK(cub::DeviceMergeSort::SortPairs(nullptr, bytes, history_.keys[next].data(),
                                                      history_.histories[next].data(), capacity,
                                                      KeyLess()));
-    shared_.temp.grow_to(bytes);
+    temp_.grow_to(bytes);
   }
   return true;
 }
@@ -325,7 +325,7 @@ void DeviceWallStage<Real>::compute_in_graph(Real spring_dt) {
   wall_contact_keys_all<<<blocks_for(capacity), kBlock, 0, stream>>>(
       touching_.data(), capacity, touching, count, n, keys_.data(), index_.data());
   TALUS_CUDA_LAUNCH_CHECK();
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+  cub_call(temp_, [&](void* t, std::size_t& b) {
     return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), index_.data(),
                                            sorted_index_.data(), capacity, 0, bits, stream);
   });
@@ -340,7 +340,7 @@ void DeviceWallStage<Real>::compute_in_graph(Real spring_dt) {
   copy_histories_all<<<blocks_for(capacity), kBlock, 0, stream>>>(
       contacts_.data(), capacity, touching, next_keys, next_histories);
   TALUS_CUDA_LAUNCH_CHECK();
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+  cub_call(temp_, [&](void* t, std::size_t& b) {
     return cub::DeviceMergeSort::SortPairs(t, b, next_keys, next_histories, capacity, KeyLess(),
                                            stream);
   });
@@ -377,7 +377,7 @@ void DeviceWallStage<Real>::sort_records(long long pairs) {
   TALUS_CUDA_LAUNCH_CHECK();
   int bits = 1;
   while (bits < 63 && (1LL << bits) < pairs) ++bits;
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+  cub_call(temp_, [&](void* t, std::size_t& b) {
     return cub::DeviceRadixSort::SortPairs(t, b, keys_.data(), sorted_keys_.data(), index_.data(),
                                            sorted_index_.data(), m, 0, bits, stream);
   });
@@ -397,7 +397,7 @@ void DeviceWallStage<Real>::rebuild_history() {
   if (n > 0) {
     copy_histories<<<blocks_for(n), kBlock, 0, stream>>>(contacts_.data(), n, keys, histories);
     TALUS_CUDA_LAUNCH_CHECK();
-    cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+    cub_call(temp_, [&](void* t, std::size_t& b) {
       return cub::DeviceMergeSort::SortPairs(t, b, keys, histories, n, KeyLess(), stream);
     });
   }
@@ -484,7 +484,7 @@ void DeviceWallStage<Real>::histories_with(const std::vector<long long>& ids,
                                            std::vector<PairKey>& keys,
                                            std::vector<ContactHistoryData<Real>>& histories) {
   select_histories_with<false>(history_.keys[history_.current].data(), history_.values(),
-                               history_.count, ids, selection_, shared_.temp, keys, histories);
+                               history_.count, ids, selection_, temp_, keys, histories);
 }
 
 template <class Real>
@@ -509,13 +509,13 @@ void DeviceWallStage<Real>::add_histories(const std::vector<PairKey>& keys,
       cudaMemcpy(next_keys + stored, keys.data(), added * sizeof(PairKey), cudaMemcpyHostToDevice));
   TALUS_CUDA_CHECK(cudaMemcpy(next + stored, histories.data(),
                               added * sizeof(ContactHistoryData<Real>), cudaMemcpyHostToDevice));
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+  cub_call(temp_, [&](void* t, std::size_t& b) {
     return cub::DeviceMergeSort::StableSortPairs(t, b, next_keys, next, n, KeyLess());
   });
   history_.keys[history_.current].grow_to(n);
   history_.histories[history_.current].grow_to(n);
   selection_.count.grow_to(1);
-  cub_call(shared_.temp, [&](void* t, std::size_t& b) {
+  cub_call(temp_, [&](void* t, std::size_t& b) {
     return cub::DeviceSelect::UniqueByKey(
         t, b, next_keys, next, history_.keys[history_.current].data(),
         history_.histories[history_.current].data(), selection_.count.data(), n, KeyEqual());

@@ -135,6 +135,9 @@ class DeviceWallStage {
   int contact_count_ = 0;
   DeviceHistory<Real> history_;
   HistorySelection<Real> selection_;  // histories_with's buffers
+  // CUB's scratch for this stage's sorts, its own: the stage may run beside the pair stage
+  // (CudaStep's walls beside the pairs), whose sorts use DeviceStepShared::temp.
+  DeviceBuffer<unsigned char> temp_;
   mutable bool sums_ready_ = false;
   mutable std::vector<Vec3d> force_, torque_;
 };
