@@ -256,6 +256,12 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   if (scene.domain) json["removed_particles"] = report.removed_particles;
   json["mean_contacts_per_step"] = report.mean_contacts;
   json["pair_list_builds"] = report.pair_list_builds;
+  if (report.backend == "cuda") {  // how many steps ran as one graph launch
+    Json& graphs = json["cuda_graphs"] = Json::object();
+    graphs["steps"] = report.graph_steps;
+    graphs["captures"] = report.graph_captures;
+    graphs["aborted"] = report.graph_aborted;
+  }
   Json& stages = json["stage_seconds"] = Json::object();
   for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;
   stages["output"] = report.output_seconds;

@@ -5,6 +5,8 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
@@ -47,11 +49,25 @@ class AnyStep {
   virtual double exchange_bytes() const { return 0; }
   // Times the ranks' boxes were cut again (a decomposed step; 0 in one process).
   virtual long long rebalances() const { return 0; }
+  // The CUDA step's graph steps (cuda_step_impl.cuh): the steps launched as one graph, the
+  // graphs captured, and the graph steps whose wall stage overran and finished stage by stage;
+  // zeros for a step without graphs.
+  struct GraphSteps {
+    long long steps = 0, captures = 0, aborted = 0;
+  };
+  virtual GraphSteps graph_steps() const { return {}; }
   // The step's state as checkpoint sections (step_state.hpp), and the state set back from them
   // on a step made from the same scene (CheckpointError when they do not fit it).
   virtual void save_state(Checkpoint& checkpoint) const = 0;
   virtual void restore_state(const Checkpoint& checkpoint) = 0;
 };
+
+// Whether Step reports graph steps (CudaStep::graph_counts).
+template <class Step, class = void>
+struct has_graph_counts : std::false_type {};
+template <class Step>
+struct has_graph_counts<Step, std::void_t<decltype(std::declval<const Step&>().graph_counts())>>
+    : std::true_type {};
 
 // AnyStep over a step class with HostStep's interface (HostStep<Real>, CudaStep<Real>); `args`
 // follow the scene in the step's constructor (HostStep: its threads).
@@ -80,6 +96,14 @@ class StepAdapter : public AnyStep {
   double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
   const StageSeconds& stage_seconds() const override { return step_.stage_seconds(); }
   std::size_t bytes() const override { return step_.allocated_bytes(); }
+  GraphSteps graph_steps() const override {
+    if constexpr (has_graph_counts<Step>::value) {
+      const auto c = step_.graph_counts();
+      return {c.steps, c.captures, c.aborted};
+    } else {
+      return {};
+    }
+  }
   void save_state(Checkpoint& checkpoint) const override {
     put_step_state(checkpoint, step_.export_state());
   }

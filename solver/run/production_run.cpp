@@ -410,6 +410,9 @@ ProductionReport ProductionRunner::report() const {
   r.exchange_rebuild_seconds = m.step->exchange_rebuild_seconds();
   r.exchange_bytes = m.step->exchange_bytes();
   r.rebalances = m.step->rebalances();
+  const AnyStep::GraphSteps graphs = m.step->graph_steps();
+  r.graph_steps = graphs.steps, r.graph_captures = graphs.captures,
+  r.graph_aborted = graphs.aborted;
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;
   if (m.scene.effects.gravity) r.bed_height = m.step->bed_height(*m.scene.effects.gravity);

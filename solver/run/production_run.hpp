@@ -105,6 +105,9 @@ struct ProductionReport {
   double exchange_vote_seconds = 0, exchange_rebuild_seconds = 0;
   double exchange_bytes = 0;  // decomposed: bytes the ranks sent each other (AnyStep)
   long long rebalances = 0;   // the boxes cut again (docs/parallel.md)
+  // The CUDA step's steps launched as one graph, graphs captured, graph steps finished stage by
+  // stage (AnyStep::graph_steps); 0 for the host.
+  long long graph_steps = 0, graph_captures = 0, graph_aborted = 0;
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end
   long long peak_memory_bytes = 0;  // the process's peak resident set (getrusage)

@@ -3,6 +3,7 @@
 // refusals.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -63,6 +64,7 @@ TEST(TalusRunProduction, CpuBackendRunsAndSummarises) {
   EXPECT_TRUE(summary["stage_seconds"]["pair_contacts"].is_number());
   EXPECT_FALSE(summary["stage_seconds"].contains("gravity"));  // not in the scene
   EXPECT_GT(summary["peak_memory_bytes"].get<double>(), 0);
+  EXPECT_FALSE(summary.contains("cuda_graphs"));  // the CUDA step's alone
   // The steps after the first, timed alone: 1999 of them, within the run's wall time, their
   // stages' seconds no more than the whole run's.
   EXPECT_EQ(summary["steady"]["steps"].get<double>(), 1999);
@@ -149,7 +151,19 @@ TEST(TalusRunProduction, CudaBackendRunsLikeTheHostOrIsRefused) {
     return;
   }
   ASSERT_EQ(cuda.exit_code, 0) << cuda.err;
-  EXPECT_EQ(parse_or_fail(cuda.out)["backend"].get<std::string>(), "cuda");
+  const Json gpu = parse_or_fail(cuda.out);
+  EXPECT_EQ(gpu["backend"].get<std::string>(), "cuda");
+  // Two balls, no walls, no feed: the steps that keep the pair list (all but its few builds) run
+  // as graph launches, captured at least once; none can overrun (no walls). Unless the
+  // environment turns graphs off (TALUS_CUDA_GRAPHS=0, or TALUS_CUDA_SYNC's launch by launch).
+  const char* graphs = std::getenv("TALUS_CUDA_GRAPHS");
+  const char* sync = std::getenv("TALUS_CUDA_SYNC");
+  if ((graphs == nullptr || std::string(graphs) != "0") &&
+      (sync == nullptr || std::string(sync) != "1")) {
+    EXPECT_GT(gpu["cuda_graphs"]["steps"].get<double>(), 1000);
+    EXPECT_GE(gpu["cuda_graphs"]["captures"].get<double>(), 1);
+  }
+  EXPECT_EQ(gpu["cuda_graphs"]["aborted"].get<double>(), 0);
   const ProcessResult cpu = run_talus({"run", "--backend", "cpu", "--output", dir + "/cpu", scene});
   ASSERT_EQ(cpu.exit_code, 0) << cpu.err;
   const std::vector<talus::TrajectoryFrame> g = talus::read_trajectory(dir + "/gpu/frames");
