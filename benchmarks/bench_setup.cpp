@@ -6,11 +6,16 @@
 // placed them twice on one core (~17 us a particle, the check aside) before this benchmark's
 // change; the fill now tests batches of candidates on every thread.
 //
+// feed_attempt: a fed silo's feed, called as a step calls it while the feed is due.
+//
 //   bench_setup [--benchmark_filter=fill/particles:1000000/]   (threads 1 and all)
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -19,6 +24,7 @@
 #include "solver/scene/initial_state_checks.hpp"
 #include "solver/scene/scene_loader.hpp"
 #include "solver/scene/wall_meshes.hpp"
+#include "solver/step/feeding.hpp"
 
 namespace {
 
@@ -85,6 +91,81 @@ void made_and_checked(benchmark::State& state) {
   state.counters["us_per_particle"] = 1e6 * seconds / double(state.iterations() * state.range(0));
 }
 
+// A silo's feed as a fed run calls it every step it is due (CudaStep and HostStep, feeding.hpp):
+// a bin 0.84 m across and 4.2 m tall (the silo study at scale 0.4, experiments/silo/) meshed as
+// a band of 96 sides and state.range(1) rows, `particles` (state.range(0)) mineral-sized grains
+// at random below the feed, and the feed's region under the top packed on a lattice, so that
+// every call tries and places nothing (a feed that has fallen behind, as the silo's, fed "as
+// fast as it can", is most steps). The time of one call: what such a step pays on the host.
+std::string silo_band_obj(int rows) {
+  const int sides = 96;
+  const double radius = 0.42, height = 4.24;
+  std::string text;
+  for (int r = 0; r <= rows; ++r)
+    for (int k = 0; k < sides; ++k) {
+      const double a = 2 * M_PI * k / sides, z = height * r / rows;
+      text += "v " + std::to_string(radius * std::cos(a)) + " " +
+              std::to_string(radius * std::sin(a)) + " " + std::to_string(z) + "\n";
+    }
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < sides; ++k) {  // 1-based; normals toward the axis
+      const int a = r * sides + k + 1, b = r * sides + (k + 1) % sides + 1;
+      const int c = a + sides, d = b + sides;
+      text += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(b) + "\n";
+      text += "f " + std::to_string(b) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+    }
+  return text;
+}
+
+void feed_attempt(benchmark::State& state) {
+  const long long count = state.range(0);
+  const int rows = int(state.range(1));
+  const std::string dir = (std::filesystem::temp_directory_path() / "talus_bench_feed").string();
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir + "/band.obj") << silo_band_obj(rows); }
+  const std::string text = R"(time: {step: 1.0e-5, end: 1.0}
+materials:
+  rock: {density: 2600, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.5,
+         restitution: 0.3}
+templates:
+  grain: {shape: dodecahedron:0.03, material: rock}
+particles:
+  - feed:
+      template: grain
+      region: {cylinder: {base: [0, 0, 3.70], axis: [0, 0, 1], radius: 0.39, height: 0.42}}
+      rate: 1.0e6
+      stop: 1.0
+      velocity: [0, 0, -1]
+walls:
+  - mesh: {name: bin, file: band.obj, material: rock}
+effects: {gravity: [0, 0, -9.81], contact: volume}
+)";
+  const talus::Scene scene = talus::parse_scene(text, dir + "/feed.yaml", dir);
+  // The grains: random below the feed, then a lattice at one bounding diameter over its region.
+  std::vector<talus::Vec3d> positions;
+  std::vector<int> templates;
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  while (static_cast<long long>(positions.size()) < count) {
+    const double r = 0.39 * std::sqrt(unit(random)), a = 2 * M_PI * unit(random);
+    positions.emplace_back(r * std::cos(a), r * std::sin(a), 3.6 * unit(random));
+  }
+  const double d = 0.03;
+  for (double z = 3.70; z <= 4.12; z += d)
+    for (double x = -0.39; x <= 0.39; x += d)
+      for (double y = -0.39; y <= 0.39; y += d)
+        if (x * x + y * y <= 0.39 * 0.39) positions.emplace_back(x, y, z);
+  templates.assign(positions.size(), 0);
+  talus::Feeding feeding(scene);
+  long long placed = 0;
+  for (auto _ : state) {
+    placed += static_cast<long long>(feeding.insert_all(0.5, positions, templates).size());
+  }
+  state.counters["placed"] = double(placed);  // 0: the region is full, as meant
+  state.counters["triangles"] = 2.0 * 96 * rows;
+  state.counters["grains"] = double(positions.size());
+}
+
 }  // namespace
 
 BENCHMARK(fill)
@@ -99,5 +180,11 @@ BENCHMARK(made_and_checked)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+
+BENCHMARK(feed_attempt)
+    ->ArgsProduct({{64000}, {2, 340}})
+    ->ArgNames({"particles", "rows"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();

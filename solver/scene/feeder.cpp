@@ -1,5 +1,6 @@
 #include "solver/scene/feeder.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -30,9 +31,23 @@ bool Feeder::finished() const {
   return inserted_ >= total_;
 }
 
+PlacementGrid Feeder::walls_grid(const std::vector<TriangleMesh>& walls) const {
+  const CentreSampler sampler(request_.region, radius_);
+  PlacementGrid grid(sampler.low(), sampler.high(), radius_, 0);
+  for (const TriangleMesh& wall : walls) grid.add_mesh(wall);
+  return grid;
+}
+
 std::vector<ParticleState> Feeder::insert(double time, const std::vector<Vec3d>& positions,
                                           const std::vector<double>& bounding_radii,
                                           const std::vector<TriangleMesh>& walls) {
+  if (due(time) - inserted_ <= 0) return {};
+  return insert(time, positions, bounding_radii, walls_grid(walls));
+}
+
+std::vector<ParticleState> Feeder::insert(double time, const std::vector<Vec3d>& positions,
+                                          const std::vector<double>& bounding_radii,
+                                          const PlacementGrid& walls_grid) {
   std::vector<ParticleState> added;
   const long long wanted = due(time) - inserted_;
   if (wanted <= 0) return added;
@@ -41,10 +56,18 @@ std::vector<ParticleState> Feeder::insert(double time, const std::vector<Vec3d>&
                                 std::to_string(positions.size()) + " positions but " +
                                 std::to_string(bounding_radii.size()) + " bounding radii");
   const CentreSampler sampler(request_.region, radius_);
-  PlacementGrid grid(sampler.low(), sampler.high(), radius_, std::size_t(wanted) + 64);
+  // The grid sized for what is wanted, but never for more spheres than the box has cells a reach
+  // (two radii) wide: a feed that has fallen far behind (a backlog of thousands) would otherwise
+  // allocate and clear millions of cells at every call. The size changes the cells, not which
+  // places are free.
+  const Vec3d extent = sampler.high() - sampler.low();
+  double box_cells = 1;
+  for (int k = 0; k < 3; ++k) box_cells *= std::floor(extent[k] / (2 * radius_)) + 1;
+  const double expected = std::min(double(wanted), box_cells) + 64;
+  PlacementGrid grid(sampler.low(), sampler.high(), radius_, std::size_t(expected));
+  grid.take_triangles_of(walls_grid);
   for (std::size_t i = 0; i < positions.size(); ++i)
     grid.add_sphere(positions[i], bounding_radii[i]);
-  for (const TriangleMesh& wall : walls) grid.add_mesh(wall);
   for (long long n = 0; n < wanted; ++n) {
     ParticleState p;
     if (!place_one(sampler, grid, random_, kFeedAttemptsPerParticle, request_.template_index,

@@ -35,6 +35,16 @@ class Feeder {
   std::vector<ParticleState> insert(double time, const std::vector<Vec3d>& positions,
                                     const std::vector<double>& bounding_radii,
                                     const std::vector<TriangleMesh>& walls);
+  // The same with the walls given as walls_grid(walls): a copy of it takes the particles. A
+  // caller whose walls do not change keeps the grid instead of cutting every wall's triangles
+  // into it at each call. The grid only finds the free places; their tests are exact, so the
+  // particles placed are the same bits whichever way the walls come.
+  std::vector<ParticleState> insert(double time, const std::vector<Vec3d>& positions,
+                                    const std::vector<double>& bounding_radii,
+                                    const PlacementGrid& walls_grid);
+  // insert()'s placement grid over the feed region's box of centres with the walls' triangles in
+  // it (those within reach of the box) and no particle.
+  PlacementGrid walls_grid(const std::vector<TriangleMesh>& walls) const;
 
   long long inserted() const { return inserted_; }
   bool finished() const;  // every particle of the feed has been inserted

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "solver/scene/wall_meshes.hpp"
 
@@ -217,6 +218,16 @@ void PlacementGrid::add_mesh(const TriangleMesh& mesh) {
   if (triangle_vertices_.empty()) init_triangle_cells(mesh.triangles.size());
   for (const auto& t : mesh.triangles)
     add_triangle(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+}
+
+void PlacementGrid::take_triangles_of(const PlacementGrid& other) {
+  bool same = other.radius_ == radius_;
+  for (int k = 0; k < 3; ++k) same = same && other.low_[k] == low_[k] && other.high_[k] == high_[k];
+  if (!same)
+    throw std::invalid_argument(
+        "PlacementGrid::take_triangles_of: a grid of another box or radius");
+  triangle_cells_ = other.triangle_cells_;
+  triangle_vertices_ = other.triangle_vertices_;
 }
 
 bool PlacementGrid::is_free(const Vec3d& centre) const {

@@ -70,6 +70,10 @@ class PlacementGrid {
   // Adds every triangle of `mesh`; the first mesh added before any triangle sizes the triangle
   // cells for its count.
   void add_mesh(const TriangleMesh& mesh);
+  // The triangles stored in `other`, a grid of the same box and radius, in place of this one's:
+  // as if the meshes added there had been added here (a grid's triangles are kept apart from
+  // its spheres). Throws std::invalid_argument for another box or radius.
+  void take_triangles_of(const PlacementGrid& other);
   // True when a sphere of the grid's radius at `centre` (inside the box) overlaps no stored
   // sphere (distance of centres below the sum of radii) and no stored triangle (closer than the
   // radius). Touching is allowed.

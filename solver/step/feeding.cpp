@@ -10,6 +10,21 @@ Feeding::Feeding(const Scene& scene) : scene_(scene) {
   if (feeders_.empty()) return;
   walls_ = make_wall_meshes(scene);
   for (const ParticleTemplate& t : scene.templates) radii_.push_back(t.bounding_radius);
+  for (const WallSpec& wall : scene.walls)
+    walls_move_ = walls_move_ || wall.motion.kind != WallMotion::Kind::none;
+}
+
+const PlacementGrid& Feeding::walls_grid(std::size_t f, double time) {
+  std::vector<int> present(walls_.size());
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    present[w] = present_triangle_count(scene_.walls[w], walls_[w], time);
+  if (grids_.empty() || present != grids_present_) {
+    const std::vector<TriangleMesh> now = walls_at(scene_, walls_, time);
+    grids_.clear();
+    for (const Feeder& feeder : feeders_) grids_.push_back(feeder.walls_grid(now));
+    grids_present_ = present;
+  }
+  return grids_[f];
 }
 
 bool Feeding::due(double time) const {
@@ -34,9 +49,13 @@ std::vector<ParticleState> Feeding::insert_all(double time, std::vector<Vec3d> p
   std::vector<double> radii;
   radii.reserve(positions.size());
   for (const int t : template_ids) radii.push_back(radii_[t]);
-  const std::vector<TriangleMesh> walls_now = walls_at(scene_, walls_, time);
-  for (Feeder& feeder : feeders_) {
-    const std::vector<ParticleState> more = feeder.insert(time, positions, radii, walls_now);
+  const std::vector<TriangleMesh> moved =
+      walls_move_ ? walls_at(scene_, walls_, time) : std::vector<TriangleMesh>();
+  for (std::size_t f = 0; f < feeders_.size(); ++f) {
+    Feeder& feeder = feeders_[f];
+    const std::vector<ParticleState> more =
+        walls_move_ ? feeder.insert(time, positions, radii, moved)
+                    : feeder.insert(time, positions, radii, walls_grid(f, time));
     for (const ParticleState& p : more) {  // the next feed keeps off these too
       positions.push_back(p.position);
       radii.push_back(radii_[p.template_index]);

@@ -42,10 +42,19 @@ class Feeding {
   void restore(const std::vector<std::string>& states, const std::string& source = "");
 
  private:
+  // Where no wall moves: feed f's walls at `time` as its placement grid (Feeder::walls_grid),
+  // kept until a wall's present triangles change (an outlet opening). A fed silo's feed is due
+  // most steps; cutting its 65,000 triangles into the grid at each call was most of the call
+  // (bench_setup's feed_attempt).
+  const PlacementGrid& walls_grid(std::size_t f, double time);
+
   const Scene& scene_;
   std::vector<Feeder> feeders_;
-  std::vector<WallMesh> walls_;  // at t = 0, moved to the step's time by walls_at
-  std::vector<double> radii_;    // per template: its bounding radius in double
+  std::vector<WallMesh> walls_;       // at t = 0, moved to the step's time by walls_at
+  std::vector<double> radii_;         // per template: its bounding radius in double
+  bool walls_move_ = false;           // some wall has a motion
+  std::vector<PlacementGrid> grids_;  // per feed, of the walls' present triangles (static walls)
+  std::vector<int> grids_present_;    // those present triangles, per wall
 };
 
 }  // namespace talus
