@@ -256,6 +256,22 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
   if (scene.domain) json["removed_particles"] = report.removed_particles;
   json["mean_contacts_per_step"] = report.mean_contacts;
   json["pair_list_builds"] = report.pair_list_builds;
+  // Each feed's progress, and a line on stderr (also with --quiet) for one that fell behind: a
+  // feed whose region stays full inserts nothing and would otherwise say so nowhere.
+  if (!report.feeds.empty()) {
+    Json& feeds = json["feeds"] = Json::array();
+    for (std::size_t f = 0; f < report.feeds.size(); ++f) {
+      const FeedCount& c = report.feeds[f];
+      feeds.push_back({{"inserted", c.inserted}, {"due", c.due}, {"total", c.total}});
+      if (c.inserted < c.due && f < scene.feeds.size()) {
+        fmt::print(
+            stderr,
+            "talus run: {}: the feed fell behind: {} of the {} particles due by t = {:.6g} s "
+            "inserted (of {} in all); its region had no room for the rest\n",
+            scene.feeds[f].source.where(), c.inserted, c.due, report.simulated_time, c.total);
+      }
+    }
+  }
   if (report.backend == "cuda") {  // how many steps ran as one graph launch
     Json& graphs = json["cuda_graphs"] = Json::object();
     graphs["steps"] = report.graph_steps;

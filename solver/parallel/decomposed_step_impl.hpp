@@ -267,6 +267,8 @@ class DecomposedStep final : public AnyStep {
   double exchange_rebuild_seconds() const override { return call(kExchangeSeconds).numbers.at(2); }
   double exchange_bytes() const override { return call(kExchangeBytes).numbers.at(0); }
   long long rebalances() const override { return number(kRebalances); }
+  // Every rank runs every feed on every particle: rank 0's counts are the run's.
+  std::vector<FeedCount> feed_counts() const override { return d_.step().feed_counts(); }
   void save_state(Checkpoint& checkpoint) const override { call(kSave, 0, "", &checkpoint); }
   void restore_state(const Checkpoint& checkpoint) override {
     call(kRestore, 0, checkpoint.path());

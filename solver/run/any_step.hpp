@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
+#include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/step_plan.hpp"
 #include "solver/step/step_state.hpp"
@@ -56,6 +57,8 @@ class AnyStep {
     long long steps = 0, captures = 0, aborted = 0;
   };
   virtual GraphSteps graph_steps() const { return {}; }
+  // The scene's feeds' progress now, in the scene's order (none: no feed).
+  virtual std::vector<FeedCount> feed_counts() const = 0;
   // The step's state as checkpoint sections (step_state.hpp), and the state set back from them
   // on a step made from the same scene (CheckpointError when they do not fit it).
   virtual void save_state(Checkpoint& checkpoint) const = 0;
@@ -96,6 +99,7 @@ class StepAdapter : public AnyStep {
   double bed_height(const Vec3d& g) const override { return step_.bed_height(g); }
   const StageSeconds& stage_seconds() const override { return step_.stage_seconds(); }
   std::size_t bytes() const override { return step_.allocated_bytes(); }
+  std::vector<FeedCount> feed_counts() const override { return step_.feed_counts(); }
   GraphSteps graph_steps() const override {
     if constexpr (has_graph_counts<Step>::value) {
       const auto c = step_.graph_counts();

@@ -413,6 +413,7 @@ ProductionReport ProductionRunner::report() const {
   const AnyStep::GraphSteps graphs = m.step->graph_steps();
   r.graph_steps = graphs.steps, r.graph_captures = graphs.captures,
   r.graph_aborted = graphs.aborted;
+  r.feeds = m.step->feed_counts();
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;
   if (m.scene.effects.gravity) r.bed_height = m.step->bed_height(*m.scene.effects.gravity);

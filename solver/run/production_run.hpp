@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "solver/io/trajectory.hpp"
+#include "solver/scene/feeder.hpp"
 #include "solver/scene/scene.hpp"
 #include "solver/step/step_plan.hpp"
 
@@ -108,6 +109,7 @@ struct ProductionReport {
   // The CUDA step's steps launched as one graph, graphs captured, graph steps finished stage by
   // stage (AnyStep::graph_steps); 0 for the host.
   long long graph_steps = 0, graph_captures = 0, graph_aborted = 0;
+  std::vector<FeedCount> feeds;  // each feed's progress at the end (AnyStep::feed_counts)
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end
   long long peak_memory_bytes = 0;  // the process's peak resident set (getrusage)

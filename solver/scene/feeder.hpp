@@ -16,6 +16,13 @@ namespace talus {
 // particle for a later step.
 constexpr int kFeedAttemptsPerParticle = 1000;
 
+// A feed's progress at a time: the particles it has inserted, those due by then
+// (Feeder::due) and its whole count (due at its stop). inserted < due: it has fallen behind (its
+// region had no room for the rest).
+struct FeedCount {
+  long long inserted = 0, due = 0, total = 0;
+};
+
 class Feeder {
  public:
   // The request and its template's bounding radius (m).
@@ -47,6 +54,7 @@ class Feeder {
   PlacementGrid walls_grid(const std::vector<TriangleMesh>& walls) const;
 
   long long inserted() const { return inserted_; }
+  FeedCount count(double time) const { return {inserted_, due(time), total_}; }
   bool finished() const;  // every particle of the feed has been inserted
 
   // The state that changes during a run (the count inserted and the generator), as one line of

@@ -65,6 +65,12 @@ std::vector<ParticleState> Feeding::insert_all(double time, std::vector<Vec3d> p
   return added;
 }
 
+std::vector<FeedCount> Feeding::counts(double time) const {
+  std::vector<FeedCount> counts;
+  for (const Feeder& feeder : feeders_) counts.push_back(feeder.count(time));
+  return counts;
+}
+
 std::vector<std::string> Feeding::save() const {
   std::vector<std::string> states;
   for (const Feeder& feeder : feeders_) states.push_back(feeder.save());

@@ -36,6 +36,9 @@ class Feeding {
   std::vector<ParticleState> insert_all(double time, std::vector<Vec3d> positions,
                                         const std::vector<int>& template_ids);
 
+  // Each feed's progress at `time`, in the scene's order.
+  std::vector<FeedCount> counts(double time) const;
+
   std::vector<std::string> save() const;
   // Throws CheckpointError naming `source` (the checkpoint file) and its section feeds.states
   // when the number of states is not the scene's number of feeds or a state cannot be read.

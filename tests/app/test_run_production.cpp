@@ -210,7 +210,8 @@ TEST(TalusRunProduction, WritesParaViewFramesBesideTheTrajectories) {
   EXPECT_NE(frame.find("NumberOfPolys=\"144\""), std::string::npos);
 }
 
-// A feed runs on the host step: the particle it inserts is counted at the end.
+// A feed runs on the host step: the particle it inserts is counted at the end, and the summary
+// gives each feed's progress; one that fell behind is told on stderr.
 TEST(TalusRunProduction, HostStepRunsFeeds) {
   const std::string dir = production_directory("feeds");
   std::string fed_text = kTwoBalls;
@@ -222,7 +223,30 @@ TEST(TalusRunProduction, HostStepRunsFeeds) {
   const ProcessResult fed = run_talus({"run", "--backend", "cpu", "--output", dir + "/out", feed});
   ASSERT_EQ(fed.exit_code, 0) << fed.err;
   // 100 per second from 0 until the last step's start, 0.01999 s: floor(1.999) = 1 more.
-  EXPECT_EQ(parse_or_fail(fed.out)["particles"].get<double>(), 3);
+  const Json summary = parse_or_fail(fed.out);
+  EXPECT_EQ(summary["particles"].get<double>(), 3);
+  ASSERT_EQ(summary["feeds"].size(), 1u);
+  EXPECT_EQ(summary["feeds"][0]["inserted"].get<double>(), 1);
+  EXPECT_EQ(summary["feeds"][0]["due"].get<double>(), 1);
+  EXPECT_EQ(fed.err.find("fell behind"), std::string::npos) << fed.err;
+  // A region with room for one ball (its centres' box 1 mm wide) at 1000 a second, the balls
+  // thrown at no speed: the first stays and blocks it; floor(19.99) = 19 due, 1 inserted, and
+  // the run says so on stderr (with --quiet too), naming the feed's place in the scene.
+  std::string blocked_text = kTwoBalls;
+  blocked_text.insert(blocked_text.find(list) + list.size(),
+                      "  - feed: {template: ball, region: {box: {min: [0, 0, 0.1], max: [0.011, "
+                      "0.011, 0.111]}}, rate: 1000}\n");
+  const std::string blocked_scene = write_scene(dir, blocked_text);
+  const ProcessResult blocked = run_talus(
+      {"run", "--backend", "cpu", "--quiet", "--output", dir + "/blocked", blocked_scene});
+  ASSERT_EQ(blocked.exit_code, 0) << blocked.err;
+  const Json b = parse_or_fail(blocked.out);
+  EXPECT_EQ(b["feeds"][0]["inserted"].get<double>(), 1);
+  EXPECT_EQ(b["feeds"][0]["due"].get<double>(), 19);
+  EXPECT_EQ(b["particles"].get<double>(), 3);
+  EXPECT_NE(blocked.err.find("the feed fell behind: 1 of the 19 particles due"), std::string::npos)
+      << blocked.err;
+  EXPECT_NE(blocked.err.find(blocked_scene), std::string::npos) << blocked.err;
 }
 
 // The setup's parts, each told on stderr as it ends and summarised in order as setup_seconds: a

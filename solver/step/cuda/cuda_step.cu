@@ -461,6 +461,10 @@ long long CudaStep<Real>::removed_count() const {
   return impl_->removed;
 }
 template <class Real>
+std::vector<FeedCount> CudaStep<Real>::feed_counts() const {
+  return impl_->feeding.counts(impl_->time);
+}
+template <class Real>
 const StageSeconds& CudaStep<Real>::stage_seconds() const {
   impl_->collect_stage_times();  // none left after a step; a caller between stages may see some
   return impl_->stage_seconds;

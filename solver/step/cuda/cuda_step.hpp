@@ -114,6 +114,8 @@ class CudaStep {
   // As HostStep's: the local domain, the particles removed so far.
   const Domain& domain() const;
   long long removed_count() const;
+  // The scene's feeds' progress now (Feeding::counts; the same on every rank).
+  std::vector<FeedCount> feed_counts() const;
 
   // The device arrays that exist (names as HostStep's) and the device bytes the step holds.
   std::vector<std::string> allocated_arrays() const;

@@ -108,6 +108,8 @@ class HostStep {
   const Domain& domain() const { return *domain_; }
   // Particles removed so far (their centroids left the domain box).
   long long removed_count() const { return removed_; }
+  // The scene's feeds' progress now (Feeding::counts; the same on every rank).
+  std::vector<FeedCount> feed_counts() const { return feeding_.counts(time_); }
 
   // The state to go on from (restart; step_state.hpp), and setting it on a step made from the
   // same scene: the next step() continues as this one's would, to the bit. import_state throws
