@@ -411,7 +411,8 @@ ProductionReport ProductionRunner::report() const {
   r.exchange_bytes = m.step->exchange_bytes();
   r.rebalances = m.step->rebalances();
   const AnyStep::GraphSteps graphs = m.step->graph_steps();
-  r.graph_steps = graphs.steps, r.graph_captures = graphs.captures,
+  r.graph_steps = graphs.steps;
+  r.graph_captures = graphs.captures;
   r.graph_aborted = graphs.aborted;
   r.feeds = m.step->feed_counts();
   r.peak_memory_bytes = peak_resident_bytes();
