@@ -14,7 +14,7 @@ Feeding::Feeding(const Scene& scene) : scene_(scene) {
     walls_move_ = walls_move_ || wall.motion.kind != WallMotion::Kind::none;
 }
 
-const PlacementGrid& Feeding::walls_grid(std::size_t f, double time) {
+const std::vector<PlacementGrid>& Feeding::walls_grids(double time) {
   std::vector<int> present(walls_.size());
   for (std::size_t w = 0; w < walls_.size(); ++w)
     present[w] = present_triangle_count(scene_.walls[w], walls_[w], time);
@@ -24,7 +24,7 @@ const PlacementGrid& Feeding::walls_grid(std::size_t f, double time) {
     for (const Feeder& feeder : feeders_) grids_.push_back(feeder.walls_grid(now));
     grids_present_ = present;
   }
-  return grids_[f];
+  return grids_;
 }
 
 bool Feeding::due(double time) const {
@@ -51,11 +51,12 @@ std::vector<ParticleState> Feeding::insert_all(double time, std::vector<Vec3d> p
   for (const int t : template_ids) radii.push_back(radii_[t]);
   const std::vector<TriangleMesh> moved =
       walls_move_ ? walls_at(scene_, walls_, time) : std::vector<TriangleMesh>();
+  const std::vector<PlacementGrid>* grids = walls_move_ ? nullptr : &walls_grids(time);
   for (std::size_t f = 0; f < feeders_.size(); ++f) {
     Feeder& feeder = feeders_[f];
-    const std::vector<ParticleState> more =
-        walls_move_ ? feeder.insert(time, positions, radii, moved)
-                    : feeder.insert(time, positions, radii, walls_grid(f, time));
+    const std::vector<ParticleState> more = grids
+                                                ? feeder.insert(time, positions, radii, (*grids)[f])
+                                                : feeder.insert(time, positions, radii, moved);
     for (const ParticleState& p : more) {  // the next feed keeps off these too
       positions.push_back(p.position);
       radii.push_back(radii_[p.template_index]);

@@ -45,11 +45,11 @@ class Feeding {
   void restore(const std::vector<std::string>& states, const std::string& source = "");
 
  private:
-  // Where no wall moves: feed f's walls at `time` as its placement grid (Feeder::walls_grid),
+  // Where no wall moves: each feed's walls at `time` as its placement grid (Feeder::walls_grid),
   // kept until a wall's present triangles change (an outlet opening). A fed silo's feed is due
   // most steps; cutting its 65,000 triangles into the grid at each call was most of the call
   // (bench_setup's feed_attempt).
-  const PlacementGrid& walls_grid(std::size_t f, double time);
+  const std::vector<PlacementGrid>& walls_grids(double time);
 
   const Scene& scene_;
   std::vector<Feeder> feeders_;
