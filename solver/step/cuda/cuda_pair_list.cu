@@ -218,6 +218,13 @@ void DevicePairList<Real>::predict_move(const BodyProperties<Real>* bodies, Real
   predicted_displacement_kernel<<<blocks_for(shared_.count), kBlock, 0, stream>>>(
       shared_.view, bodies, dt, built_x_.data(), built_y_.data(), built_z_.data(), abort, out);
   TALUS_CUDA_LAUNCH_CHECK();
+  // Mirroring, measure() rebuilds on a move beyond the mirrored reference too: the larger of the
+  // two moves (both kernels take the maximum into `out`).
+  if (mirror_) {
+    predicted_displacement_kernel<<<blocks_for(shared_.count), kBlock, 0, stream>>>(
+        shared_.view, bodies, dt, mirror_x_.data(), mirror_y_.data(), mirror_z_.data(), abort, out);
+    TALUS_CUDA_LAUNCH_CHECK();
+  }
 }
 
 template <class Real>

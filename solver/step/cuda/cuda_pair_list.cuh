@@ -39,12 +39,16 @@ class DevicePairList {
 
   // For graph steps (cuda_step_impl.cuh, "Graph steps"), which skip update(): whether the list is
   // built and nothing but the particles' motion can make it due (a skin, no change of the
-  // particles, no imported store, no mirrored reference).
-  bool steady() const { return skin_ > 0 && builds_ > 0 && !stale_ && imported_ < 0 && !mirror_; }
-  // On `stream`: the largest squared distance from the positions the list was built at that a
-  // particle will have after the next step's integrate_begin (begin_translation with its
-  // present velocity and force, as that stage will compute it), as the bits of a double, into
-  // `out` (device). Nothing when `abort` says the step did not finish.
+  // particles, no imported store). A list that mirrors a resumed run's reference (after a
+  // restart, until the uninterrupted run would have rebuilt) is steady too: its rebuild test is a
+  // move beyond either reference, and predict_move bounds both. (Before, mirroring kept every
+  // step of a resumed run at rest off graphs: such a run never moves far enough to stop.)
+  bool steady() const { return skin_ > 0 && builds_ > 0 && !stale_ && imported_ < 0; }
+  // On `stream`: the largest squared distance from the positions the list was built at (and,
+  // while it mirrors another, from the mirrored positions) that a particle will have after the
+  // next step's integrate_begin (begin_translation with its present velocity and force, as that
+  // stage will compute it), as the bits of a double, into `out` (device). Nothing when `abort`
+  // says the step did not finish.
   void predict_move(const BodyProperties<Real>* bodies, Real dt, unsigned long long* out,
                     AbortCheck abort, cudaStream_t stream);
   // Whether such a predicted move keeps the next step's rebuild test certainly false: below
