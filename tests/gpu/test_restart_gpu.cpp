@@ -46,6 +46,18 @@ struct TempDir {
   }
 };
 
+// A step of `scene` that resumes `first`'s state through a checkpoint file in `dir`.
+template <class Real>
+std::unique_ptr<CudaStep<Real>> resumed(const CudaStep<Real>& first, const Scene& scene,
+                                        const std::string& dir) {
+  Checkpoint written;
+  put_step_state(written, first.export_state());
+  write_checkpoint(dir + "/state.bin", written);
+  auto second = std::make_unique<CudaStep<Real>>(scene);
+  second->import_state(get_step_state<Real>(read_checkpoint(dir + "/state.bin")));
+  return second;
+}
+
 template <class Real>
 void check_cuda_round_trip(const std::string& precision) {
   TempDir dir;
@@ -53,13 +65,9 @@ void check_cuda_round_trip(const std::string& precision) {
   CudaStep<Real> whole(scene), first(scene);
   for (int k = 0; k < 70; ++k) whole.step();
   for (int k = 0; k < 30; ++k) first.step();
-  Checkpoint written;
-  put_step_state(written, first.export_state());
-  write_checkpoint(dir.path + "/state.bin", written);
-  CudaStep<Real> second(scene);
-  second.import_state(get_step_state<Real>(read_checkpoint(dir.path + "/state.bin")));
-  for (int k = 0; k < 40; ++k) second.step();
-  const StepState<Real> a = whole.export_state(), b = second.export_state();
+  const std::unique_ptr<CudaStep<Real>> second = resumed(first, scene, dir.path);
+  for (int k = 0; k < 40; ++k) second->step();
+  const StepState<Real> a = whole.export_state(), b = second->export_state();
   EXPECT_GT(a.pair_keys.size(), 0u);
   EXPECT_GT(a.wall_keys.size(), 0u);
   talus_test::expect_same_state(a, b);
@@ -114,21 +122,17 @@ TEST(RestartGpu, ResumedBedAtRestTakesGraphStepsWithTheSameBits) {
   CudaStep<double> whole(scene), first(scene);
   for (int k = 0; k < 160; ++k) whole.step();
   for (int k = 0; k < 60; ++k) first.step();
-  Checkpoint written;
-  put_step_state(written, first.export_state());
-  write_checkpoint(dir.path + "/state.bin", written);
-  CudaStep<double> second(scene);
-  second.import_state(get_step_state<double>(read_checkpoint(dir.path + "/state.bin")));
-  for (int k = 0; k < 100; ++k) second.step();
+  const std::unique_ptr<CudaStep<double>> second = resumed(first, scene, dir.path);
+  for (int k = 0; k < 100; ++k) second->step();
   // 18 cubes: 9 wall contacts and 9 pair contacts while the stacks stand.
-  EXPECT_EQ(second.pair_contact_count(), 9u);
-  EXPECT_EQ(second.wall_contact_count(), 9u);
-  EXPECT_EQ(second.pair_list_builds(), 1);  // the import's: the mirror held to the end
+  EXPECT_EQ(second->pair_contact_count(), 9u);
+  EXPECT_EQ(second->wall_contact_count(), 9u);
+  EXPECT_EQ(second->pair_list_builds(), 1);  // the import's: the mirror held to the end
   // The first resumed step builds the list (not a graph step) and predicts the second's move;
   // every later step is a graph step unless the prediction came within 0.9 of the rebuild
   // distance, which micrometres of motion against a skin of a millimetre never do.
-  EXPECT_EQ(second.graph_counts().steps, 99);
-  talus_test::expect_same_state(whole.export_state(), second.export_state());
+  EXPECT_EQ(second->graph_counts().steps, 99);
+  talus_test::expect_same_state(whole.export_state(), second->export_state());
 }
 
 // A host checkpoint goes on on the device and the other way round: the same arrays and stores,
