@@ -612,6 +612,11 @@ class Study:
         wall = source["seconds"] if steady else summary["wall_seconds"]
         exchange = source.get("exchange_seconds", 0.0) if ranks > 1 else 0.0
         stages = {k: v / timed for k, v in source["stage_seconds"].items()}
+        # Stages that ran on a stream of their own beside another (the CUDA step's wall stage
+        # beside its pair stage: `stages_beside` in the summary, stage -> the stage it ran
+        # beside): their seconds overlap that stage's, so the step's sum leaves them out.
+        beside = summary.get("stages_beside", {})
+        in_sum = sum(v for k, v in stages.items() if k not in beside)
         # The summary's mean is over the whole run (steps 1 to S + M, the checkpoint carries the
         # sum); the settle's over steps 1 to S + 1. Their difference is the sum over steps
         # S + 2 to S + M, the same contacts on any rank count (docs/parallel.md).
@@ -630,12 +635,15 @@ class Study:
             "seconds_per_step": wall / timed,
             "seconds_per_step_with_setup": summary["wall_seconds"] / steps,
             "stage_seconds_per_step": stages,
+            "stages_beside": beside,
+            "stages_seconds_per_step": in_sum,
             "exchange_seconds_per_step": exchange / timed,
             "exchange_share": exchange / wall,
             # Rank 0's time outside its stages and the exchange: the commands to the other ranks
             # and the agreement after each stage, where a rank waits for a slower one, and the
-            # gaps between the stages' kernels (and, from a talus without `steady`, the setup).
-            "rest_seconds_per_step": wall / timed - sum(stages.values()) - exchange / timed,
+            # gaps between the stages' kernels (and, from a talus without `steady`, the setup;
+            # with a stage beside another, the time it ran on after that one ended).
+            "rest_seconds_per_step": wall / timed - in_sum - exchange / timed,
             "contacts_per_step": contacts,
             "pair_list_builds": summary.get("pair_list_builds"),
             "at_last_step": probe_row(os.path.join(run_dir, "probes.csv"),
@@ -802,6 +810,25 @@ def figure(result, path):
         plt.close(fig)
 
 
+def stages_in_sum(run):
+    """A row's stages a step as the step's sum: less the stages that ran beside another (a row
+    from a driver before `stages_seconds_per_step`: all of them)."""
+    if "stages_seconds_per_step" in run:
+        return run["stages_seconds_per_step"]
+    return sum(run["stage_seconds_per_step"].values())
+
+
+def beside_words(result):
+    """Which stages ran beside another in the rows, in words: 'none here', or e.g.
+    '`wall_contacts` beside `pair_contacts` in every row'."""
+    pairs = sorted({(k, v) for r in result["runs"] for k, v in r.get("stages_beside", {}).items()})
+    if not pairs:
+        return "none here"
+    every = all(r.get("stages_beside") for r in result["runs"])
+    return (", ".join(f"`{k}` beside `{v}`" for k, v in pairs)
+            + (" in every row" if every else " in the rows whose talus said so"))
+
+
 def settle_ranks_words(settles):
     """'one rank', '4 ranks' or '1 and 4 ranks': the ranks the settles ran on."""
     counts = sorted({s.get("ranks", 1) for s in settles}) or [1]
@@ -836,7 +863,9 @@ def markdown(result):
         f"{result['scene']['measure_steps']} steps measured on each rank count "
         "(experiments/scaling/README.md). s/step: the resumed run's wall-clock seconds after its "
         "first step (its summary's `steady`: the setup and the first step left out) over those "
-        "steps; stages: the sum of rank 0's `stage_seconds` over the same steps; the exchange is "
+        "steps; stages: the sum of rank 0's `stage_seconds` over the same steps (less a stage "
+        "that ran beside another, whose seconds overlap that one's: " + beside_words(result) +
+        "); the exchange is "
         "the most any rank spent exchanging, waiting included; rest: s/step less the two (rank "
         "0's commands to the other ranks, the waits after each stage, the gaps between kernels); "
         "each (ranks, "
@@ -853,7 +882,7 @@ def markdown(result):
         lines.append(
             f"| {r['mode']} | {r['ranks']}{' (oversubscribed)' if r['oversubscribed'] else ''} "
             f"| {r['particles']} | {r['seconds_per_step']:.4g} | "
-            f"{sum(r['stage_seconds_per_step'].values()):.4g} | "
+            f"{stages_in_sum(r):.4g} | "
             f"{r['exchange_seconds_per_step']:.3g} | {100 * r['exchange_share']:.1f} % | "
             f"{r['rest_seconds_per_step']:.3g} | {r['contacts_per_step']:.0f} | "
             f"{r['speedup']:.3f} | {100 * r['efficiency']:.1f} % | "

@@ -7,8 +7,9 @@ then with --settle-only (that settle goes on from the checkpoint, the other is s
 measured), then plainly with a copy of the binary (both settles reused: the same bytes), and checks its
 scaling.json: each settle run on 2 ranks, the first in 2 sittings, both reused, every
 (mode, ranks) run present with the particles its mode asks for, measured steps > 0, seconds per
-step > 0, the exchange's share of the step in (0, 1) on 2 ranks and 0 on 1, efficiency =
-speedup / ranks, and the figure and the table written. Skipped (exit 77) where mpirun or
+step > 0, the exchange's share of the step in (0, 1) on 2 ranks and 0 on 1, no stage beside
+another (the host step) so the stages a step are their sum and the rest what the step leaves
+after them and the exchange, efficiency = speedup / ranks, and the figure and the table written. Skipped (exit 77) where mpirun or
 /usr/bin/python3's matplotlib is missing, or talus was built without MPI (the driver's exit
 status 3).
 
@@ -98,6 +99,15 @@ def main(argv):
             expected = r["speedup"] / ranks
             check(abs(r["efficiency"] - expected) <= 1e-12 * max(1.0, abs(expected)),
                   f"{name}: efficiency {r['efficiency']} is not speedup / ranks = {expected}")
+            # The host step runs no stage beside another: the step's stage sum is every stage's,
+            # and the rest is what the step's time leaves after it and the exchange.
+            check(r["stages_beside"] == {}, f"{name}: stages beside {r['stages_beside']}")
+            stages = sum(r["stage_seconds_per_step"].values())
+            check(abs(r["stages_seconds_per_step"] - stages) <= 1e-12 * stages,
+                  f"{name}: stages {r['stages_seconds_per_step']} a step, not their sum {stages}")
+            rest = r["seconds_per_step"] - stages - r["exchange_seconds_per_step"]
+            check(abs(r["rest_seconds_per_step"] - rest) <= 1e-12 * r["seconds_per_step"],
+                  f"{name}: rest {r['rest_seconds_per_step']}, not {rest}")
             if ranks == 1:
                 check(r["speedup"] == 1, f"{name}: speedup {r['speedup']} on one rank, not 1")
             check(r["command"] and "-np" in r["command"], f"{name}: no command recorded")

@@ -278,6 +278,10 @@ std::string run_production_json(const RunArguments& args, const Scene& scene,
     graphs["captures"] = report.graph_captures;
     graphs["aborted"] = report.graph_aborted;
   }
+  if (!report.stages_beside.empty()) {  // their seconds overlap the other stage's
+    Json& beside = json["stages_beside"] = Json::object();
+    for (const auto& [stage, other] : report.stages_beside) beside[stage] = other;
+  }
   Json& stages = json["stage_seconds"] = Json::object();
   for (const auto& [stage, seconds] : report.stage_seconds) stages[stage] = seconds;
   stages["output"] = report.output_seconds;

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -57,6 +58,10 @@ class AnyStep {
     long long steps = 0, captures = 0, aborted = 0;
   };
   virtual GraphSteps graph_steps() const { return {}; }
+  // The stages that ran on a stream of their own beside another stage, each with that stage
+  // (the CUDA step's wall stage beside its pair stage): their seconds overlap that stage's, so
+  // a step lasts less than the sum of its stages' seconds. None for the host step.
+  virtual std::vector<std::pair<std::string, std::string>> stages_beside() const { return {}; }
   // The scene's feeds' progress now, in the scene's order (none: no feed).
   virtual std::vector<FeedCount> feed_counts() const = 0;
   // The step's state as checkpoint sections (step_state.hpp), and the state set back from them
@@ -70,6 +75,13 @@ template <class Step, class = void>
 struct has_graph_counts : std::false_type {};
 template <class Step>
 struct has_graph_counts<Step, std::void_t<decltype(std::declval<const Step&>().graph_counts())>>
+    : std::true_type {};
+
+// Whether Step runs stages beside others (CudaStep::stages_beside).
+template <class Step, class = void>
+struct has_stages_beside : std::false_type {};
+template <class Step>
+struct has_stages_beside<Step, std::void_t<decltype(std::declval<const Step&>().stages_beside())>>
     : std::true_type {};
 
 // AnyStep over a step class with HostStep's interface (HostStep<Real>, CudaStep<Real>); `args`
@@ -104,6 +116,13 @@ class StepAdapter : public AnyStep {
     if constexpr (has_graph_counts<Step>::value) {
       const auto c = step_.graph_counts();
       return {c.steps, c.captures, c.aborted};
+    } else {
+      return {};
+    }
+  }
+  std::vector<std::pair<std::string, std::string>> stages_beside() const override {
+    if constexpr (has_stages_beside<Step>::value) {
+      return step_.stages_beside();
     } else {
       return {};
     }

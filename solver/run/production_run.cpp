@@ -414,6 +414,7 @@ ProductionReport ProductionRunner::report() const {
   r.graph_steps = graphs.steps;
   r.graph_captures = graphs.captures;
   r.graph_aborted = graphs.aborted;
+  r.stages_beside = m.step->stages_beside();
   r.feeds = m.step->feed_counts();
   r.peak_memory_bytes = peak_resident_bytes();
   r.outputs = m.outputs;

@@ -109,6 +109,9 @@ struct ProductionReport {
   // The CUDA step's steps launched as one graph, graphs captured, graph steps finished stage by
   // stage (AnyStep::graph_steps); 0 for the host.
   long long graph_steps = 0, graph_captures = 0, graph_aborted = 0;
+  // Stages that ran beside another, each with that stage (AnyStep::stages_beside): their seconds
+  // in stage_seconds overlap that stage's. Empty for the host.
+  std::vector<std::pair<std::string, std::string>> stages_beside;
   std::vector<FeedCount> feeds;  // each feed's progress at the end (AnyStep::feed_counts)
   double output_seconds = 0;
   std::size_t particle_bytes = 0;   // the step's arrays at the end

@@ -64,7 +64,8 @@ TEST(TalusRunProduction, CpuBackendRunsAndSummarises) {
   EXPECT_TRUE(summary["stage_seconds"]["pair_contacts"].is_number());
   EXPECT_FALSE(summary["stage_seconds"].contains("gravity"));  // not in the scene
   EXPECT_GT(summary["peak_memory_bytes"].get<double>(), 0);
-  EXPECT_FALSE(summary.contains("cuda_graphs"));  // the CUDA step's alone
+  EXPECT_FALSE(summary.contains("cuda_graphs"));    // the CUDA step's alone
+  EXPECT_FALSE(summary.contains("stages_beside"));  // the host runs its stages in turn
   // The steps after the first, timed alone: 1999 of them, within the run's wall time, their
   // stages' seconds no more than the whole run's.
   EXPECT_EQ(summary["steady"]["steps"].get<double>(), 1999);
@@ -164,6 +165,7 @@ TEST(TalusRunProduction, CudaBackendRunsLikeTheHostOrIsRefused) {
     EXPECT_GE(gpu["cuda_graphs"]["captures"].get<double>(), 1);
   }
   EXPECT_EQ(gpu["cuda_graphs"]["aborted"].get<double>(), 0);
+  EXPECT_FALSE(gpu.contains("stages_beside"));  // no walls: no wall stage beside the pairs
   const ProcessResult cpu = run_talus({"run", "--backend", "cpu", "--output", dir + "/cpu", scene});
   ASSERT_EQ(cpu.exit_code, 0) << cpu.err;
   const std::vector<talus::TrajectoryFrame> g = talus::read_trajectory(dir + "/gpu/frames");

@@ -1,12 +1,15 @@
 // What the CUDA step computes of its particles on the device (cuda_step_outputs.cu): the energy
 // probe's terms and the bed height, each against the host step's loop over the same state,
-// exported from the device and imported by the host. Skipped with the reason where no GPU is
-// usable.
+// exported from the device and imported by the host; and which of its stages it says ran beside
+// another (the run summary's `stages_beside`). Skipped with the reason where no GPU is usable.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "solver/scene/scene_loader.hpp"
 #include "solver/step/cuda/cuda_step.hpp"
@@ -113,6 +116,36 @@ effects:
   EXPECT_NEAR(gpu.bed_height(g), h, 1e-12);
   EXPECT_NEAR(gpu.bed_height(g * -1.0), host.bed_height(g * -1.0), 1e-12);
   EXPECT_GT(h, 0.1);  // the particles' tops, not an empty maximum
+}
+
+// The wall stage runs beside the pair stage in a scene with walls (unless the environment says
+// TALUS_WALLS_BESIDE_PAIRS=0), and nothing runs beside anything in a scene without: what the
+// summary's `stages_beside` and the scaling driver's stage sums read.
+TEST(GpuStep, SaysWhichStagesRunBesideOthers) {
+  SKIP_WITHOUT_GPU();
+  const std::string head = R"(
+time: {step: 1.0e-5, end: 1.0}
+materials:
+  resin: {density: 1500, youngs_modulus: 1.0e6, poisson_ratio: 0.1, friction: 0.5,
+          restitution: 0.3}
+templates:
+  grain: {shape: dodecahedron:0.01, material: resin}
+particles:
+  - explicit:
+      - {template: grain, position: [0, 0, 0.02]}
+effects:
+  gravity: [0, 0, -9.81]
+  contact: volume
+)";
+  const std::string floor = R"(walls:
+  - plane: {name: floor, point: [0, 0, 0], normal: [0, 0, 1], size: 0.1, material: resin}
+)";
+  const char* beside = std::getenv("TALUS_WALLS_BESIDE_PAIRS");
+  const bool allowed = beside == nullptr || std::string(beside) != "0";
+  using Pairs = std::vector<std::pair<std::string, std::string>>;
+  const Pairs walls_beside_pairs = allowed ? Pairs{{"wall_contacts", "pair_contacts"}} : Pairs{};
+  EXPECT_EQ(CudaStep<double>(scene_from(head + floor)).stages_beside(), walls_beside_pairs);
+  EXPECT_EQ(CudaStep<double>(scene_from(head)).stages_beside(), Pairs{});
 }
 
 }  // namespace

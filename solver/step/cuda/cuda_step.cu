@@ -480,6 +480,12 @@ CudaGraphCounts CudaStep<Real>::graph_counts() const {
 }
 
 template <class Real>
+std::vector<std::pair<std::string, std::string>> CudaStep<Real>::stages_beside() const {
+  if (impl_->walls_stream == nullptr) return {};
+  return {{to_string(Stage::wall_contacts), to_string(Stage::pair_contacts)}};
+}
+
+template <class Real>
 long long CudaStep<Real>::pair_list_builds() const {
   return impl_->list ? impl_->list->builds() : 0;
 }

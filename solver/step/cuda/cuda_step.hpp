@@ -129,6 +129,10 @@ class CudaStep {
   const StageSeconds& stage_seconds() const;
   // Graph steps so far (CudaStepOptions::graphs).
   CudaGraphCounts graph_counts() const;
+  // The stages that run on a stream of their own beside another, each with that stage: the wall
+  // stage beside the pair stage (cuda_step_impl.cuh, "The walls beside the pairs"), unless the
+  // scene has no walls or TALUS_WALLS_BESIDE_PAIRS=0. Their seconds overlap that stage's.
+  std::vector<std::pair<std::string, std::string>> stages_beside() const;
   std::size_t pair_contact_count() const;
   std::size_t wall_contact_count() const;
   // The pair list: how many times it was built, its length, and the device bytes of the list
