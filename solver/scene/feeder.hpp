@@ -3,6 +3,7 @@
 // particle and no wall triangle.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,6 +17,15 @@ namespace talus {
 // particle for a later step.
 constexpr int kFeedAttemptsPerParticle = 1000;
 
+// A feed whose call placed none of its due particles (its region full) waits before it tries
+// again: 2 steps after the first such call, then twice as long after each one that follows, up
+// to this many steps; a call that places some tries again at the next step, one that places all
+// waits for nothing. A blocked call costs the step a download of every position and 1000 random
+// tries on the host (0.5 ms for a silo's feed, bench_setup's feed_attempt, against a step of 1 to
+// 2 ms on the GPU); waiting, a blocked feed costs almost nothing, and a region that frees is seen
+// within this many steps (a few hundredths of the time a particle takes to fall through it).
+constexpr int kFeedMaxWaitSteps = 32;
+
 // A feed's progress at a time: the particles it has inserted, those due by then
 // (Feeder::due) and its whole count (due at its stop). inserted < due: it has fallen behind (its
 // region had no room for the rest).
@@ -25,20 +35,26 @@ struct FeedCount {
 
 class Feeder {
  public:
-  // The request and its template's bounding radius (m).
-  Feeder(const FeedRequest& request, double bounding_radius);
-  // For scene.feeds[feed_index].
+  // The request, its template's bounding radius (m) and the run's time step (s; the waits of a
+  // blocked feed are counted in it, kFeedMaxWaitSteps: 0, no wait).
+  Feeder(const FeedRequest& request, double bounding_radius, double time_step = 0);
+  // For scene.feeds[feed_index], with the scene's time step.
   Feeder(const Scene& scene, int feed_index);
 
   // How many particles should have been inserted by time t (s): floor(rate (min(t, stop) -
   // start)), 0 before start. Computed from t, never accumulated, so it does not drift.
   long long due(double time) const;
+  // Whether a call at `time` would try to place particles: some are due and the feed is not
+  // waiting after a call that placed none (kFeedMaxWaitSteps).
+  bool ready(double time) const;
 
   // The particles to insert at the step at time t: due(t) - inserted(), each placed with its
   // bounding sphere inside the region, off the given particles (centres and bounding radii,
   // world) and off the walls' triangles (world coordinates at t), and off each other. A particle
   // without a free place after kFeedAttemptsPerParticle tries stays due for the next call, and
-  // so do the ones after it. Deterministic: the same feeder state and inputs give the same bits.
+  // so do the ones after it; a call that places none makes the feed wait (kFeedMaxWaitSteps),
+  // and a call while it waits returns nothing. Deterministic: the same feeder state and inputs
+  // give the same bits.
   std::vector<ParticleState> insert(double time, const std::vector<Vec3d>& positions,
                                     const std::vector<double>& bounding_radii,
                                     const std::vector<TriangleMesh>& walls);
@@ -57,8 +73,9 @@ class Feeder {
   FeedCount count(double time) const { return {inserted_, due(time), total_}; }
   bool finished() const;  // every particle of the feed has been inserted
 
-  // The state that changes during a run (the count inserted and the generator), as one line of
-  // text; restore() on a feeder made from the same request continues exactly as this one would.
+  // The state that changes during a run (the count inserted, the wait and the generator), as one
+  // line of text; restore() on a feeder made from the same request continues exactly as this one
+  // would. It also reads the state of a talus before the waits (talus-feeder-v1: no wait).
   // Throws std::runtime_error naming the request when the text is not a saved state.
   std::string save() const;
   void restore(const std::string& state);
@@ -68,6 +85,9 @@ class Feeder {
   double radius_;
   long long total_;  // due(stop)
   long long inserted_ = 0;
+  double time_step_;
+  int wait_steps_ = 0;           // the last wait, steps (0: the last call placed all it owed)
+  double next_try_ = -HUGE_VAL;  // while time < next_try_ the feed waits
   PlacementRandom random_;
 };
 

@@ -29,7 +29,7 @@ const std::vector<PlacementGrid>& Feeding::walls_grids(double time) {
 
 bool Feeding::due(double time) const {
   for (const Feeder& feeder : feeders_)
-    if (feeder.due(time) > feeder.inserted()) return true;
+    if (feeder.ready(time)) return true;
   return false;
 }
 

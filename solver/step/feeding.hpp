@@ -22,8 +22,9 @@ class Feeding {
 
   bool empty() const { return feeders_.empty(); }
 
-  // Whether some feed has a particle due at `time`; when none has, insert() would return nothing
-  // and the caller need not gather the positions.
+  // Whether some feed has a particle due at `time` and is not waiting after a call that found no
+  // room (Feeder::ready); when none has, insert() would return nothing and the caller need not
+  // gather the positions.
   bool due(double time) const;
 
   // The particles the feeds insert at `time` (feed by feed, in order) among the particles now at

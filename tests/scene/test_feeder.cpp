@@ -1,11 +1,13 @@
 // Feeds: the count inserted follows floor(rate (t - start)) without drift, inserted particles
-// keep off everything, a full region defers particles, and a saved and restored feeder continues
-// bit for bit like the original.
+// keep off everything, a full region defers particles and makes the feed wait longer each time,
+// and a saved and restored feeder continues bit for bit like the original, its wait included.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "solver/scene/feeder.hpp"
 #include "solver/scene/initial_particles.hpp"
@@ -131,17 +133,63 @@ TEST(Feeder, InsertedParticlesKeepOffParticlesAndWalls) {
   }
 }
 
-TEST(Feeder, AFullRegionDefersParticlesAndCatchesUpLater) {
+// A full region defers the due particles, and the feed waits before it tries again
+// (kFeedMaxWaitSteps): 2 steps after the first call that placed none, then 4, 8, 16, 32 and 32; a
+// call while it waits places nothing, even into a free region. The first try after the wait
+// brings the whole backlog, and then the feed waits for nothing: it is ready at the next step a
+// particle falls due (25 steps apart at 400 a second), sooner than the last wait.
+TEST(Feeder, AFullRegionDefersParticlesAndWaitsLongerEachTime) {
   const Scene scene = parse_scene(kScene, "feed.yaml", scene_data_dir());
+  const double dt = scene.time_step;
   Feeder feeder(scene, 0);
   // One big sphere covers the whole region: nothing can go in.
   const std::vector<Vec3d> blocked = {{0, 0, 0.095}};
-  EXPECT_TRUE(feeder.insert(0.113, blocked, {0.05}, {}).empty());
+  double t = 0.113;
+  EXPECT_TRUE(feeder.insert(t, blocked, {0.05}, {}).empty());
   EXPECT_EQ(feeder.inserted(), 0);
-  EXPECT_EQ(feeder.due(0.113), 5);  // floor(400 * 0.013), still owed
-  // Once it has gone, the backlog comes in at the next step.
-  EXPECT_EQ(feeder.insert(0.1131, {}, {}, {}).size(), 5u);
-  EXPECT_EQ(feeder.inserted(), 5);
+  EXPECT_EQ(feeder.due(t), 5);  // floor(400 * 0.013), still owed
+  for (const int wait : {2, 4, 8, 16, 32, 32}) {
+    EXPECT_FALSE(feeder.ready(t + (wait - 1) * dt)) << wait;
+    EXPECT_TRUE(feeder.insert(t + (wait - 1) * dt, {}, {}, {}).empty()) << wait;
+    t += wait * dt;
+    EXPECT_TRUE(feeder.ready(t)) << wait;
+    EXPECT_TRUE(feeder.insert(t, blocked, {0.05}, {}).empty()) << wait;
+  }
+  t += 32 * dt;
+  const long long owed = feeder.due(t);
+  EXPECT_EQ(owed, 10);  // floor(400 (0.113 + 126 dt - 0.1)) = floor(10.24)
+  EXPECT_EQ(static_cast<long long>(feeder.insert(t, {}, {}, {}).size()), owed);
+  EXPECT_EQ(feeder.inserted(), owed);
+  int next = 1;
+  while (feeder.due(t + next * dt) == owed) ++next;
+  ASSERT_LT(next, 32);
+  EXPECT_FALSE(feeder.ready(t + (next - 1) * dt));  // nothing due
+  EXPECT_TRUE(feeder.ready(t + next * dt));
+}
+
+// A waiting feed's wait is part of its saved state; a state saved before the waits (v1) restores
+// with none.
+TEST(Feeder, RestoredFeederKeepsItsWait) {
+  const Scene scene = parse_scene(kScene, "feed.yaml", scene_data_dir());
+  const double dt = scene.time_step;
+  Feeder waiting(scene, 0);
+  EXPECT_TRUE(waiting.insert(0.113, {{0, 0, 0.095}}, {0.05}, {}).empty());
+  Feeder restored(scene, 0);
+  restored.restore(waiting.save());
+  EXPECT_EQ(restored.save(), waiting.save());
+  EXPECT_FALSE(restored.ready(0.113 + dt));
+  EXPECT_TRUE(restored.ready(0.113 + 2 * dt));
+  // The same state as talus wrote it before the waits: the count, then the generator.
+  const std::string saved = waiting.save();
+  std::istringstream fields(saved);
+  std::string tag, inserted, wait, next;
+  fields >> tag >> inserted >> wait >> next;
+  std::string engine;
+  std::getline(fields, engine);
+  Feeder old(scene, 0);
+  old.restore("talus-feeder-v1 " + inserted + engine);
+  EXPECT_EQ(old.inserted(), 0);
+  EXPECT_TRUE(old.ready(0.113 + dt));
 }
 
 // A caller whose walls stand still keeps the walls' placement grid (Feeding does, for a silo's
@@ -208,7 +256,8 @@ TEST(Feeder, RestoredFeederContinuesIdentically) {
 TEST(Feeder, RestoreRejectsWhatIsNotASavedState) {
   const Scene scene = parse_scene(kScene, "feed.yaml", scene_data_dir());
   Feeder feeder(scene, 0);
-  for (const std::string bad : {"", "talus-feeder-v1 3", "something else", "talus-feeder-v1 -1 5"})
+  for (const std::string bad : {"", "talus-feeder-v1 3", "something else", "talus-feeder-v1 -1 5",
+                                "talus-feeder-v2 3 40 0 5", "talus-feeder-v2 3"})
     try {
       feeder.restore(bad);
       ADD_FAILURE() << "no error for '" << bad << "'";
