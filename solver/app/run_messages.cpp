@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <string>
 #include <thread>
+
+#include <fmt/format.h>
 
 #include "solver/app/run_arguments.hpp"
 #include "solver/parallel/decomposed_step.hpp"
@@ -20,19 +23,29 @@ double clock_now() {
 }  // namespace
 
 void print_progress_line(long long step, long long total_steps, double time, double end_time,
-                         std::size_t particles, std::size_t contacts, double wall_seconds) {
+                         std::size_t particles, std::size_t contacts, double wall_seconds,
+                         const std::string& more) {
   const double fraction = total_steps > 0 ? double(step) / double(total_steps) : 1.0;
   const double left = fraction > 0 ? wall_seconds * (1 - fraction) / fraction : 0;
   std::fprintf(stderr,
                "talus run: %5.1f%%  t = %.6g of %.6g s  step %lld of %lld  %.3g steps/s  "
-               "%zu particles  %zu contacts  about %.0f s left\n",
+               "%zu particles  %zu contacts  about %.0f s left%s\n",
                100 * fraction, time, end_time, step, total_steps,
-               wall_seconds > 0 ? double(step) / wall_seconds : 0.0, particles, contacts, left);
+               wall_seconds > 0 ? double(step) / wall_seconds : 0.0, particles, contacts, left,
+               more.c_str());
 }
 
 void print_production_progress(const ProductionProgress& p) {
+  // Feeds that have fallen behind (their regions full), while the run goes on: the summary and
+  // its stderr line say it only at the end.
+  long long inserted = 0, due = 0;
+  for (const FeedCount& c : p.feeds) {
+    if (c.inserted < c.due) inserted += c.inserted, due += c.due;
+  }
+  const std::string more =
+      due > 0 ? fmt::format("  feeds behind: {} of {} due inserted", inserted, due) : "";
   print_progress_line(p.step, p.total_steps, p.time, p.end_time, p.particles, p.contacts,
-                      p.wall_seconds);
+                      p.wall_seconds, more);
 }
 
 SetupTimes::SetupTimes(bool quiet) : tell_(!quiet && world()->rank() == 0), mark_(clock_now()) {}

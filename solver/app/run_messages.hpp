@@ -13,9 +13,11 @@ namespace talus {
 struct ProductionProgress;  // solver/run/production_run.hpp
 struct RunArguments;        // run_arguments.hpp
 
-// One progress line on stderr, the same for both solvers.
+// One progress line on stderr, the same for both solvers, `more` at its end (the production
+// run's: its feeds that have fallen behind, "  feeds behind: 1 of 19 due inserted").
 void print_progress_line(long long step, long long total_steps, double time, double end_time,
-                         std::size_t particles, std::size_t contacts, double wall_seconds);
+                         std::size_t particles, std::size_t contacts, double wall_seconds,
+                         const std::string& more = "");
 void print_production_progress(const ProductionProgress& p);
 
 // The parts of a run's setup, timed in order: the command's (the scene and its walls read, the

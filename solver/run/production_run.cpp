@@ -384,6 +384,7 @@ void ProductionRunner::report_progress() {
   p.particles = m.step->particles();
   p.contacts = m.step->pair_contacts() + m.step->wall_contacts();
   p.wall_seconds = clock_seconds() - m.started;
+  p.feeds = m.step->feed_counts();
   m.settings.progress(p);
 }
 

@@ -22,8 +22,9 @@ struct ProductionProgress {
   long long step = 0, total_steps = 0;
   double time = 0, end_time = 0;  // s
   std::size_t particles = 0;
-  std::size_t contacts = 0;  // particle-particle and particle-wall, at the last evaluation
-  double wall_seconds = 0;   // since the run started
+  std::size_t contacts = 0;      // particle-particle and particle-wall, at the last evaluation
+  double wall_seconds = 0;       // since the run started
+  std::vector<FeedCount> feeds;  // each feed's progress (AnyStep::feed_counts)
 };
 
 class AnyStep;     // any_step.hpp

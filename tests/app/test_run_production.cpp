@@ -249,6 +249,12 @@ TEST(TalusRunProduction, HostStepRunsFeeds) {
   EXPECT_NE(blocked.err.find("the feed fell behind: 1 of the 19 particles due"), std::string::npos)
       << blocked.err;
   EXPECT_NE(blocked.err.find(blocked_scene), std::string::npos) << blocked.err;
+  // Without --quiet the progress lines say it while the run goes on (the last one at the end).
+  const ProcessResult told =
+      run_talus({"run", "--backend", "cpu", "--output", dir + "/told", blocked_scene});
+  ASSERT_EQ(told.exit_code, 0) << told.err;
+  EXPECT_NE(told.err.find("steps/s"), std::string::npos) << told.err;
+  EXPECT_NE(told.err.find("feeds behind: 1 of 19 due inserted\n"), std::string::npos) << told.err;
 }
 
 // The setup's parts, each told on stderr as it ends and summarised in order as setup_seconds: a
