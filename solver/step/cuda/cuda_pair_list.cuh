@@ -42,7 +42,7 @@ class DevicePairList {
   // particles, no imported store). A list that mirrors a resumed run's reference (after a
   // restart, until the uninterrupted run would have rebuilt) is steady too: its rebuild test is a
   // move beyond either reference, and predict_move bounds both. (Before, mirroring kept every
-  // step of a resumed run at rest off graphs: such a run never moves far enough to stop.)
+  // step of a resumed run at rest off graphs: such a run never moves far enough to end it.)
   bool steady() const { return skin_ > 0 && builds_ > 0 && !stale_ && imported_ < 0; }
   // On `stream`: the largest squared distance from the positions the list was built at (and,
   // while it mirrors another, from the mirrored positions) that a particle will have after the
