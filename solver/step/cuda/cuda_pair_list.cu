@@ -39,14 +39,14 @@ __global__ void max_displacement_kernel(ParticleView<Real> p, const Real* __rest
 }
 
 // As max_displacement_kernel, for the positions the next integrate_begin will give (the same
-// begin_translation on copies of the present state).
+// begin_translation on copies of the present state), from the reference x0, y0, z0 and, where
+// x1 is not null, the larger of that and the move from x1, y1, z1 (a mirrored reference).
 template <class Real>
-__global__ void predicted_displacement_kernel(ParticleView<Real> p,
-                                              const BodyProperties<Real>* __restrict__ bodies,
-                                              Real dt, const Real* __restrict__ x0,
-                                              const Real* __restrict__ y0,
-                                              const Real* __restrict__ z0, AbortCheck abort,
-                                              unsigned long long* largest) {
+__global__ void predicted_displacement_kernel(
+    ParticleView<Real> p, const BodyProperties<Real>* __restrict__ bodies, Real dt,
+    const Real* __restrict__ x0, const Real* __restrict__ y0, const Real* __restrict__ z0,
+    const Real* __restrict__ x1, const Real* __restrict__ y1, const Real* __restrict__ z1,
+    AbortCheck abort, unsigned long long* largest) {
   using BlockReduce = cub::BlockReduce<double, kBlock>;
   __shared__ typename BlockReduce::TempStorage temp;
   if (abort.aborted()) return;  // the whole block returns together
@@ -55,10 +55,14 @@ __global__ void predicted_displacement_kernel(ParticleView<Real> p,
   if (i < p.count) {
     Vec3<Real> x = p.position.get(i), v = p.velocity.get(i), a0;
     begin_translation(x, v, force_or_zero(p, i), bodies[p.template_id[i]].mass, dt, a0);
-    const double dx = double(x.x) - double(x0[i]);
-    const double dy = double(x.y) - double(y0[i]);
-    const double dz = double(x.z) - double(z0[i]);
-    d2 = dx * dx + dy * dy + dz * dz;
+    const auto moved2 = [&](const Real* xr, const Real* yr, const Real* zr) {
+      const double dx = double(x.x) - double(xr[i]);
+      const double dy = double(x.y) - double(yr[i]);
+      const double dz = double(x.z) - double(zr[i]);
+      return dx * dx + dy * dy + dz * dz;
+    };
+    d2 = moved2(x0, y0, z0);
+    if (x1) d2 = fmax(d2, moved2(x1, y1, z1));
   }
   const double block_max =
       BlockReduce(temp).Reduce(d2, [](double u, double v) { return u < v ? v : u; });
@@ -215,16 +219,13 @@ void DevicePairList<Real>::predict_move(const BodyProperties<Real>* bodies, Real
                                         cudaStream_t stream) {
   TALUS_CUDA_CHECK(cudaMemsetAsync(out, 0, sizeof(unsigned long long), stream));
   if (!steady() || shared_.count == 0) return;
-  predicted_displacement_kernel<<<blocks_for(shared_.count), kBlock, 0, stream>>>(
-      shared_.view, bodies, dt, built_x_.data(), built_y_.data(), built_z_.data(), abort, out);
-  TALUS_CUDA_LAUNCH_CHECK();
   // Mirroring, measure() rebuilds on a move beyond the mirrored reference too: the larger of the
-  // two moves (both kernels take the maximum into `out`).
-  if (mirror_) {
-    predicted_displacement_kernel<<<blocks_for(shared_.count), kBlock, 0, stream>>>(
-        shared_.view, bodies, dt, mirror_x_.data(), mirror_y_.data(), mirror_z_.data(), abort, out);
-    TALUS_CUDA_LAUNCH_CHECK();
-  }
+  // two moves, from one pass over the particles.
+  predicted_displacement_kernel<<<blocks_for(shared_.count), kBlock, 0, stream>>>(
+      shared_.view, bodies, dt, built_x_.data(), built_y_.data(), built_z_.data(),
+      mirror_ ? mirror_x_.data() : nullptr, mirror_ ? mirror_y_.data() : nullptr,
+      mirror_ ? mirror_z_.data() : nullptr, abort, out);
+  TALUS_CUDA_LAUNCH_CHECK();
 }
 
 template <class Real>
